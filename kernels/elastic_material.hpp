@@ -1,0 +1,40 @@
+#pragma once
+// Isotropic linear-elastic bulk of the two identical strips (SI units).
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace slipstrip {
+
+enum class PlaneCondition { strain, stress };
+
+struct ElasticMaterial {
+  double shear_modulus = 9e9;   // mu [Pa]
+  double poisson_ratio = 0.33;  // nu [-]
+  double density = 1200.0;      // rho [kg/m^3]
+  PlaneCondition plane = PlaneCondition::strain;
+
+  double shear_wave_speed() const { return std::sqrt(shear_modulus / density); }
+  // c_d^2/c_s^2: plane strain 2(1-nu)/(1-2nu); plane stress 2/(1-nu) (in-plane
+  // P wave of a thin plate).
+  double wave_speed_ratio_squared() const {
+    const double nu = poisson_ratio;
+    return plane == PlaneCondition::strain ? 2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)
+                                           : 2.0 / (1.0 - nu);
+  }
+  double dilatational_wave_speed() const {
+    return shear_wave_speed() * std::sqrt(wave_speed_ratio_squared());
+  }
+  // E' such that the static half-space stiffness is E'|k|/4 ... see docs/theory.md.
+  double effective_modulus() const {
+    const double nu = poisson_ratio;
+    const double E = 2.0 * shear_modulus * (1.0 + nu);
+    return plane == PlaneCondition::strain ? E / (1.0 - nu * nu) : E;
+  }
+};
+
+// Height H of each strip; +infinity means the half-space limit.
+inline bool is_half_space(double strip_height) { return std::isinf(strip_height); }
+
+}  // namespace slipstrip
