@@ -1,0 +1,86 @@
+#pragma once
+// The fully resolved description of one run.  Every field is in SI units and
+// maps one-to-one onto a TOML key (docs/config.md); core/config.cpp parses,
+// validates and writes it back as TOML for the output file's metadata.
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "friction/friction_law.hpp"
+#include "kernels/elastic_material.hpp"
+
+namespace slipstrip {
+
+struct GeometryConfig {
+  double length = 4.0;   // [geometry] length L [m], period in x
+  double height = 0.1;   // [geometry] height H [m] of each strip; +inf = half-space
+  int nodes = 1600;      // [geometry] nodes N (power of two recommended for FFT speed)
+};
+
+struct LoadingConfig {
+  double driving_velocity = 2e-3;  // [loading] driving_velocity v0 [m/s]
+  double normal_stress = 1e6;      // [loading] normal_stress sigma0 [Pa]
+};
+
+// How the interface closes the elastodynamic problem.
+//   rate_and_state  : the paper's friction (default)
+//   prescribed_slip : slip(x,t) = amplitude cos(2 pi mode x / L) g(t)   (verification)
+//   free            : no friction, an imposed shear-stress perturbation   (verification)
+enum class InterfaceLaw { rate_and_state, prescribed_slip, free };
+
+// Time profile g(t) used by the verification laws.
+//   ramp : g = 0 for t<0, (1 - cos(pi t / T))/2 for 0<=t<T, 1 after   (C1 ramp)
+//   bump : g = sin^4(pi t / T) for 0<=t<T, 0 otherwise                  (C3 bump)
+enum class TimeProfile { ramp, bump };
+
+struct InterfaceConfig {
+  InterfaceLaw law = InterfaceLaw::rate_and_state;  // [interface] law
+  // prescribed_slip: [interface] slip_amplitude [m], mode (integer m), profile, rise_time [s]
+  double slip_amplitude = 1e-6;
+  int mode = 1;
+  TimeProfile profile = TimeProfile::ramp;
+  double rise_time = 1e-4;
+  // free: shear-stress pulse dtau(x,t) = stress_amplitude * exp(-((x-x0)/w)^2 / 2) * g(t)
+  //   [interface] stress_amplitude [Pa], pulse_center [m], pulse_width [m] (<=0 or inf: uniform)
+  double stress_amplitude = 1e5;
+  double pulse_center = 0.0;
+  double pulse_width = std::numeric_limits<double>::infinity();
+};
+
+// Initial perturbations on top of steady sliding at v0 (phi = phi_ss(v0)).
+struct InitialConfig {
+  double noise_amplitude = 0.0;      // [initial] noise_amplitude: relative std of white noise in phi
+  std::uint64_t noise_seed = 1;      // [initial] noise_seed
+  double sine_amplitude = 0.0;       // [initial] sine_amplitude eps: phi_ss eps sin(2 pi m x/L + pi/2)
+  int sine_mode = 1;                 // [initial] sine_mode m
+  double local_amplitude = 0.0;      // [initial] local_amplitude: relative bump in phi (Gaussian)
+  double local_center = 0.0;         // [initial] local_center x [m]
+  double local_width = 0.0;          // [initial] local_width [m]
+};
+
+struct TimeConfig {
+  double beta = 0.25;       // [time] beta: dt <= beta dx / c_s (see docs: dt is adjusted so 2H/c_s is a whole number of steps)
+  double duration = 1e-3;   // [time] duration [s] (or duration_transit in units of L/c_s, resolved here)
+};
+
+struct OutputConfig {
+  double timeseries_interval = 0.0;  // [output] timeseries_interval [s]; 0 = every step
+  double snapshot_interval = 0.0;    // [output] snapshot_interval [s]; 0 = no time snapshots
+  double snapshot_slip_increment = 0.0;  // [output] snapshot_slip_increment [m] (mean slip); 0 = off
+  double delta_th = 1e-8;            // [output] delta_th [m], slip-sampling threshold; 0 = off
+  double flush_interval = 5.0;       // [output] flush_interval [s of wall time]
+};
+
+struct SimulationConfig {
+  GeometryConfig geometry;
+  ElasticMaterial material;  // [material] shear_modulus, poisson_ratio, density, plane
+  LoadingConfig loading;
+  FrictionParameters friction;  // [friction] law, f0, a, b, characteristic_slip, v_star, phi_star; [state] law
+  InterfaceConfig interface;
+  InitialConfig initial;
+  TimeConfig time;
+  OutputConfig output;
+};
+
+}  // namespace slipstrip

@@ -1,0 +1,69 @@
+#pragma once
+// Rate-and-state friction: strength laws, state evolution laws and the
+// derivatives that linear stability needs.  SI units: stress [Pa], slip rate
+// [m/s], state phi [s] (contact age), slip [m].
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace slipstrip {
+
+// Strength law tau(v, phi):
+//   paper           : tau/sigma0 = f0 [1 + b ln(phi/phi*)] + a ln(1 + |v|/v*)      (Eq. S1)
+//   dieterich_ruina : tau/sigma0 = f0 + a ln(|v|/v*) + b ln(v* phi / D)           (classic log form)
+//   regularized     : tau/sigma0 = a asinh( |v|/(2 v*) exp([f0 + b ln(v* phi/D)]/a) )
+// (for the last two, f0 and b have their usual Dieterich-Ruina meaning, not the
+//  paper's f0*b product; v_star plays the reference velocity.)
+enum class StrengthLaw { paper, dieterich_ruina, regularized };
+// State evolution law:
+//   aging : dphi/dt = 1 - sqrt(v^2 + v*^2) phi / D                 (Eq. S2, regularised)
+//   slip  : dphi/dt = -(|v| phi / D) ln(|v| phi / D)               (Eq. 2 of the paper)
+enum class StateLaw { aging, slip };
+
+struct FrictionParameters {
+  StrengthLaw strength_law = StrengthLaw::paper;
+  StateLaw state_law = StateLaw::aging;
+  double f0 = 0.28;
+  double a = 0.005;
+  double b = 0.075;
+  double characteristic_slip = 5e-7;  // D [m]
+  double v_star = 1e-7;               // v* [m/s]
+  double phi_star = 3.3e-4;           // phi* [s]
+};
+
+StrengthLaw parse_strength_law(std::string_view name);  // throws, listing allowed names
+StateLaw parse_state_law(std::string_view name);
+std::string_view to_string(StrengthLaw law);
+std::string_view to_string(StateLaw law);
+void validate(const FrictionParameters& friction);  // throws std::invalid_argument naming the key
+
+// Strength for slip rate magnitude |v| (the local solve applies sign(v)).
+double frictional_strength(const FrictionParameters& friction, double normal_stress,
+                           double slip_rate, double state);
+double frictional_strength_dv(const FrictionParameters& friction, double normal_stress,
+                              double slip_rate, double state);     // d tau / d|v|
+double frictional_strength_dstate(const FrictionParameters& friction, double normal_stress,
+                                  double slip_rate, double state);  // d tau / d phi
+
+double state_rate(const FrictionParameters& friction, double slip_rate, double state);  // dphi/dt
+double state_rate_dv(const FrictionParameters& friction, double slip_rate, double state);
+double state_rate_dstate(const FrictionParameters& friction, double slip_rate, double state);
+double steady_state(const FrictionParameters& friction, double slip_rate);  // phi_ss(v)
+double steady_state_friction(const FrictionParameters& friction, double slip_rate);  // f_ss(v)
+
+// phi(t + dt) for a slip rate held constant over the step: exact for both laws,
+// so the update stays accurate (and positive) at large v dt / D.
+double evolve_state(const FrictionParameters& friction, double state, double slip_rate, double dt);
+
+// Local interface solve at one node:
+//   tau_history - eta * v = sign(v) * strength(|v|, phi),
+// with sticking (v = 0) when |tau_history| <= strength(0, phi).  eta = mu / (2 c_s).
+// Safeguarded Newton (bracket + bisection fallback + iteration cap).  Never
+// returns a silently wrong value: throws LocalSolveFailure with all inputs.
+struct LocalSolveFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+double solve_slip_rate(const FrictionParameters& friction, double normal_stress, double eta,
+                       double tau_history, double state, double initial_guess);
+
+}  // namespace slipstrip
