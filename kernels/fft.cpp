@@ -1,0 +1,40 @@
+#include "kernels/fft.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace slipstrip {
+
+RealFft::RealFft(int nodes)
+    : nodes_(nodes),
+      real_(make_fftw_buffer<double>(nodes)),
+      spectral_(make_fftw_buffer<fftw_complex>(nodes / 2 + 1)) {
+  if (nodes < 2) throw std::invalid_argument("RealFft: nodes = " + std::to_string(nodes) + " must be >= 2");
+  // FFTW_MEASURE scribbles on the arrays: fine, they are ours and empty now.
+  forward_plan_ = fftw_plan_dft_r2c_1d(nodes, real_.get(), spectral_.get(), FFTW_MEASURE);
+  inverse_plan_ = fftw_plan_dft_c2r_1d(nodes, spectral_.get(), real_.get(), FFTW_MEASURE);
+  if (!forward_plan_ || !inverse_plan_) throw std::runtime_error("RealFft: FFTW planning failed");
+}
+
+RealFft::~RealFft() {
+  if (forward_plan_) fftw_destroy_plan(forward_plan_);
+  if (inverse_plan_) fftw_destroy_plan(inverse_plan_);
+}
+
+void RealFft::forward(std::span<const double> in, std::span<std::complex<double>> out) {
+  std::copy(in.begin(), in.end(), real_.get());
+  fftw_execute(forward_plan_);
+  const auto* s = reinterpret_cast<const std::complex<double>*>(spectral_.get());
+  std::copy(s, s + modes(), out.begin());
+}
+
+void RealFft::inverse(std::span<const std::complex<double>> in, std::span<double> out) {
+  // c2r destroys its input, so transform a copy held in our own buffer.
+  std::copy(in.begin(), in.end(), reinterpret_cast<std::complex<double>*>(spectral_.get()));
+  fftw_execute(inverse_plan_);
+  const double scale = 1.0 / nodes_;
+  for (int j = 0; j < nodes_; ++j) out[j] = real_[j] * scale;
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,50 @@
+#pragma once
+// Real-to-complex FFT of the interface fields with plans made once (RAII).
+// FFTW's planner is not thread-safe, so plans are created in the constructor
+// only; execute() uses the new-array interface and may be called from the
+// time loop without allocation.
+#include <fftw3.h>
+
+#include <complex>
+#include <cstddef>
+#include <memory>
+#include <span>
+
+namespace slipstrip {
+
+struct FftwFree {
+  void operator()(void* p) const { fftw_free(p); }
+};
+template <class T>
+using FftwBuffer = std::unique_ptr<T[], FftwFree>;
+
+template <class T>
+FftwBuffer<T> make_fftw_buffer(std::size_t n) {
+  auto* p = static_cast<T*>(fftw_malloc(sizeof(T) * (n == 0 ? 1 : n)));
+  if (!p) throw std::bad_alloc();
+  return FftwBuffer<T>(p);
+}
+
+class RealFft {
+ public:
+  explicit RealFft(int nodes);
+  RealFft(const RealFft&) = delete;
+  RealFft& operator=(const RealFft&) = delete;
+  ~RealFft();
+
+  int nodes() const { return nodes_; }
+  int modes() const { return nodes_ / 2 + 1; }
+  // Unnormalised forward transform: out[q] = sum_j in[j] exp(-2 pi i q j / N).
+  void forward(std::span<const double> in, std::span<std::complex<double>> out);
+  // Inverse including the 1/N factor, so inverse(forward(f)) == f.
+  void inverse(std::span<const std::complex<double>> in, std::span<double> out);
+
+ private:
+  int nodes_;
+  FftwBuffer<double> real_;
+  FftwBuffer<fftw_complex> spectral_;
+  fftw_plan forward_plan_ = nullptr;
+  fftw_plan inverse_plan_ = nullptr;
+};
+
+}  // namespace slipstrip

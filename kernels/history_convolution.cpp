@@ -1,0 +1,137 @@
+#include "kernels/history_convolution.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "kernels/strip_response.hpp"
+
+namespace slipstrip {
+
+double strip_time_step(const ElasticMaterial& material, double strip_height, double dx,
+                       double beta) {
+  const double cs = material.shear_wave_speed();
+  const double dt_max = beta * dx / cs;
+  if (is_half_space(strip_height)) return dt_max;
+  const double echo_time = 2.0 * strip_height / cs;
+  const double steps = std::ceil(echo_time / dt_max * (1.0 - 1e-12));
+  return echo_time / steps;
+}
+
+StripHistory::StripHistory(const ElasticMaterial& material, double strip_height, double length,
+                           int nodes, double time_step)
+    : dt_(time_step) {
+  if (is_half_space(strip_height))
+    throw std::invalid_argument("StripHistory needs a finite strip_height (got inf)");
+  if (!(strip_height > 0)) throw std::invalid_argument("strip_height must be > 0");
+  const double mu = material.shear_modulus;
+  const double cs = material.shear_wave_speed();
+  eta_ = mu / (2.0 * cs);
+  echo_weight_ = mu / cs;
+  const double echo_time = 2.0 * strip_height / cs;
+  echo_steps_ = static_cast<std::size_t>(std::llround(echo_time / dt_));
+  if (echo_steps_ < 1 || std::abs(echo_steps_ * dt_ - echo_time) > 1e-9 * echo_time)
+    throw std::invalid_argument(
+        "time_step = " + std::to_string(dt_) +
+        " s must divide the shear echo time 2H/c_s = " + std::to_string(echo_time) +
+        " s into a whole number of steps (use strip_time_step)");
+
+  const int n_modes = nodes / 2 + 1;
+  const double nyquist = std::numbers::pi / dt_;
+  first_oscillator_.assign(1, 0);
+  for (int q = 0; q < n_modes; ++q) {
+    const double k = 2.0 * std::numbers::pi * q / length;
+    const auto modes = strip_modes(material, strip_height, k, nyquist);
+    double kept = 0.0;
+    for (const auto& m : modes) {
+      cos_step_.push_back(std::cos(m.frequency * dt_));
+      sin_step_.push_back(std::sin(m.frequency * dt_));
+      weight_.push_back(m.weight);
+      kept += m.weight;
+    }
+    // Static stiffness of the modes above Nyquist, carried by one mode at the
+    // Nyquist frequency (kernel 1 - (-1)^j): right at low frequency, lossless.
+    const double truncated = strip_static_stiffness(material, strip_height, k) -
+                             mu / (2.0 * strip_height) - kept;
+    if (q > 0 && truncated != 0.0) {
+      cos_step_.push_back(-1.0);
+      sin_step_.push_back(0.0);
+      weight_.push_back(truncated);
+    }
+    first_oscillator_.push_back(weight_.size());
+  }
+  weight_sum_.assign(n_modes, 0.0);
+  for (int q = 0; q < n_modes; ++q)
+    for (std::size_t m = first_oscillator_[q]; m < first_oscillator_[q + 1]; ++m)
+      weight_sum_[q] += weight_[m];
+  const std::size_t n_osc = weight_.size();
+  c_re_.assign(n_osc, 0.0);
+  c_im_.assign(n_osc, 0.0);
+  s_re_.assign(n_osc, 0.0);
+  s_im_.assign(n_osc, 0.0);
+  running_sum_.assign(n_modes, 0.0);
+  echo_line_.assign(static_cast<std::size_t>(n_modes) * echo_steps_, 0.0);
+  history_.assign(n_modes, 0.0);
+}
+
+ModeOperatorStats StripHistory::stats() const {
+  ModeOperatorStats s;
+  s.modes = history_.size();
+  s.oscillators = weight_.size();
+  s.echo_steps = echo_steps_;
+  s.memory_bytes = sizeof(double) * (7 * weight_.size() + weight_sum_.size()) +
+                   sizeof(std::complex<double>) *
+                       (running_sum_.size() + echo_line_.size() + history_.size()) +
+                   sizeof(std::size_t) * first_oscillator_.size();
+  return s;
+}
+
+std::vector<StripHistory::Mode> StripHistory::modes_of(int q) const {
+  std::vector<Mode> out;
+  for (std::size_t m = first_oscillator_[q]; m < first_oscillator_[q + 1]; ++m)
+    out.push_back({std::acos(std::clamp(cos_step_[m], -1.0, 1.0)) / dt_, weight_[m]});
+  return out;
+}
+
+void StripHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {
+  const int n_modes = static_cast<int>(history_.size());
+  const std::size_t slot = echo_cursor_;
+#pragma omp parallel for schedule(static)
+  for (int q = 0; q < n_modes; ++q) {
+    const std::complex<double> v = slip_rate_spectrum[q];
+    const double vr = v.real(), vi = v.imag();
+    // Shear echoes: the slot holds (v + echo sum) written M_s steps ago, which
+    // is exactly the echo sum at the next level: R_{n+1} = v_{n+1-M} + R_{n+1-M}.
+    std::complex<double>& cell = echo_line_[static_cast<std::size_t>(q) * echo_steps_ + slot];
+    // Value stored now is used M_s steps later. Current echo sum at t_n was
+    // read out of this slot before being overwritten.
+    const std::complex<double> echo_now = cell;  // R_n
+    cell = v + echo_now;                         // becomes R_{n+M}
+    const std::size_t next_slot = slot + 1 == echo_steps_ ? 0 : slot + 1;
+    const std::complex<double> echo_next =
+        echo_line_[static_cast<std::size_t>(q) * echo_steps_ + next_slot];  // R_{n+1}
+
+    double acc_r = 0.0, acc_i = 0.0;
+    const std::size_t begin = first_oscillator_[q], end = first_oscillator_[q + 1];
+    for (std::size_t m = begin; m < end; ++m) {
+      const double c = cos_step_[m], s = sin_step_[m];
+      const double xr = c_re_[m] + vr, xi = c_im_[m] + vi;
+      const double sr = s_re_[m], si = s_im_[m];
+      const double new_cr = c * xr - s * sr, new_ci = c * xi - s * si;
+      s_re_[m] = s * xr + c * sr;
+      s_im_[m] = s * xi + c * si;
+      c_re_[m] = new_cr;
+      c_im_[m] = new_ci;
+      acc_r += weight_[m] * new_cr;
+      acc_i += weight_[m] * new_ci;
+    }
+    running_sum_[q] += v;
+    history_[q] = echo_weight_ * echo_next +
+                  dt_ * (weight_sum_[q] * running_sum_[q] - std::complex<double>(acc_r, acc_i));
+  }
+  echo_cursor_ = slot + 1 == echo_steps_ ? 0 : slot + 1;
+}
+
+}  // namespace slipstrip

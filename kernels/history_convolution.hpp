@@ -1,0 +1,76 @@
+#pragma once
+// History part of the elastodynamic traction, per Fourier mode of the
+// interface, for two strips of height H (see docs/theory.md, "time
+// discretisation").  For the slip-rate perturbation v^_q(t) of mode q,
+//
+//   tau^_q(t_n) = load - eta v^_q(t_n) - history_q(t_n),        eta = mu / (2 c_s),
+//   history_q(t_n) = (mu/c_s) sum_{p>=1} v^_q(t_n - p T_s)                   (shear echoes)
+//                  + dt sum_m w_m sum_{j>=1} (1 - cos(omega_m j dt)) v^_q(t_{n-j})  (normal modes)
+//
+// T_s = 2H/c_s is a whole number of steps, so the echoes are an exact delay
+// line; the normal-mode sums are updated recursively (a rotation per mode and
+// step).  Memory and cost per step are fixed when the operator is built and do
+// not grow with simulated time, yet no reflection is ever dropped.
+#include <complex>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "kernels/elastic_material.hpp"
+
+namespace slipstrip {
+
+// Largest time step <= beta dx / c_s for which 2H/c_s is a whole number of
+// steps (so every shear echo lands exactly on a time level).  For a half-space
+// it is beta dx / c_s.
+double strip_time_step(const ElasticMaterial& material, double strip_height, double dx,
+                       double beta);
+
+struct ModeOperatorStats {
+  std::size_t modes = 0;            // Fourier modes q = 0..N/2
+  std::size_t oscillators = 0;      // normal-mode recursions in total
+  std::size_t echo_steps = 0;       // T_s / dt
+  std::size_t memory_bytes = 0;     // state + coefficients
+};
+
+class StripHistory {
+ public:
+  StripHistory(const ElasticMaterial& material, double strip_height, double length, int nodes,
+               double time_step);
+
+  double time_step() const { return dt_; }
+  double radiation_damping() const { return eta_; }
+  int modes() const { return static_cast<int>(first_oscillator_.size()) - 1; }
+  ModeOperatorStats stats() const;
+
+  // Feed the slip-rate perturbation spectrum at the newest level t_n; afterwards
+  // history() holds history_q(t_{n+1}).  No allocation.
+  void push(std::span<const std::complex<double>> slip_rate_spectrum);
+  std::span<const std::complex<double>> history() const { return history_; }
+
+  // Normal modes kept for Fourier mode q (diagnostics and tests).
+  struct Mode {
+    double frequency;
+    double weight;
+  };
+  std::vector<Mode> modes_of(int q) const;
+
+ private:
+  double dt_;
+  double eta_;
+  double echo_weight_;       // mu / c_s
+  std::size_t echo_steps_;   // M_s
+  std::size_t echo_cursor_ = 0;
+
+  // Coefficients, flat over (mode q, oscillator m): contiguous per q.
+  std::vector<std::size_t> first_oscillator_;  // size modes+1
+  std::vector<double> cos_step_, sin_step_, weight_;
+  std::vector<double> weight_sum_;             // per q: sum of weights
+  // State.
+  std::vector<double> c_re_, c_im_, s_re_, s_im_;
+  std::vector<std::complex<double>> running_sum_;  // per q: sum_{j>=1} v_{n-j}
+  std::vector<std::complex<double>> echo_line_;    // per q: M_s slots of (v + echo sum)
+  std::vector<std::complex<double>> history_;
+};
+
+}  // namespace slipstrip
