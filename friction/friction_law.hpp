@@ -66,4 +66,20 @@ struct LocalSolveFailure : std::runtime_error {
 double solve_slip_rate(const FrictionParameters& friction, double normal_stress, double eta,
                        double tau_history, double state, double initial_guess);
 
+// --- Additions (the declarations above are the shared contract) ---------------
+
+// Throws std::invalid_argument naming loading.normal_stress unless it is finite
+// and > 0 (compressive normal stress sigma0 [Pa]).
+void validate_normal_stress(double normal_stress);
+
+// The same solve as solve_slip_rate, also reporting how many residual
+// evaluations it needed (0 when the node sticks); for tests and benchmarks.
+struct SlipRateSolution {
+  double slip_rate = 0.0;  // [m/s], signed like tau_history
+  int iterations = 0;
+};
+SlipRateSolution solve_slip_rate_counted(const FrictionParameters& friction, double normal_stress,
+                                         double eta, double tau_history, double state,
+                                         double initial_guess);
+
 }  // namespace slipstrip
