@@ -32,6 +32,8 @@ class Handle {
   hid_t get() const { return id_; }
   operator hid_t() const { return id_; }
   bool valid() const { return id_ >= 0; }
+  // Gives up ownership, e.g. to close explicitly and check the result.
+  hid_t release() { return std::exchange(id_, H5I_INVALID_HID); }
 
   void reset() {
     if (id_ < 0) return;
@@ -54,6 +56,35 @@ class Handle {
 
 inline void check(herr_t status, const std::string& what) {
   if (status < 0) throw std::runtime_error("HDF5 error: " + what + " failed");
+}
+
+// Scalar attributes on a file, group or dataset; an existing attribute of the
+// same name is replaced.  Strings are variable-length UTF-8 so h5py returns a
+// plain str and there is no 64 KiB compact-attribute limit on long texts.
+inline void remove_attribute_if_present(hid_t object, const std::string& name) {
+  const htri_t exists = H5Aexists(object, name.c_str());
+  check(exists, "H5Aexists(" + name + ")");
+  if (exists > 0) check(H5Adelete(object, name.c_str()), "H5Adelete(" + name + ")");
+}
+
+inline void write_attribute(hid_t object, const std::string& name, const std::string& value) {
+  remove_attribute_if_present(object, name);
+  Handle type(H5Tcopy(H5T_C_S1), "H5Tcopy");
+  check(H5Tset_size(type, H5T_VARIABLE), "H5Tset_size");
+  check(H5Tset_cset(type, H5T_CSET_UTF8), "H5Tset_cset");
+  Handle space(H5Screate(H5S_SCALAR), "H5Screate");
+  Handle attr(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
+              "H5Acreate2(" + name + ")");
+  const char* text = value.c_str();
+  check(H5Awrite(attr, type, &text), "H5Awrite(" + name + ")");
+}
+
+inline void write_attribute(hid_t object, const std::string& name, double value) {
+  remove_attribute_if_present(object, name);
+  Handle space(H5Screate(H5S_SCALAR), "H5Screate");
+  Handle attr(H5Acreate2(object, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT),
+              "H5Acreate2(" + name + ")");
+  check(H5Awrite(attr, H5T_NATIVE_DOUBLE, &value), "H5Awrite(" + name + ")");
 }
 
 }  // namespace slipstrip::hdf5

@@ -1,0 +1,397 @@
+#include "core/run_output.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <limits>
+#include <stdexcept>
+
+#include "core/hdf5_handle.hpp"
+#include "slipstrip/version.hpp"
+
+namespace slipstrip {
+namespace {
+
+using hdf5::check;
+using hdf5::Handle;
+
+constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
+
+constexpr const char* timeseries_names[4] = {"time", "max_slip_rate", "mean_slip",
+                                             "mean_shear_stress"};
+constexpr const char* timeseries_units[4] = {"s", "m/s", "m", "Pa"};
+constexpr const char* snapshot_names[4] = {"slip", "slip_rate", "state", "shear_stress"};
+constexpr const char* snapshot_units[4] = {"m", "m/s", "s", "Pa"};
+
+constexpr const char* units_table =
+    "SI units throughout; every dataset also carries a 'units' attribute.\n"
+    "time, crossing_time: s\n"
+    "slip, mean_slip, x, delta_th, dx, D, L: m\n"
+    "slip_rate, max_slip_rate, v0: m/s\n"
+    "state (contact age phi): s\n"
+    "shear_stress, mean_shear_stress, mu: Pa\n";
+
+std::string now_iso8601() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+// The writer ignores HDF5 file locks: a reader that keeps the file open (a
+// notebook, h5py in another process) must never stall or fail the run.  The
+// file is only open for the few milliseconds of a flush anyway.
+Handle file_access_list() {
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), "H5Pcreate(file access)");
+  check(H5Pset_file_locking(fapl, false, true), "H5Pset_file_locking");
+  return fapl;
+}
+
+Handle open_for_append(const std::string& path) {
+  Handle fapl = file_access_list();
+  return Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl), "H5Fopen(" + path + ")");
+}
+
+// Extendible dataset: dims[0] starts at 0 and is unlimited; chunk gives the
+// chunk shape; deflate level 0 means uncompressed (then partially filled
+// chunks are rewritten in place, which matters because every flush rewrites
+// the last, partial chunk — a compressed chunk would be reallocated and the
+// old space lost once the file is closed).
+Handle create_extendible(hid_t group, const std::string& name, std::span<const hsize_t> columns,
+                         std::span<const hsize_t> chunk, int deflate, const std::string& units,
+                         bool nan_fill) {
+  const int rank = 1 + static_cast<int>(columns.size());
+  hsize_t dims[2] = {0, 0}, max_dims[2] = {H5S_UNLIMITED, 0};
+  for (std::size_t c = 0; c < columns.size(); ++c) dims[c + 1] = max_dims[c + 1] = columns[c];
+  Handle space(H5Screate_simple(rank, dims, max_dims), "H5Screate_simple(" + name + ")");
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate(dataset create)");
+  check(H5Pset_chunk(dcpl, rank, chunk.data()), "H5Pset_chunk(" + name + ")");
+  if (deflate > 0) {
+    check(H5Pset_shuffle(dcpl), "H5Pset_shuffle");
+    check(H5Pset_deflate(dcpl, static_cast<unsigned>(deflate)), "H5Pset_deflate");
+  }
+  if (nan_fill) {
+    check(H5Pset_fill_value(dcpl, H5T_NATIVE_DOUBLE, &nan_value), "H5Pset_fill_value");
+    check(H5Pset_fill_time(dcpl, H5D_FILL_TIME_ALLOC), "H5Pset_fill_time");
+  }
+  Handle dset(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
+              "H5Dcreate2(" + name + ")");
+  hdf5::write_attribute(dset, "units", units);
+  return dset;
+}
+
+void write_fixed_vector(hid_t group, const std::string& name, std::span<const double> values,
+                        const std::string& units) {
+  const hsize_t dims[1] = {values.size()};
+  Handle space(H5Screate_simple(1, dims, nullptr), "H5Screate_simple(" + name + ")");
+  Handle dset(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT,
+                         H5P_DEFAULT),
+              "H5Dcreate2(" + name + ")");
+  check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
+        "H5Dwrite(" + name + ")");
+  hdf5::write_attribute(dset, "units", units);
+}
+
+hsize_t rows_of(hid_t dset) {
+  Handle space(H5Dget_space(dset), "H5Dget_space");
+  hsize_t dims[2] = {0, 0};
+  check(H5Sget_simple_extent_dims(space, dims, nullptr), "H5Sget_simple_extent_dims");
+  return dims[0];
+}
+
+void grow_to(hid_t dset, hsize_t rows, hsize_t columns) {
+  if (rows_of(dset) >= rows) return;
+  const hsize_t dims[2] = {rows, columns};
+  check(H5Dset_extent(dset, dims), "H5Dset_extent");
+}
+
+// Writes `count` rows of a rank-1 (columns == 0) or rank-2 dataset starting at
+// `first_row`.  memory: `count` values spaced by `memory_stride` (rank 1) or
+// `count` contiguous rows of `columns` values (rank 2).
+void write_rows(hid_t dset, hsize_t first_row, hsize_t count, hsize_t columns, const double* memory,
+                hsize_t memory_stride = 1) {
+  if (count == 0) return;
+  const int rank = columns == 0 ? 1 : 2;
+  Handle file_space(H5Dget_space(dset), "H5Dget_space");
+  const hsize_t start[2] = {first_row, 0};
+  const hsize_t block[2] = {count, columns};
+  check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, block, nullptr),
+        "H5Sselect_hyperslab(file)");
+  Handle memory_space;
+  if (rank == 1) {
+    const hsize_t memory_dims[1] = {(count - 1) * memory_stride + 1};
+    memory_space = Handle(H5Screate_simple(1, memory_dims, nullptr), "H5Screate_simple(memory)");
+    const hsize_t memory_start[1] = {0}, stride[1] = {memory_stride}, memory_count[1] = {count};
+    check(H5Sselect_hyperslab(memory_space, H5S_SELECT_SET, memory_start, stride, memory_count,
+                              nullptr),
+          "H5Sselect_hyperslab(memory)");
+  } else {
+    memory_space = Handle(H5Screate_simple(2, block, nullptr), "H5Screate_simple(memory)");
+  }
+  check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, memory),
+        "H5Dwrite");
+}
+
+void require_positive(int value, const char* name) {
+  if (value < 1)
+    throw std::invalid_argument(std::string("RunOutputOptions.") + name + " = " +
+                                std::to_string(value) + ": must be >= 1");
+}
+
+}  // namespace
+
+RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
+                     const SlipSamplingSetup& slip_sampling, RunOutputOptions options)
+    : path_(path), node_count_(slip_sampling.x.size()), options_(options) {
+  if (node_count_ == 0)
+    throw std::invalid_argument("SlipSamplingSetup.x: node positions are empty; need N >= 1 nodes");
+  if (!(slip_sampling.delta_th >= 0.0) || !std::isfinite(slip_sampling.delta_th))
+    throw std::invalid_argument("output.delta_th = " + std::to_string(slip_sampling.delta_th) +
+                                ": must be finite and >= 0 (0 = slip sampling off)");
+  require_positive(options_.timeseries_buffer_rows, "timeseries_buffer_rows");
+  require_positive(options_.snapshot_chunk, "snapshot_chunk");
+  require_positive(options_.slip_buffer_rows, "slip_buffer_rows");
+  if (options_.gzip_level < 0 || options_.gzip_level > 9)
+    throw std::invalid_argument("RunOutputOptions.gzip_level = " +
+                                std::to_string(options_.gzip_level) + ": allowed 0..9");
+
+  delta_th_ = slip_sampling.delta_th;
+  slip_sampling_on_ = delta_th_ > 0.0;
+  const hsize_t n = node_count_;
+  timeseries_buffer_.reserve(4 * static_cast<std::size_t>(options_.timeseries_buffer_rows));
+  snapshot_time_buffer_.reserve(static_cast<std::size_t>(options_.snapshot_chunk));
+  snapshot_field_buffer_.reserve(4 * node_count_ * static_cast<std::size_t>(options_.snapshot_chunk));
+  if (slip_sampling_on_) {
+    levels_reached_.assign(node_count_, 0);
+    next_threshold_.assign(node_count_, delta_th_);
+  }
+
+  Handle fapl = file_access_list();
+  Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), "H5Fcreate(" + path + ")");
+  hdf5::write_attribute(file, "config", config_toml);
+  hdf5::write_attribute(file, "code_version", std::string(slipstrip::code_version));
+  hdf5::write_attribute(file, "git_hash", std::string(slipstrip::git_hash));
+  hdf5::write_attribute(file, "units", std::string(units_table));
+  hdf5::write_attribute(file, "start_time", now_iso8601());
+  hdf5::write_attribute(file, "end_time", std::string());
+  hdf5::write_attribute(file, "status", std::string("running"));
+
+  {
+    Handle group(H5Gcreate2(file, "timeseries", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                 "H5Gcreate2(timeseries)");
+    const hsize_t chunk[1] = {static_cast<hsize_t>(options_.timeseries_buffer_rows)};
+    for (int c = 0; c < 4; ++c)
+      create_extendible(group, timeseries_names[c], {}, chunk, 0, timeseries_units[c], false);
+  }
+  {
+    Handle group(H5Gcreate2(file, "snapshots", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                 "H5Gcreate2(snapshots)");
+    hdf5::write_attribute(group, "trigger",
+                          std::string(options_.snapshots_by_slip ? "slip_increment" : "time"));
+    const hsize_t time_chunk[1] = {256};
+    create_extendible(group, "time", {}, time_chunk, 0, "s", false);
+    // One snapshot per chunk: each chunk is written exactly once, so the
+    // compressed fields never leave dead space behind when a flush ends
+    // mid-chunk (see create_extendible).
+    const hsize_t columns[1] = {n};
+    const hsize_t chunk[2] = {1, n};
+    for (int f = 0; f < 4; ++f)
+      create_extendible(group, snapshot_names[f], columns, chunk, options_.gzip_level,
+                        snapshot_units[f], false);
+    write_fixed_vector(group, "x", slip_sampling.x, "m");
+  }
+  if (slip_sampling_on_) {
+    Handle group(H5Gcreate2(file, "slip_sampling", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                 "H5Gcreate2(slip_sampling)");
+    hdf5::write_attribute(group, "delta_th", slip_sampling.delta_th);
+    hdf5::write_attribute(group, "dx", slip_sampling.dx);
+    hdf5::write_attribute(group, "v0", slip_sampling.v0);
+    hdf5::write_attribute(group, "mu", slip_sampling.mu);
+    hdf5::write_attribute(group, "D", slip_sampling.D);
+    hdf5::write_attribute(group, "L", slip_sampling.L);
+    write_fixed_vector(group, "x", slip_sampling.x, "m");
+    // Uncompressed: the partially filled rows are rewritten at every flush and
+    // must stay in place.  ~128 KiB chunks whatever N is.
+    const hsize_t columns[1] = {n};
+    const hsize_t chunk[2] = {std::max<hsize_t>(1, 16384 / n), n};
+    create_extendible(group, "crossing_time", columns, chunk, 0, "s", true);
+  }
+}
+
+RunOutput::~RunOutput() {
+  try {
+    close("interrupted");
+  } catch (...) {
+    // A destructor may run during unwinding; the file keeps its last flush.
+  }
+}
+
+void RunOutput::append_timeseries(double time, double max_slip_rate, double mean_slip,
+                                  double mean_shear_stress) {
+  if (closed_) throw std::logic_error("RunOutput::append_timeseries after close: " + path_);
+  timeseries_buffer_.insert(timeseries_buffer_.end(),
+                            {time, max_slip_rate, mean_slip, mean_shear_stress});
+  if (timeseries_buffer_.size() >= 4 * static_cast<std::size_t>(options_.timeseries_buffer_rows))
+    write_out();
+}
+
+void RunOutput::write_snapshot(double time, std::span<const double> slip,
+                               std::span<const double> slip_rate, std::span<const double> state,
+                               std::span<const double> shear_stress) {
+  if (closed_) throw std::logic_error("RunOutput::write_snapshot after close: " + path_);
+  const std::span<const double> fields[4] = {slip, slip_rate, state, shear_stress};
+  for (int f = 0; f < 4; ++f)
+    if (fields[f].size() != node_count_)
+      throw std::invalid_argument(std::string("write_snapshot: ") + snapshot_names[f] + " has " +
+                                  std::to_string(fields[f].size()) + " values, expected N = " +
+                                  std::to_string(node_count_));
+  snapshot_time_buffer_.push_back(time);
+  for (const auto& field : fields)
+    snapshot_field_buffer_.insert(snapshot_field_buffer_.end(), field.begin(), field.end());
+  if (snapshot_time_buffer_.size() >= static_cast<std::size_t>(options_.snapshot_chunk)) write_out();
+}
+
+void RunOutput::record_slip(double t_old, double t_new, std::span<const double> slip_old,
+                            std::span<const double> slip_new) {
+  if (!slip_sampling_on_) return;
+  if (closed_) throw std::logic_error("RunOutput::record_slip after close: " + path_);
+  if (slip_old.size() != node_count_ || slip_new.size() != node_count_)
+    throw std::invalid_argument("record_slip: slip_old has " + std::to_string(slip_old.size()) +
+                                " and slip_new " + std::to_string(slip_new.size()) +
+                                " values, expected N = " + std::to_string(node_count_));
+  if (!(t_new >= t_old))
+    throw std::invalid_argument("record_slip: t_new = " + std::to_string(t_new) +
+                                " < t_old = " + std::to_string(t_old) + "; time must not go back");
+  bool crossed = false;
+  if (!slip_recorded_) {
+    // Levels the initial slip already passed count as reached at t_old.
+    for (std::size_t i = 0; i < node_count_; ++i)
+      if (slip_old[i] >= next_threshold_[i]) {
+        add_crossings(i, t_old, t_old, slip_old[i], slip_old[i]);
+        crossed = true;
+      }
+    slip_recorded_ = true;
+  }
+  // The common case (no node reaches its next level) is this comparison loop.
+  for (std::size_t i = 0; i < node_count_; ++i) {
+    if (slip_new[i] >= next_threshold_[i]) {
+      add_crossings(i, t_old, t_new, slip_old[i], slip_new[i]);
+      crossed = true;
+    }
+  }
+  if (!crossed) return;
+  const std::size_t lowest_open =
+      *std::min_element(levels_reached_.begin(), levels_reached_.end());
+  if (lowest_open - band_base_ >= static_cast<std::size_t>(options_.slip_buffer_rows)) write_out();
+}
+
+void RunOutput::add_crossings(std::size_t node, double t_old, double t_new, double slip_old,
+                              double slip_new) {
+  // +inf would mean infinitely many levels; divergence is the solver's to report.
+  if (!std::isfinite(slip_new)) return;
+  const double slip_step = slip_new - slip_old;
+  while (slip_new >= next_threshold_[node]) {
+    const std::size_t level = levels_reached_[node];
+    const double threshold = next_threshold_[node];
+    // Slip is taken linear inside the step.  A threshold at or below slip_old
+    // (only possible if the caller's slip_old is not the previous slip_new)
+    // is dated at the start of the step.
+    const double fraction =
+        slip_step > 0.0 ? std::clamp((threshold - slip_old) / slip_step, 0.0, 1.0) : 0.0;
+    const std::size_t row = level - band_base_;
+    while (band_.size() <= row) {
+      if (spare_rows_.empty()) {
+        band_.emplace_back(node_count_, nan_value);
+      } else {
+        band_.push_back(std::move(spare_rows_.back()));
+        spare_rows_.pop_back();
+        std::fill(band_.back().begin(), band_.back().end(), nan_value);
+      }
+    }
+    band_[row][node] = t_old + fraction * (t_new - t_old);
+    levels_reached_[node] = level + 1;
+    next_threshold_[node] = static_cast<double>(level + 2) * delta_th_;
+  }
+}
+
+void RunOutput::flush() {
+  if (closed_) return;
+  write_out();
+}
+
+void RunOutput::close(const std::string& status) {
+  if (closed_) return;
+  const bool allowed = status == "completed" || status == "interrupted" ||
+                       (status.rfind("diverged: ", 0) == 0 && status.size() > 10);
+  if (!allowed)
+    throw std::invalid_argument("RunOutput::close status = \"" + status +
+                                "\": allowed \"completed\", \"interrupted\", "
+                                "\"diverged: <diagnostic>\"");
+  write_out();
+  Handle file = open_for_append(path_);
+  hdf5::write_attribute(file, "status", status);
+  hdf5::write_attribute(file, "end_time", now_iso8601());
+  // Closed explicitly: H5Fclose writes the metadata, and its failure must not go unnoticed.
+  check(H5Fclose(file.release()), "H5Fclose(" + path_ + ")");
+  closed_ = true;
+}
+
+void RunOutput::write_out() {
+  Handle file = open_for_append(path_);
+  const hsize_t n = node_count_;
+
+  const std::size_t timeseries_rows = timeseries_buffer_.size() / 4;
+  if (timeseries_rows > 0) {
+    Handle group(H5Gopen2(file, "timeseries", H5P_DEFAULT), "H5Gopen2(timeseries)");
+    for (int c = 0; c < 4; ++c) {
+      Handle dset(H5Dopen2(group, timeseries_names[c], H5P_DEFAULT), "H5Dopen2");
+      grow_to(dset, timeseries_rows_in_file_ + timeseries_rows, 0);
+      write_rows(dset, timeseries_rows_in_file_, timeseries_rows, 0, timeseries_buffer_.data() + c, 4);
+    }
+    timeseries_rows_in_file_ += timeseries_rows;
+    timeseries_buffer_.clear();
+  }
+
+  const std::size_t snapshots = snapshot_time_buffer_.size();
+  if (snapshots > 0) {
+    Handle group(H5Gopen2(file, "snapshots", H5P_DEFAULT), "H5Gopen2(snapshots)");
+    Handle time(H5Dopen2(group, "time", H5P_DEFAULT), "H5Dopen2(time)");
+    grow_to(time, snapshots_in_file_ + snapshots, 0);
+    write_rows(time, snapshots_in_file_, snapshots, 0, snapshot_time_buffer_.data());
+    for (int f = 0; f < 4; ++f) {
+      Handle dset(H5Dopen2(group, snapshot_names[f], H5P_DEFAULT), "H5Dopen2");
+      grow_to(dset, snapshots_in_file_ + snapshots, n);
+      for (std::size_t s = 0; s < snapshots; ++s)
+        write_rows(dset, snapshots_in_file_ + s, 1, n,
+                   snapshot_field_buffer_.data() + (4 * s + f) * node_count_);
+    }
+    snapshots_in_file_ += snapshots;
+    snapshot_time_buffer_.clear();
+    snapshot_field_buffer_.clear();
+  }
+
+  if (slip_sampling_on_ && !band_.empty()) {
+    Handle dset(H5Dopen2(file, "slip_sampling/crossing_time", H5P_DEFAULT),
+                "H5Dopen2(crossing_time)");
+    grow_to(dset, band_base_ + band_.size(), n);
+    // Completed rows and the partially filled ones (NaN = not reached yet).
+    for (std::size_t r = 0; r < band_.size(); ++r)
+      write_rows(dset, band_base_ + r, 1, n, band_[r].data());
+    const std::size_t lowest_open =
+        *std::min_element(levels_reached_.begin(), levels_reached_.end());
+    while (band_base_ < lowest_open) {
+      spare_rows_.push_back(std::move(band_.front()));
+      band_.pop_front();
+      ++band_base_;
+    }
+  }
+
+  check(H5Fclose(file.release()), "H5Fclose(" + path_ + ")");
+}
+
+}  // namespace slipstrip
