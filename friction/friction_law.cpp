@@ -351,71 +351,109 @@ SlipRateSolution solve_slip_rate_counted(const FrictionParameters& p, double nor
   const double sign = tau_history < 0.0 ? -1.0 : 1.0;
   const double A = normal_stress * p.a;
 
+  // Per-law constants of g(w), the strength at rest, and bounds on the root in
+  // w = ln u from simple bounds on the strength.  The upper bound is always
+  // needed (it caps a wild initial guess); the lower bound costs two more
+  // logarithms and is only needed by bisection or a cold start, so it is
+  // computed lazily.  Both are widened by a small margin so round-off in them
+  // can never put the root outside.
+  constexpr double margin = 1e-3;
+  LocalProblem lp{p.strength_law, 0.0, T, eta, A, 0.0};
+  double strength_at_rest = 0.0;
+  switch (p.strength_law) {
+    case StrengthLaw::paper:
+      // Same expression (and rounding) as frictional_strength(p, sigma, 0, phi),
+      // so "T <= strength at rest" agrees bit for bit with what callers compute.
+      strength_at_rest = normal_stress * (p.f0 * (1.0 + p.b * std::log(state / p.phi_star)));
+      lp.log_scale = std::log(p.v_star);
+      break;
+    case StrengthLaw::regularized:
+      strength_at_rest = 0.0;
+      break;
+    case StrengthLaw::dieterich_ruina:
+      // ln(0) = -inf: with a > 0 the strength at rest is -inf and the node never sticks.
+      strength_at_rest = A == 0.0 ? normal_stress * dr_state_term(p, state) : -kInf;
+      break;
+  }
+
   // Sticking: the strength at rest can hold the whole load.
-  const double strength_at_rest = frictional_strength(p, normal_stress, 0.0, state);
   if (T <= strength_at_rest) return {0.0, 0};
   if (tau_history == 0.0) {
     fail("strength at rest is negative, so the slip direction is undefined for zero load",
          p, normal_stress, eta, tau_history, state, initial_guess, nan, nan, 0);
   }
   // Rate-independent strength: closed form.
-  if (A == 0.0) {
-    return {sign * (T - strength_at_rest) / eta, 1};
-  }
+  if (A == 0.0) return {sign * (T - strength_at_rest) / eta, 1};
 
-  // Brackets in w = ln u from simple bounds on the strength; widened by a small
-  // margin so round-off in the bounds can never put the root outside.
-  constexpr double margin = 1e-3;
-  LocalProblem lp{p.strength_law, 0.0, T, eta, A, 0.0};
-  double lo = 0.0;
   double hi = 0.0;
   switch (p.strength_law) {
-    case StrengthLaw::paper: {
+    case StrengthLaw::paper:
       // strength(u) - strength(0) = A ln(1 + u/v*) lies in (0, A u / v*).
       lp.excess = T - strength_at_rest;  // correctly rounded; exact when T is close (Sterbenz)
       lp.excess_scale = lp.excess;
-      lp.log_scale = std::log(p.v_star);
-      lo = std::log(lp.excess) - std::log(eta + A / p.v_star) - margin;
       hi = std::log(lp.excess / eta) + margin;
       break;
-    }
-    case StrengthLaw::regularized: {
+    case StrengthLaw::regularized:
       // strength(u) = A asinh(u/u_c) lies in (0, A u / u_c).
       lp.excess = T;
       lp.excess_scale = T;
       lp.log_scale = regularized_log_crossover(p, state);
-      const double log_a = std::log(eta);
-      const double log_b = std::log(A) - lp.log_scale;
-      const double log_sum = std::max(log_a, log_b) + std::log1p(std::exp(-std::fabs(log_a - log_b)));
-      lo = std::log(T) - log_sum - margin;
       hi = std::log(T / eta) + margin;
       break;
-    }
     case StrengthLaw::dieterich_ruina: {
       // g(w) = c - eta e^w - A w with c = T - sigma psi + A ln v*.
       const double state_part = normal_stress * dr_state_term(p, state);
       const double reference_part = A * std::log(p.v_star);
       lp.excess = T - state_part + reference_part;
       lp.excess_scale = T + std::fabs(state_part) + std::fabs(reference_part);
-      const double c = lp.excess;
       // At hi: eta e^w >= T and A w >= c - T + A, so g <= -A < 0.
-      hi = std::max(std::log(T / eta), (c - T) / A + 1.0) + margin;
-      // At lo: eta e^w <= T/2 and A w <= c - T/2 - A, so g >= A > 0.
-      lo = std::min(std::log(0.5 * T / eta), (c - 0.5 * T) / A - 1.0) - margin;
+      hi = std::max(std::log(T / eta), (lp.excess - T) / A + 1.0) + margin;
       break;
     }
   }
-  if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) {
-    fail("could not bracket the root", p, normal_stress, eta, tau_history, state, initial_guess,
-         lo, hi, 0);
+  const auto lower_bound = [&]() {
+    switch (p.strength_law) {
+      case StrengthLaw::paper:
+        return std::log(lp.excess) - std::log(eta + A / p.v_star) - margin;
+      case StrengthLaw::regularized: {
+        // ln(eta + A/u_c) without forming A/u_c, which overflows for small u_c.
+        const double log_a = std::log(eta);
+        const double log_b = std::log(A) - lp.log_scale;
+        const double log_sum =
+            std::max(log_a, log_b) + std::log1p(std::exp(-std::fabs(log_a - log_b)));
+        return std::log(T) - log_sum - margin;
+      }
+      case StrengthLaw::dieterich_ruina:
+        // At lo: eta e^w <= T/2 and A w <= c - T/2 - A, so g >= A > 0.
+        return std::min(std::log(0.5 * T / eta), (lp.excess - 0.5 * T) / A - 1.0) - margin;
+    }
+    return nan;
+  };
+  double lo = -kInf;  // until needed; any evaluated point with g > 0 also tightens it
+  const auto ensure_lower_bound = [&]() {
+    if (lo == -kInf) lo = lower_bound();
+    if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) {
+      fail("could not bracket the root", p, normal_stress, eta, tau_history, state, initial_guess,
+           lo, hi, 0);
+    }
+  };
+  if (!std::isfinite(hi)) {
+    fail("could not bound the root", p, normal_stress, eta, tau_history, state, initial_guess, lo,
+         hi, 0);
   }
 
-  // Warm start from the previous slip rate; without a usable guess start at
-  // the lower bound, which is nearly exact when the load barely exceeds the
-  // strength at rest (the usual way a stuck node starts to slide).
+  // Warm start from the previous slip rate (its magnitude: the sign is set by
+  // tau_history).  Without a usable guess start at the lower bound, which is
+  // nearly exact when the load barely exceeds the strength at rest (the usual
+  // way a stuck node starts to slide).
   const double guess = std::fabs(initial_guess);
-  double w = (std::isfinite(guess) && guess > 0.0) ? std::log(guess) : lo;
-  w = std::min(std::max(w, lo), hi);
+  double w = 0.0;
+  if (std::isfinite(guess) && guess > 0.0) {
+    w = std::min(std::log(guess), hi);
+  } else {
+    ensure_lower_bound();
+    w = lo;
+  }
 
   // Acceptance: |g''| <= |g'| in w for all three laws, so a Newton step of
   // size dw leaves an error of at most ~dw^2/2 in ln u; taking that last step
@@ -452,6 +490,7 @@ SlipRateSolution solve_slip_rate_counted(const FrictionParameters& p, double nor
 
     double next = w + step;
     if (!(next > lo && next < hi) || slow_steps >= 2) {
+      ensure_lower_bound();
       next = 0.5 * (lo + hi);
       slow_steps = 0;
     }

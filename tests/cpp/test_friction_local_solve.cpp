@@ -165,6 +165,18 @@ TEST_CASE("sticking returns exactly zero") {
   CHECK(solve_slip_rate(reg, sigma0, eta, 1e-300, 1.0, 1e-3) < 1e-320);
 }
 
+TEST_CASE("paper law below its physical range: negative strength at rest") {
+  // phi < phi* exp(-1/b) makes f0 [1 + b ln(phi/phi*)] < 0: no load can be held.
+  const auto p = parameters_for(StrengthLaw::paper);
+  const double phi = p.phi_star * std::exp(-2.0 / p.b);
+  REQUIRE(frictional_strength(p, sigma0, 0.0, phi) < 0.0);
+  const double v = solve_slip_rate(p, sigma0, eta, 10.0, phi, 0.0);
+  CHECK(v > 0.0);
+  CHECK(std::fabs(residual(p, 10.0, v, phi)) <= residual_allowance(p, 10.0, v, phi));
+  // With zero load both slip directions solve the equation: refuse rather than pick one.
+  CHECK_THROWS_AS(solve_slip_rate(p, sigma0, eta, 0.0, phi, 0.0), LocalSolveFailure);
+}
+
 TEST_CASE("Dieterich-Ruina law: never sticks; zero load has no slip direction") {
   const auto p = parameters_for(StrengthLaw::dieterich_ruina);
   // Any positive load slides (strength -> -inf as v -> 0), even a tiny one.
