@@ -10,6 +10,63 @@
 
 namespace slipstrip {
 
+std::vector<DiscreteMode> discrete_modes(const ElasticMaterial& material, double strip_height,
+                                         double wavenumber, double time_step,
+                                         std::size_t echo_steps) {
+  const double mu = material.shear_modulus;
+  const double M = static_cast<double>(echo_steps);
+  // Every comb mode up to Nyquist (m <= M/2) is needed to cancel the delay
+  // line's poles; allow for rounding in c_s m pi / H vs pi / dt.
+  const double nyquist = std::numbers::pi / time_step;
+  std::vector<DiscreteMode> out;
+  double kept = 0.0;
+  for (const auto& m : strip_modes(material, strip_height, wavenumber, nyquist * (1.0 + 1e-9))) {
+    DiscreteMode d{std::min(m.frequency * time_step, std::numbers::pi), m.weight, m.family};
+    if (m.family == ModeFamily::comb) {
+      if (2 * m.index > static_cast<int>(echo_steps)) continue;
+      // The delay line's poles sit exactly at phases 2 pi m / M: use that
+      // phase, not the rounded c_s m pi dt / H, so the cancellation is exact.
+      d.phase = 2.0 * std::numbers::pi * m.index / M;
+      // At phase pi the two conjugate poles of (1 - cos) merge: half the
+      // weight gives the delay line's single pole at z = -1 its exact match.
+      if (2 * m.index == static_cast<int>(echo_steps)) d.weight *= 0.5;
+    }
+    kept += d.weight;
+    out.push_back(d);
+  }
+  // Static stiffness of everything above Nyquist (truncated pairs and P modes).
+  const double truncated = strip_static_stiffness(material, strip_height, wavenumber) -
+                           mu / (2.0 * strip_height) - kept;
+  if (wavenumber == 0.0 || truncated == 0.0) return out;
+  if (truncated < 0.0) {
+    // Passive element (negative weight) at Nyquist, kernel 1 - (-1)^j: exact
+    // static limit, lossless, strictly causal.
+    out.push_back({std::numbers::pi, truncated, ModeFamily::shear});
+    return out;
+  }
+  // A positive truncated stiffness (the usual case: the shear/comb pairs
+  // dominate) would be an active element on its own.  Absorb it into the
+  // highest-frequency passive modes, keeping each weight <= 0, so that every
+  // Foster coefficient of the discrete operator stays >= 0 (docs/theory.md).
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (out[i].family != ModeFamily::comb && out[i].weight < 0.0) order.push_back(i);
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return out[a].phase > out[b].phase; });
+  double remaining = truncated;
+  for (std::size_t i : order) {
+    const double take = std::min(remaining, -out[i].weight);
+    out[i].weight += take;
+    remaining -= take;
+    if (remaining <= 0.0) break;
+  }
+  if (remaining > 1e-12 * truncated)
+    throw std::runtime_error(
+        "discrete_modes: cannot place the truncated static stiffness passively; "
+        "refine the time step (more steps per 2H/c_s)");
+  return out;
+}
+
 double strip_time_step(const ElasticMaterial& material, double strip_height, double dx,
                        double beta) {
   const double cs = material.shear_wave_speed();
@@ -39,26 +96,13 @@ StripHistory::StripHistory(const ElasticMaterial& material, double strip_height,
         " s into a whole number of steps (use strip_time_step)");
 
   const int n_modes = nodes / 2 + 1;
-  const double nyquist = std::numbers::pi / dt_;
   first_oscillator_.assign(1, 0);
   for (int q = 0; q < n_modes; ++q) {
     const double k = 2.0 * std::numbers::pi * q / length;
-    const auto modes = strip_modes(material, strip_height, k, nyquist);
-    double kept = 0.0;
-    for (const auto& m : modes) {
-      cos_step_.push_back(std::cos(m.frequency * dt_));
-      sin_step_.push_back(std::sin(m.frequency * dt_));
+    for (const auto& m : discrete_modes(material, strip_height, k, dt_, echo_steps_)) {
+      cos_step_.push_back(std::cos(m.phase));
+      sin_step_.push_back(std::sin(m.phase));
       weight_.push_back(m.weight);
-      kept += m.weight;
-    }
-    // Static stiffness of the modes above Nyquist, carried by one mode at the
-    // Nyquist frequency (kernel 1 - (-1)^j): right at low frequency, lossless.
-    const double truncated = strip_static_stiffness(material, strip_height, k) -
-                             mu / (2.0 * strip_height) - kept;
-    if (q > 0 && truncated != 0.0) {
-      cos_step_.push_back(-1.0);
-      sin_step_.push_back(0.0);
-      weight_.push_back(truncated);
     }
     first_oscillator_.push_back(weight_.size());
   }
@@ -86,13 +130,6 @@ ModeOperatorStats StripHistory::stats() const {
                        (running_sum_.size() + echo_line_.size() + history_.size()) +
                    sizeof(std::size_t) * first_oscillator_.size();
   return s;
-}
-
-std::vector<StripHistory::Mode> StripHistory::modes_of(int q) const {
-  std::vector<Mode> out;
-  for (std::size_t m = first_oscillator_[q]; m < first_oscillator_[q + 1]; ++m)
-    out.push_back({std::acos(std::clamp(cos_step_[m], -1.0, 1.0)) / dt_, weight_[m]});
-  return out;
 }
 
 void StripHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
+#include "kernels/strip_response.hpp"
 
 namespace slipstrip {
 
@@ -25,6 +26,22 @@ namespace slipstrip {
 // it is beta dx / c_s.
 double strip_time_step(const ElasticMaterial& material, double strip_height, double dx,
                        double beta);
+
+// One recursion of the discrete operator: kernel weight * (1 - cos(phase j)),
+// phase = omega dt in [0, pi].
+struct DiscreteMode {
+  double phase;
+  double weight;  // [Pa/m]
+  ModeFamily family;
+};
+
+// The discrete normal modes for wavenumber k (docs/theory.md, "passivity"):
+// strip modes up to Nyquist, comb modes at the delay line's exact phases, and
+// the static stiffness of the truncated modes placed so that the discrete
+// operator stays passive (free ringing neither grows nor decays).
+std::vector<DiscreteMode> discrete_modes(const ElasticMaterial& material, double strip_height,
+                                         double wavenumber, double time_step,
+                                         std::size_t echo_steps);
 
 struct ModeOperatorStats {
   std::size_t modes = 0;            // Fourier modes q = 0..N/2
@@ -48,12 +65,6 @@ class StripHistory {
   void push(std::span<const std::complex<double>> slip_rate_spectrum);
   std::span<const std::complex<double>> history() const { return history_; }
 
-  // Normal modes kept for Fourier mode q (diagnostics and tests).
-  struct Mode {
-    double frequency;
-    double weight;
-  };
-  std::vector<Mode> modes_of(int q) const;
 
  private:
   double dt_;

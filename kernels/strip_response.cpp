@@ -105,11 +105,11 @@ std::vector<StripMode> strip_modes(const ElasticMaterial& material, double strip
   std::vector<StripMode> modes;
   if (k == 0.0) return modes;  // S(0, s; H) is exactly the shear comb.
 
-  auto add = [&](double omega, double rho) {
-    if (omega <= max_frequency) modes.push_back({omega, rho / (omega * omega)});
+  auto add = [&](double omega, double rho, ModeFamily family, int m) {
+    if (omega <= max_frequency) modes.push_back({omega, rho / (omega * omega), family, m});
   };
   // m = 0 shear family (alpha_s^2 = 0): the only term that survives k -> 0 statically.
-  add(cs * k, -mu / (2.0 * H) * cs * cs * k * k);
+  add(cs * k, -mu / (2.0 * H) * cs * cs * k * k, ModeFamily::shear, 0);
   for (int m = 1;; ++m) {
     const double kappa = m * std::numbers::pi / H;
     const double q2 = k * k + kappa * kappa;
@@ -118,9 +118,9 @@ std::vector<StripMode> strip_modes(const ElasticMaterial& material, double strip
     const double omega_d = cd * std::sqrt(q2);
     if (omega_comb > max_frequency) break;  // omega_comb < omega_s < omega_d
     const double d2 = kappa * kappa - k * k;
-    add(omega_s, -mu / H * cs * cs * d2 * d2 / q2);
-    add(omega_comb, mu / H * cs * cs * kappa * kappa);  // removes the comb's own mode
-    add(omega_d, -4.0 * mu * k * k * cs * cs * kappa * kappa / (H * q2));
+    add(omega_s, -mu / H * cs * cs * d2 * d2 / q2, ModeFamily::shear, m);
+    add(omega_comb, mu / H * cs * cs * kappa * kappa, ModeFamily::comb, m);  // removes the comb's own mode
+    add(omega_d, -4.0 * mu * k * k * cs * cs * kappa * kappa / (H * q2), ModeFamily::dilatational, m);
   }
   return modes;
 }

@@ -32,9 +32,17 @@ double strip_static_stiffness(const ElasticMaterial& material, double strip_heig
 // One undamped normal-mode term rho / (s^2 + omega^2) of S(k, s; H).
 // In the time domain it contributes  -weight * int_0^t (1 - cos(omega (t - t'))) v(t') dt'
 // to the traction, with weight = rho / omega^2 [Pa/m].
+// The three families of poles (docs/theory.md): the m = 0 and m >= 1 shear
+// modes and the P (dilatational) modes are physical resonances of the strip
+// with prescribed slip (weight < 0: passive); the comb modes (weight > 0)
+// cancel the poles of the shear-echo comb, which the solver carries exactly.
+enum class ModeFamily { shear, comb, dilatational };
+
 struct StripMode {
   double frequency;  // omega [rad/s]
   double weight;     // rho / omega^2 [Pa/m]
+  ModeFamily family;
+  int index;         // m: kappa = m pi / H
 };
 
 // Exact partial-fraction (Mittag-Leffler) expansion of the finite-height response:

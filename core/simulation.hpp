@@ -1,0 +1,79 @@
+#pragma once
+// One simulation: interface fields, the spectral history operator and the
+// explicit time step.  A process may hold several Simulation objects; nothing
+// here is global.
+#include <complex>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/simulation_config.hpp"
+#include "kernels/fft.hpp"
+#include "kernels/history_convolution.hpp"
+
+namespace slipstrip {
+
+// A run that cannot continue (non-finite value, failed local solve): the
+// message names the node, the time and the values involved.
+struct SimulationError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Simulation {
+ public:
+  explicit Simulation(const SimulationConfig& config);
+
+  // Advance one time step dt.
+  void step();
+
+  const SimulationConfig& config() const { return config_; }
+  double time() const { return time_; }
+  long long step_index() const { return step_index_; }
+  double time_step() const { return dt_; }
+  double dx() const { return dx_; }
+  double radiation_damping() const { return eta_; }  // mu / (2 c_s) [Pa s/m]
+  const StripHistory& history_operator() const { return *history_; }
+
+  std::span<const double> x() const { return x_; }
+  std::span<const double> slip() const { return slip_; }                // [m]
+  std::span<const double> slip_rate() const { return slip_rate_; }      // [m/s]
+  std::span<const double> state() const { return state_; }              // phi [s]
+  std::span<const double> shear_stress() const { return shear_stress_; }  // [Pa]
+
+  double max_slip_rate() const;
+  double mean_slip() const;
+  double mean_shear_stress() const;
+
+  // Steady sliding reference: tau_0 = strength(v0, phi_ss(v0)) (rate_and_state),
+  // 0 for the verification laws.
+  double reference_shear_stress() const { return reference_shear_stress_; }
+
+ private:
+  double profile(double t) const;
+  double profile_rate(double t) const;
+  double imposed_stress(double x, double t) const;  // free law
+  // initial: t = 0, no state update (the state is given); else predictor-corrector.
+  void solve_rate_and_state(bool initial);
+  void check_finite(const char* what) const;
+
+  SimulationConfig config_;
+  int nodes_;
+  double dx_, dt_, eta_;
+  double driving_velocity_;  // v0 used for the perturbation split (0 for verification laws)
+  double reference_shear_stress_ = 0.0;
+  double time_ = 0.0;
+  long long step_index_ = 0;
+
+  std::vector<double> x_, slip_, slip_rate_, state_, shear_stress_;
+  std::vector<double> previous_slip_rate_, previous_state_;
+  std::vector<double> history_stress_;  // history part in x [Pa]
+  std::vector<double> work_real_;
+  std::vector<std::complex<double>> spectrum_;
+
+  std::unique_ptr<RealFft> fft_;
+  std::unique_ptr<StripHistory> history_;
+};
+
+}  // namespace slipstrip
