@@ -83,7 +83,8 @@ double strip_static_stiffness(const ElasticMaterial& material, double strip_heig
   const double x = k * strip_height;
   double bracket;
   if (x < 1e-3) {
-    bracket = 2.0 * x / 3.0 - 2.0 * x * x * x / 45.0;  // series of coth x - x/sinh^2 x
+    // series of coth x - x/sinh^2 x = 2x/3 - 4x^3/45 + 4x^5/315 - ...
+    bracket = x * (2.0 / 3.0 - x * x * (4.0 / 45.0 - x * x * 4.0 / 315.0));
   } else if (x > 40.0) {
     bracket = 1.0;  // exponentially close
   } else {
