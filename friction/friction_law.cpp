@@ -430,8 +430,12 @@ SlipRateSolution solve_slip_rate_counted(const FrictionParameters& p, double nor
     return nan;
   };
   double lo = -kInf;  // until needed; any evaluated point with g > 0 also tightens it
+  bool lower_bound_known = false;
   const auto ensure_lower_bound = [&]() {
-    if (lo == -kInf) lo = lower_bound();
+    if (!lower_bound_known) {
+      lo = std::max(lo, lower_bound());
+      lower_bound_known = true;
+    }
     if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi)) {
       fail("could not bracket the root", p, normal_stress, eta, tau_history, state, initial_guess,
            lo, hi, 0);

@@ -45,6 +45,8 @@ double frictional_strength_dv(const FrictionParameters& friction, double normal_
 double frictional_strength_dstate(const FrictionParameters& friction, double normal_stress,
                                   double slip_rate, double state);  // d tau / d phi
 
+// The *_dv derivatives below are with respect to the slip-rate magnitude |v|
+// (like frictional_strength_dv); at v = 0 the slip law's is +inf.
 double state_rate(const FrictionParameters& friction, double slip_rate, double state);  // dphi/dt
 double state_rate_dv(const FrictionParameters& friction, double slip_rate, double state);
 double state_rate_dstate(const FrictionParameters& friction, double slip_rate, double state);
