@@ -478,6 +478,8 @@ TEST_CASE("random stick-slip history: streaming catalog equals the brute-force r
       multi += got.n_clusters[k] > 1;
     }
     CHECK(multi > 0);  // the comparison covered multi-cluster events
+    CHECK(got.n_events_detected ==
+          got.n_events_excluded_first_last + got.n_events_below_thresholds + got.n_events());
   }
 }
 
@@ -502,4 +504,32 @@ TEST_CASE("bad input throws std::invalid_argument naming the parameter") {
   m[1 * s.n + 3] = 0.5e-3;
   const RowMajorCrossingTimes src(m, h.n_levels(), s.n);
   CHECK_THROWS_WITH_AS(detect_events(src, s.info), doctest::Contains("crossing_time[1, 3]"), std::invalid_argument);
+}
+
+TEST_CASE("MatrixCrossingTimes adapter gives the same catalog as the row-major view") {
+  // Column-major storage behind operator()(j, i), like an Eigen matrix.
+  struct ColMajor {
+    std::vector<double> data;
+    long r, c;
+    long rows() const { return r; }
+    long cols() const { return c; }
+    double operator()(long j, long i) const { return data[static_cast<std::size_t>(i * r + j)]; }
+  };
+  Setup s;
+  History h(s.n);
+  for (const Crack& e : {Crack{3, {2, 3, 2}, 1e-3}, Crack{20, {4, 4, 4, 4}, 2e-3}, Crack{40, {2, 2}, 3e-3},
+                         Crack{60, {3, 3, 3, 3, 3, 3, 3}, 4e-3}})
+    e.add_to(h);
+  const std::vector<double> m = h.matrix();
+  const std::size_t nl = h.n_levels();
+  ColMajor cm{std::vector<double>(m.size()), static_cast<long>(nl), static_cast<long>(s.n)};
+  for (std::size_t j = 0; j < nl; ++j)
+    for (std::size_t i = 0; i < s.n; ++i) cm.data[i * nl + j] = m[j * s.n + i];
+  const EventCatalog a = detect_events(MatrixCrossingTimes<ColMajor>(cm), s.info);
+  const EventCatalog b = detect_events(RowMajorCrossingTimes(m, nl, s.n), s.info);
+  REQUIRE(a.n_events() == 2);
+  CHECK(a.t_start == b.t_start);
+  CHECK(a.extent == b.extent);
+  CHECK(a.moment == b.moment);
+  CHECK(a.extent[1] == doctest::Approx(2 * s.info.dx).epsilon(1e-14));
 }
