@@ -1,8 +1,12 @@
 #include "core/run_output.hpp"
 
+#include <fcntl.h>
 #include <hdf5.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -43,18 +47,35 @@ std::string now_iso8601() {
   return text;
 }
 
-// The writer ignores HDF5 file locks: a reader that keeps the file open (a
-// notebook, h5py in another process) must never stall or fail the run.  The
-// file is only open for the few milliseconds of a flush anyway.
-Handle file_access_list() {
+// File locks are what keep a reader consistent: h5py holds a shared flock on
+// the file while it is open, and the writer asks for an exclusive one, so it
+// never changes the file under an open reader.  ignore_when_disabled: on file
+// systems without flock support the lock is skipped instead of failing.
+Handle file_access_list(bool use_locking) {
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), "H5Pcreate(file access)");
-  check(H5Pset_file_locking(fapl, false, true), "H5Pset_file_locking");
+  check(H5Pset_file_locking(fapl, use_locking, true), "H5Pset_file_locking");
   return fapl;
 }
 
-Handle open_for_append(const std::string& path) {
-  Handle fapl = file_access_list();
-  return Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl), "H5Fopen(" + path + ")");
+// True if another process holds a lock on `path` (a reader has it open).
+bool locked_by_other_process(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) return false;
+  const bool busy = ::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);  // also drops our lock if we got it
+  return busy;
+}
+
+// Opens for appending; an invalid Handle means a reader holds the file (only
+// possible with use_locking).  Any other failure throws.
+Handle open_for_append(const std::string& path, bool use_locking) {
+  Handle fapl = file_access_list(use_locking);
+  hid_t id = H5I_INVALID_HID;
+  H5E_BEGIN_TRY { id = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl); }
+  H5E_END_TRY;
+  if (id >= 0) return Handle(id);
+  if (use_locking && locked_by_other_process(path)) return Handle();
+  return Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl), "H5Fopen(" + path + ") for append");
 }
 
 // Extendible dataset: dims[0] starts at 0 and is unlimited; chunk gives the
@@ -155,7 +176,11 @@ RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
                                 ": must be finite and >= 0 (0 = slip sampling off)");
   require_positive(options_.timeseries_buffer_rows, "timeseries_buffer_rows");
   require_positive(options_.snapshot_chunk, "snapshot_chunk");
-  require_positive(options_.slip_buffer_rows, "slip_buffer_rows");
+  require_positive(options_.slip_buffer_crossings, "slip_buffer_crossings");
+  if (!(options_.reader_lock_timeout >= 0.0))
+    throw std::invalid_argument("RunOutputOptions.reader_lock_timeout = " +
+                                std::to_string(options_.reader_lock_timeout) +
+                                ": must be >= 0 seconds (inf = wait for readers forever)");
   if (options_.gzip_level < 0 || options_.gzip_level > 9)
     throw std::invalid_argument("RunOutputOptions.gzip_level = " +
                                 std::to_string(options_.gzip_level) + ": allowed 0..9");
@@ -167,11 +192,13 @@ RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
   snapshot_time_buffer_.reserve(static_cast<std::size_t>(options_.snapshot_chunk));
   snapshot_field_buffer_.reserve(4 * node_count_ * static_cast<std::size_t>(options_.snapshot_chunk));
   if (slip_sampling_on_) {
+    pending_coords_.reserve(2 * 4096);
+    pending_time_.reserve(4096);
     levels_reached_.assign(node_count_, 0);
     next_threshold_.assign(node_count_, delta_th_);
   }
 
-  Handle fapl = file_access_list();
+  Handle fapl = file_access_list(true);
   Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), "H5Fcreate(" + path + ")");
   hdf5::write_attribute(file, "config", config_toml);
   hdf5::write_attribute(file, "code_version", std::string(slipstrip::code_version));
@@ -215,10 +242,11 @@ RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
     hdf5::write_attribute(group, "D", slip_sampling.D);
     hdf5::write_attribute(group, "L", slip_sampling.L);
     write_fixed_vector(group, "x", slip_sampling.x, "m");
-    // Uncompressed: the partially filled rows are rewritten at every flush and
-    // must stay in place.  ~128 KiB chunks whatever N is.
+    // Uncompressed, so that chunks updated by several write-outs stay in
+    // place.  64 levels x 256 nodes (128 KiB): a write-out touches the chunks
+    // around the levels the nodes are currently crossing, not whole rows.
     const hsize_t columns[1] = {n};
-    const hsize_t chunk[2] = {std::max<hsize_t>(1, 16384 / n), n};
+    const hsize_t chunk[2] = {64, std::min<hsize_t>(n, 256)};
     create_extendible(group, "crossing_time", columns, chunk, 0, "s", true);
   }
 }
@@ -237,7 +265,7 @@ void RunOutput::append_timeseries(double time, double max_slip_rate, double mean
   timeseries_buffer_.insert(timeseries_buffer_.end(),
                             {time, max_slip_rate, mean_slip, mean_shear_stress});
   if (timeseries_buffer_.size() >= 4 * static_cast<std::size_t>(options_.timeseries_buffer_rows))
-    write_out();
+    write_out(WriteTrigger::buffer_full);
 }
 
 void RunOutput::write_snapshot(double time, std::span<const double> slip,
@@ -253,7 +281,8 @@ void RunOutput::write_snapshot(double time, std::span<const double> slip,
   snapshot_time_buffer_.push_back(time);
   for (const auto& field : fields)
     snapshot_field_buffer_.insert(snapshot_field_buffer_.end(), field.begin(), field.end());
-  if (snapshot_time_buffer_.size() >= static_cast<std::size_t>(options_.snapshot_chunk)) write_out();
+  if (snapshot_time_buffer_.size() >= static_cast<std::size_t>(options_.snapshot_chunk))
+    write_out(WriteTrigger::buffer_full);
 }
 
 void RunOutput::record_slip(double t_old, double t_new, std::span<const double> slip_old,
@@ -284,10 +313,8 @@ void RunOutput::record_slip(double t_old, double t_new, std::span<const double> 
       crossed = true;
     }
   }
-  if (!crossed) return;
-  const std::size_t lowest_open =
-      *std::min_element(levels_reached_.begin(), levels_reached_.end());
-  if (lowest_open - band_base_ >= static_cast<std::size_t>(options_.slip_buffer_rows)) write_out();
+  if (crossed && pending_time_.size() >= static_cast<std::size_t>(options_.slip_buffer_crossings))
+    write_out(WriteTrigger::buffer_full);
 }
 
 void RunOutput::add_crossings(std::size_t node, double t_old, double t_new, double slip_old,
@@ -303,25 +330,18 @@ void RunOutput::add_crossings(std::size_t node, double t_old, double t_new, doub
     // is dated at the start of the step.
     const double fraction =
         slip_step > 0.0 ? std::clamp((threshold - slip_old) / slip_step, 0.0, 1.0) : 0.0;
-    const std::size_t row = level - band_base_;
-    while (band_.size() <= row) {
-      if (spare_rows_.empty()) {
-        band_.emplace_back(node_count_, nan_value);
-      } else {
-        band_.push_back(std::move(spare_rows_.back()));
-        spare_rows_.pop_back();
-        std::fill(band_.back().begin(), band_.back().end(), nan_value);
-      }
-    }
-    band_[row][node] = t_old + fraction * (t_new - t_old);
+    pending_coords_.push_back(level);
+    pending_coords_.push_back(node);
+    pending_time_.push_back(t_old + fraction * (t_new - t_old));
     levels_reached_[node] = level + 1;
+    levels_max_ = std::max(levels_max_, level + 1);
     next_threshold_[node] = static_cast<double>(level + 2) * delta_th_;
   }
 }
 
-void RunOutput::flush() {
-  if (closed_) return;
-  write_out();
+bool RunOutput::flush() {
+  if (closed_) return true;
+  return write_out(WriteTrigger::flush);
 }
 
 void RunOutput::close(const std::string& status) {
@@ -332,17 +352,34 @@ void RunOutput::close(const std::string& status) {
     throw std::invalid_argument("RunOutput::close status = \"" + status +
                                 "\": allowed \"completed\", \"interrupted\", "
                                 "\"diverged: <diagnostic>\"");
-  write_out();
-  Handle file = open_for_append(path_);
-  hdf5::write_attribute(file, "status", status);
-  hdf5::write_attribute(file, "end_time", now_iso8601());
-  // Closed explicitly: H5Fclose writes the metadata, and its failure must not go unnoticed.
-  check(H5Fclose(file.release()), "H5Fclose(" + path_ + ")");
+  write_out(WriteTrigger::close, &status);
   closed_ = true;
 }
 
-void RunOutput::write_out() {
-  Handle file = open_for_append(path_);
+Handle RunOutput::open_unless_reader_holds(WriteTrigger trigger) {
+  const auto now = std::chrono::steady_clock::now();
+  const auto timeout = std::chrono::duration<double>(options_.reader_lock_timeout);
+  const bool waited_too_long = reader_holds_since_ && now - *reader_holds_since_ >= timeout;
+  // While a reader holds the file, a full buffer does not retry the lock at
+  // every step; it waits for the next flush() (or the timeout).
+  if (trigger == WriteTrigger::buffer_full && reader_holds_since_ && !waited_too_long) return {};
+  Handle file = open_for_append(path_, true);
+  if (file.valid()) {
+    reader_holds_since_.reset();
+    return file;
+  }
+  if (!reader_holds_since_) reader_holds_since_ = now;
+  // The run must not hang on a forgotten reader: past the timeout, and at
+  // close, write anyway (that reader may see a mix of old and new data).
+  if (trigger == WriteTrigger::close || now - *reader_holds_since_ >= timeout)
+    return open_for_append(path_, false);
+  ++deferred_writes_;
+  return {};
+}
+
+bool RunOutput::write_out(WriteTrigger trigger, const std::string* final_status) {
+  Handle file = open_unless_reader_holds(trigger);
+  if (!file.valid()) return false;
   const hsize_t n = node_count_;
 
   const std::size_t timeseries_rows = timeseries_buffer_.size() / 4;
@@ -375,23 +412,32 @@ void RunOutput::write_out() {
     snapshot_field_buffer_.clear();
   }
 
-  if (slip_sampling_on_ && !band_.empty()) {
+  if (!pending_time_.empty()) {
     Handle dset(H5Dopen2(file, "slip_sampling/crossing_time", H5P_DEFAULT),
                 "H5Dopen2(crossing_time)");
-    grow_to(dset, band_base_ + band_.size(), n);
-    // Completed rows and the partially filled ones (NaN = not reached yet).
-    for (std::size_t r = 0; r < band_.size(); ++r)
-      write_rows(dset, band_base_ + r, 1, n, band_[r].data());
-    const std::size_t lowest_open =
-        *std::min_element(levels_reached_.begin(), levels_reached_.end());
-    while (band_base_ < lowest_open) {
-      spare_rows_.push_back(std::move(band_.front()));
-      band_.pop_front();
-      ++band_base_;
-    }
+    grow_to(dset, levels_max_, n);
+    // Element writes: entries not yet reached keep the NaN fill value, so the
+    // partially filled rows in the file are always up to date.
+    Handle file_space(H5Dget_space(dset), "H5Dget_space(crossing_time)");
+    check(H5Sselect_elements(file_space, H5S_SELECT_SET, pending_time_.size(),
+                             pending_coords_.data()),
+          "H5Sselect_elements(crossing_time)");
+    const hsize_t count[1] = {pending_time_.size()};
+    Handle memory_space(H5Screate_simple(1, count, nullptr), "H5Screate_simple");
+    check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT,
+                   pending_time_.data()),
+          "H5Dwrite(crossing_time)");
+    pending_coords_.clear();
+    pending_time_.clear();
   }
 
+  if (final_status) {
+    hdf5::write_attribute(file, "status", *final_status);
+    hdf5::write_attribute(file, "end_time", now_iso8601());
+  }
+  // Closed explicitly: H5Fclose writes the metadata, and its failure must not go unnoticed.
   check(H5Fclose(file.release()), "H5Fclose(" + path_ + ")");
+  return true;
 }
 
 }  // namespace slipstrip

@@ -1,16 +1,22 @@
 #pragma once
 // The self-describing HDF5 file of one run (layout and guarantees: docs/output.md).
 //
-// Crash safety by construction: the HDF5 file is open only inside flush().
-// Between flushes every new row lives in memory and the file on disk is a
-// closed, consistent HDF5 file, so any reader (plain h5py.File(path, "r"))
-// can open it while the run goes on, and a SIGKILL loses at most the rows
-// added since the last flush.
+// Crash safety by construction: the HDF5 file is open only while buffered
+// rows are written out (flush(), a full buffer, close()).  The rest of the
+// time every new row lives in memory and the file on disk is a closed,
+// consistent HDF5 file, so any reader (plain h5py.File(path, "r")) can open it
+// while the run goes on, and a SIGKILL loses at most the rows added since the
+// last write-out.  The writer respects the shared lock an open reader holds:
+// it postpones the write-out (up to reader_lock_timeout) rather than change
+// the file under that reader.
+#include <chrono>
 #include <cstddef>
-#include <deque>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "core/hdf5_handle.hpp"
 
 namespace slipstrip {
 
@@ -32,7 +38,10 @@ struct RunOutputOptions {
   int timeseries_buffer_rows = 1024;  // rows held before a forced write-out; also the chunk length
   int snapshot_chunk = 8;             // snapshots held in memory before a forced write-out
   int gzip_level = 4;                 // deflate level 0..9 for the snapshot fields
-  int slip_buffer_rows = 256;         // completed slip-sampling rows held before a forced write-out
+  int slip_buffer_crossings = 1 << 20;  // level crossings held (24 B each) before a forced write-out
+  // [s wall] how long writes are deferred while a reader holds the file open
+  // (h5py's shared lock) before writing anyway; see docs/output.md.
+  double reader_lock_timeout = 30.0;
 };
 
 class RunOutput {
@@ -55,22 +64,30 @@ class RunOutput {
   void record_slip(double t_old, double t_new, std::span<const double> slip_old,
                    std::span<const double> slip_new);
 
-  // Writes every buffered row and closes the file again.
-  void flush();
+  // Writes every buffered row and closes the file again.  Returns false if
+  // the write was deferred because a reader holds the file open (the rows stay
+  // buffered for the next flush).
+  bool flush();
   // status: "completed", "interrupted" or "diverged: <diagnostic>".  Flushes,
   // records status and end_time.  A second call is a no-op.
   void close(const std::string& status);
 
   bool is_closed() const { return closed_; }
   std::size_t node_count() const { return node_count_; }
-  // Slip-sampling rows currently held in memory (completed-but-unwritten plus
-  // the partially filled band): the memory bound of the incremental writer.
-  std::size_t buffered_slip_rows() const { return band_.size(); }
-  // Highest slip level any node has reached + 1 (= rows of crossing_time after a flush).
-  std::size_t slip_levels_reached() const { return band_base_ + band_.size(); }
+  // Level crossings recorded but not yet written: all the slip-sampling data
+  // held in memory (<= slip_buffer_crossings), however far apart the nodes' slips are.
+  std::size_t buffered_crossings() const { return pending_time_.size(); }
+  // Highest slip level any node has reached + 1 (= rows of crossing_time after a write-out).
+  std::size_t slip_levels_reached() const { return levels_max_; }
+  // Write-outs postponed so far because a reader held the file.
+  std::size_t deferred_writes() const { return deferred_writes_; }
 
  private:
-  void write_out();  // opens, appends every buffer, closes
+  enum class WriteTrigger { buffer_full, flush, close };
+  // Opens, appends every buffer (and at close the final status), closes.
+  // Returns false if deferred because a reader holds the file.
+  bool write_out(WriteTrigger trigger, const std::string* final_status = nullptr);
+  hdf5::Handle open_unless_reader_holds(WriteTrigger trigger);
   void add_crossings(std::size_t node, double t_old, double t_new, double slip_old, double slip_new);
 
   std::string path_;
@@ -78,6 +95,8 @@ class RunOutput {
   RunOutputOptions options_;
   bool slip_sampling_on_ = false;
   bool closed_ = false;
+  std::optional<std::chrono::steady_clock::time_point> reader_holds_since_;
+  std::size_t deferred_writes_ = 0;
 
   // Rows written to the file so far.
   std::size_t timeseries_rows_in_file_ = 0;
@@ -95,12 +114,13 @@ class RunOutput {
   bool slip_recorded_ = false;  // record_slip has been called (initial slip checked)
   std::vector<std::size_t> levels_reached_;
   std::vector<double> next_threshold_;
-  // Rows band_base_ .. band_base_ + band_.size() - 1 of crossing_time, NaN where
-  // not reached.  Rows below band_base_ are complete and in the file for good;
-  // the lowest level not yet reached by every node is >= band_base_.
-  std::size_t band_base_ = 0;
-  std::deque<std::vector<double>> band_;
-  std::vector<std::vector<double>> spare_rows_;  // recycled rows: no allocation in steady state
+  // Crossings since the last write-out, written as individual elements of
+  // crossing_time (whose fill value is NaN): pending_coords_ holds (level,
+  // node) pairs, pending_time_ the times.  Not rows: a locked node lagging a
+  // creeping one by 1e5 levels would otherwise pin 1e5 rows x N in memory.
+  std::vector<hsize_t> pending_coords_;
+  std::vector<double> pending_time_;
+  std::size_t levels_max_ = 0;
 };
 
 }  // namespace slipstrip

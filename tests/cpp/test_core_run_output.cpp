@@ -2,7 +2,9 @@
 // C API (not through RunOutput) and compared with values computed here.
 #include <doctest/doctest.h>
 #include <hdf5.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -120,7 +122,8 @@ std::vector<double> reference_crossings(const std::vector<double>& times,
 // --- the writer used by the kill tests (C++ fork test and tests/python) -----
 // A deterministic run: step k at time k*dt, node i slips at rate (1 + i/N) so
 // slip_i(k) = k dt (1 + 0.1 i/N) * 1e-3; timeseries every step, a snapshot every
-// 10 steps, a flush every 50 steps, reported via on_flush(steps done).
+// 10 steps, a flush every 50 steps, reported via on_flush(steps done, written)
+// (written = false: deferred because a reader held the file).
 constexpr int writer_nodes = 16;
 constexpr double writer_dt = 1e-3;
 constexpr double writer_delta_th = 1e-6;
@@ -134,7 +137,7 @@ double writer_slip(long k, int i) {
 }
 
 [[noreturn]] void write_until_killed(const std::string& path,
-                                     const std::function<void(long)>& on_flush) {
+                                     const std::function<void(long, bool)>& on_flush) {
   SlipSamplingSetup setup;
   setup.delta_th = writer_delta_th;
   setup.dx = 1.0 / writer_nodes;
@@ -156,8 +159,8 @@ double writer_slip(long k, int i) {
     }
     slip_old.swap(slip_new);
     if (k % 50 == 0) {
-      out.flush();
-      on_flush(k);
+      const bool written = out.flush();
+      on_flush(k, written);
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
   }
@@ -325,7 +328,7 @@ TEST_CASE("delta_th = 0 switches slip sampling off; snapshots by slip increment"
   {
     RunOutput out(path, "", setup, options);
     out.record_slip(0.0, 1.0, std::vector<double>{0, 0}, std::vector<double>{1, 1});
-    CHECK(out.buffered_slip_rows() == 0);
+    CHECK(out.buffered_crossings() == 0);
     out.close("completed");
   }
   Handle file = open_read_only(path);
@@ -379,22 +382,69 @@ TEST_CASE("destruction during an exception records status interrupted") {
   std::filesystem::remove(path);
 }
 
-TEST_CASE("incremental slip sampling: bounded rows in memory, times match a full-trajectory reference") {
+TEST_CASE("an open reader's shared lock defers write-outs; past reader_lock_timeout they go ahead") {
+  const std::string path = temp_path("locked");
+  SlipSamplingSetup setup{0.0, 1.0, 1.0, 1.0, 1.0, 2.0, {0.0, 1.0}};
+  auto rows_in_file = [&] {
+    Handle file = open_read_only(path);
+    return read_array(file, "timeseries/time").values.size();
+  };
+  // A reader is emulated by the shared flock h5py/HDF5 take on open.
+  auto hold_shared_lock = [&] {
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    REQUIRE(fd >= 0);
+    REQUIRE(flock(fd, LOCK_SH | LOCK_NB) == 0);
+    return fd;
+  };
+  {
+    RunOutput out(path, "", setup);  // default timeout: 30 s
+    out.append_timeseries(1.0, 0.0, 0.0, 0.0);
+    CHECK(out.flush());
+    const int reader = hold_shared_lock();
+    out.append_timeseries(2.0, 0.0, 0.0, 0.0);
+    CHECK_FALSE(out.flush());
+    CHECK(out.deferred_writes() == 1);
+    ::close(reader);
+    CHECK(rows_in_file() == 1);  // the deferred row did not reach the file
+    CHECK(out.flush());
+    CHECK(rows_in_file() == 2);
+    const int reader_at_close = hold_shared_lock();
+    out.append_timeseries(3.0, 0.0, 0.0, 0.0);
+    out.close("completed");  // close never waits: it writes anyway
+    ::close(reader_at_close);
+  }
+  CHECK(rows_in_file() == 3);
+  {
+    RunOutputOptions options;
+    options.reader_lock_timeout = 0.0;
+    RunOutput out(path, "", setup, options);
+    const int reader = hold_shared_lock();
+    out.append_timeseries(1.0, 0.0, 0.0, 0.0);
+    CHECK(out.flush());  // timeout 0: written despite the reader
+    CHECK(out.deferred_writes() == 0);
+    ::close(reader);
+    CHECK(rows_in_file() == 1);
+    out.close("completed");
+  }
+  std::filesystem::remove(path);
+}
+
+TEST_CASE("incremental slip sampling: bounded memory, times match a full-trajectory reference") {
   // Slip slip_i(t) = t + a sin(2 pi x_i + w t) with a w = 2 > 1: the slip rate
-  // changes sign, so back-slip happens at every node.  The spread between nodes
-  // is <= 2a = 0.1 m = 10 levels: the band of partially filled rows stays
-  // around 10 rows (+ slip_buffer_rows completed rows awaiting write-out)
-  // while the run reaches ~2000 levels.
+  // changes sign, so back-slip happens at every moving node.  Node 0 is locked
+  // (slip 0 throughout), so the lowest level not reached by every node stays 0
+  // while the others reach ~2000 levels: a buffer of rows would have to hold
+  // all 2000; the pending-crossing buffer stays below slip_buffer_crossings.
   const std::string path = temp_path("incremental");
   const int n = 64, steps = 4000;
   const double delta_th = 0.01, a = 0.05, w = 40.0, dt = 0.005;
   SlipSamplingSetup setup{delta_th, 1.0 / n, 1.0, 1.0, 1.0, 1.0, {}};
   for (int i = 0; i < n; ++i) setup.x.push_back(i * setup.dx);
   RunOutputOptions options;
-  options.slip_buffer_rows = 16;
+  options.slip_buffer_crossings = 500;
   auto slip_at = [&](int k, int i) {
     const double t = k * dt;
-    return t + a * std::sin(2 * M_PI * setup.x[i] + w * t);
+    return i == 0 ? 0.0 : t + a * std::sin(2 * M_PI * setup.x[i] + w * t);
   };
   std::vector<double> times(steps + 1);
   std::vector<std::vector<double>> trajectory(n, std::vector<double>(steps + 1));
@@ -411,16 +461,17 @@ TEST_CASE("incremental slip sampling: bounded rows in memory, times match a full
     for (int k = 1; k <= steps; ++k) {
       for (int i = 0; i < n; ++i) slip_new[i] = trajectory[i][k];
       out.record_slip(times[k - 1], times[k], slip_old, slip_new);
-      max_buffered = std::max(max_buffered, out.buffered_slip_rows());
+      max_buffered = std::max(max_buffered, out.buffered_crossings());
       slip_old.swap(slip_new);
     }
     levels = out.slip_levels_reached();
     out.close("completed");
   }
-  MESSAGE("levels reached: " << levels << ", max rows held in memory: " << max_buffered);
+  MESSAGE("levels reached: " << levels << ", max crossings held in memory: " << max_buffered);
   CHECK(levels > 1900);
-  // 10 levels of spread + 16 completed rows + <= 1 level of slip per step.
-  CHECK(max_buffered <= 10 + 16 + 2);
+  // The write-out triggers at 500; a step adds at most 2 crossings per node
+  // (|d slip| <= (1 + a w) dt = 0.015 < 2 delta_th).
+  CHECK(max_buffered < 500 + 2 * n);
 
   Handle file = open_read_only(path);
   const Array ct = read_array(file, "slip_sampling/crossing_time");
@@ -453,8 +504,8 @@ TEST_CASE("a writer killed with SIGKILL leaves a readable file holding every flu
   if (child == 0) {
     close(report[0]);
     try {
-      write_until_killed(path, [&](long steps) {
-        if (write(report[1], &steps, sizeof steps) != sizeof steps) _exit(3);
+      write_until_killed(path, [&](long steps, bool written) {
+        if (written && write(report[1], &steps, sizeof steps) != sizeof steps) _exit(3);
       });
     } catch (...) {
       _exit(2);
@@ -506,12 +557,12 @@ TEST_CASE("a writer killed with SIGKILL leaves a readable file holding every flu
 // Helper for tests/python/test_output_readable.py, skipped in normal runs:
 //   test_core_run_output -tc="writer child*" --no-skip=true
 // with SLIPSTRIP_WRITER_CHILD_PATH set writes that file until killed and prints
-// "flushed <steps>" after every flush.
+// "flushed <steps>" after every flush ("deferred <steps>" if a reader held the file).
 TEST_CASE("writer child (runs until killed; for tests/python)" * doctest::skip()) {
   const char* path = std::getenv("SLIPSTRIP_WRITER_CHILD_PATH");
   REQUIRE(path != nullptr);
-  write_until_killed(path, [](long steps) {
-    std::printf("flushed %ld\n", steps);
+  write_until_killed(path, [](long steps, bool written) {
+    std::printf("%s %ld\n", written ? "flushed" : "deferred", steps);
     std::fflush(stdout);
   });
 }
