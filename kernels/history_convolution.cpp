@@ -14,30 +14,24 @@ std::vector<DiscreteMode> discrete_modes(const ElasticMaterial& material, double
                                          double wavenumber, double time_step,
                                          std::size_t echo_steps) {
   const double mu = material.shear_modulus;
-  const double M = static_cast<double>(echo_steps);
-  // Every comb mode up to Nyquist (m <= M/2) is needed to cancel the delay
-  // line's poles; allow for rounding in c_s m pi / H vs pi / dt.
   const double nyquist = std::numbers::pi / time_step;
   std::vector<DiscreteMode> out;
-  double kept = 0.0;
-  for (const auto& m : strip_modes(material, strip_height, wavenumber, nyquist * (1.0 + 1e-9))) {
-    DiscreteMode d{std::min(m.frequency * time_step, std::numbers::pi), m.weight, m.family};
-    if (m.family == ModeFamily::comb) {
-      if (2 * m.index > static_cast<int>(echo_steps)) continue;
-      // The delay line's poles sit exactly at phases 2 pi m / M: use that
-      // phase, not the rounded c_s m pi dt / H, so the cancellation is exact.
-      d.phase = 2.0 * std::numbers::pi * m.index / M;
-      // At phase pi the two conjugate poles of (1 - cos) merge: half the
-      // weight gives the delay line's single pole at z = -1 its exact match.
-      if (2 * m.index == static_cast<int>(echo_steps)) d.weight *= 0.5;
-    }
-    kept += d.weight;
-    out.push_back(d);
+  if (wavenumber == 0.0) return out;  // the uniform mode is the delay line alone
+  // In discrete time the shear-echo delay line plus the comb modes at phases
+  // 2 pi m / M (m = 1..floor(M/2), half weight at phase pi) add up to the
+  // constant kernel mu/c_s, so they are carried as one running sum
+  // (the "comb identity", docs/theory.md).  Their static weight is
+  // (mu/H)(M-1)/2 in closed form.
+  double kept = mu / strip_height * 0.5 * (static_cast<double>(echo_steps) - 1.0);
+  for (const auto& m : strip_modes(material, strip_height, wavenumber, nyquist)) {
+    if (m.family == ModeFamily::comb) continue;
+    out.push_back({std::min(m.frequency * time_step, std::numbers::pi), m.weight, m.family});
+    kept += m.weight;
   }
   // Static stiffness of everything above Nyquist (truncated pairs and P modes).
   const double truncated = strip_static_stiffness(material, strip_height, wavenumber) -
                            mu / (2.0 * strip_height) - kept;
-  if (wavenumber == 0.0 || truncated == 0.0) return out;
+  if (truncated == 0.0) return out;
   if (truncated < 0.0) {
     // Passive element (negative weight) at Nyquist, kernel 1 - (-1)^j: exact
     // static limit, lossless, strictly causal.
@@ -50,7 +44,7 @@ std::vector<DiscreteMode> discrete_modes(const ElasticMaterial& material, double
   // Foster coefficient of the discrete operator stays >= 0 (docs/theory.md).
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < out.size(); ++i)
-    if (out[i].family != ModeFamily::comb && out[i].weight < 0.0) order.push_back(i);
+    if (out[i].weight < 0.0) order.push_back(i);
   std::sort(order.begin(), order.end(),
             [&](std::size_t a, std::size_t b) { return out[a].phase > out[b].phase; });
   double remaining = truncated;
@@ -97,6 +91,11 @@ StripHistory::StripHistory(const ElasticMaterial& material, double strip_height,
 
   const int n_modes = nodes / 2 + 1;
   first_oscillator_.assign(1, 0);
+  // For q >= 1 the delay line and the comb modes are never built: in discrete
+  // time they add up to exactly the constant kernel mu/c_s (for every lag
+  // j >= 1; docs/theory.md, "comb identity"), i.e. a running sum.  Only the
+  // uniform mode q = 0 keeps the delay line (it has no other modes).
+  integrator_weight_.assign(n_modes, 0.0);
   for (int q = 0; q < n_modes; ++q) {
     const double k = 2.0 * std::numbers::pi * q / length;
     for (const auto& m : discrete_modes(material, strip_height, k, dt_, echo_steps_)) {
@@ -104,6 +103,7 @@ StripHistory::StripHistory(const ElasticMaterial& material, double strip_height,
       sin_step_.push_back(std::sin(m.phase));
       weight_.push_back(m.weight);
     }
+    if (q > 0) integrator_weight_[q] = echo_weight_;
     first_oscillator_.push_back(weight_.size());
   }
   weight_sum_.assign(n_modes, 0.0);
@@ -116,7 +116,7 @@ StripHistory::StripHistory(const ElasticMaterial& material, double strip_height,
   s_re_.assign(n_osc, 0.0);
   s_im_.assign(n_osc, 0.0);
   running_sum_.assign(n_modes, 0.0);
-  echo_line_.assign(static_cast<std::size_t>(n_modes) * echo_steps_, 0.0);
+  echo_line_.assign(echo_steps_, 0.0);  // q = 0 only
   history_.assign(n_modes, 0.0);
 }
 
@@ -128,31 +128,30 @@ ModeOperatorStats StripHistory::stats() const {
   s.memory_bytes = sizeof(double) * (7 * weight_.size() + weight_sum_.size()) +
                    sizeof(std::complex<double>) *
                        (running_sum_.size() + echo_line_.size() + history_.size()) +
+                   sizeof(double) * integrator_weight_.size() +
                    sizeof(std::size_t) * first_oscillator_.size();
   return s;
 }
 
 void StripHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {
   const int n_modes = static_cast<int>(history_.size());
-  const std::size_t slot = echo_cursor_;
+  {
+    // Uniform mode: exact shear echoes, R_{n+1} = v_{n+1-M} + R_{n+1-M}.  The
+    // slot at the cursor holds R_n (written M steps ago); it becomes R_{n+M}.
+    const std::size_t slot = echo_cursor_;
+    const std::size_t next_slot = slot + 1 == echo_steps_ ? 0 : slot + 1;
+    echo_line_[slot] += slip_rate_spectrum[0];
+    history_[0] = echo_weight_ * echo_line_[next_slot];
+    echo_cursor_ = next_slot;
+  }
 #pragma omp parallel for schedule(static)
-  for (int q = 0; q < n_modes; ++q) {
+  for (int q = 1; q < n_modes; ++q) {
     const std::complex<double> v = slip_rate_spectrum[q];
     const double vr = v.real(), vi = v.imag();
-    // Shear echoes: the slot holds (v + echo sum) written M_s steps ago, which
-    // is exactly the echo sum at the next level: R_{n+1} = v_{n+1-M} + R_{n+1-M}.
-    std::complex<double>& cell = echo_line_[static_cast<std::size_t>(q) * echo_steps_ + slot];
-    // Value stored now is used M_s steps later. Current echo sum at t_n was
-    // read out of this slot before being overwritten.
-    const std::complex<double> echo_now = cell;  // R_n
-    cell = v + echo_now;                         // becomes R_{n+M}
-    const std::size_t next_slot = slot + 1 == echo_steps_ ? 0 : slot + 1;
-    const std::complex<double> echo_next =
-        echo_line_[static_cast<std::size_t>(q) * echo_steps_ + next_slot];  // R_{n+1}
-
     double acc_r = 0.0, acc_i = 0.0;
     const std::size_t begin = first_oscillator_[q], end = first_oscillator_[q + 1];
     for (std::size_t m = begin; m < end; ++m) {
+      // [C; S] <- rotation(omega dt) [C + v; S]: C_n = sum_{j>=1} cos(omega j dt) v_{n-j}.
       const double c = cos_step_[m], s = sin_step_[m];
       const double xr = c_re_[m] + vr, xi = c_im_[m] + vi;
       const double sr = s_re_[m], si = s_im_[m];
@@ -165,10 +164,9 @@ void StripHistory::push(std::span<const std::complex<double>> slip_rate_spectrum
       acc_i += weight_[m] * new_ci;
     }
     running_sum_[q] += v;
-    history_[q] = echo_weight_ * echo_next +
+    history_[q] = integrator_weight_[q] * running_sum_[q] +
                   dt_ * (weight_sum_[q] * running_sum_[q] - std::complex<double>(acc_r, acc_i));
   }
-  echo_cursor_ = slot + 1 == echo_steps_ ? 0 : slot + 1;
 }
 
 }  // namespace slipstrip

@@ -8,8 +8,9 @@
 //                  + dt sum_m w_m sum_{j>=1} (1 - cos(omega_m j dt)) v^_q(t_{n-j})  (normal modes)
 //
 // T_s = 2H/c_s is a whole number of steps, so the echoes are an exact delay
-// line; the normal-mode sums are updated recursively (a rotation per mode and
-// step).  Memory and cost per step are fixed when the operator is built and do
+// line (kept as such for the uniform mode q = 0); for q >= 1 the delay line and
+// the comb modes combine into one running sum (docs/theory.md).  The
+// normal-mode sums are updated recursively (a rotation per mode and step).  Memory and cost per step are fixed when the operator is built and do
 // not grow with simulated time, yet no reflection is ever dropped.
 #include <complex>
 #include <cstddef>
@@ -35,10 +36,12 @@ struct DiscreteMode {
   ModeFamily family;
 };
 
-// The discrete normal modes for wavenumber k (docs/theory.md, "passivity"):
-// strip modes up to Nyquist, comb modes at the delay line's exact phases, and
-// the static stiffness of the truncated modes placed so that the discrete
-// operator stays passive (free ringing neither grows nor decays).
+// The discrete normal modes for wavenumber k > 0 (docs/theory.md, "passivity"):
+// the shear and P strip modes up to Nyquist, with the static stiffness of the
+// truncated modes placed so that the discrete operator stays passive (free
+// ringing neither grows nor decays).  The comb modes are not listed: with the
+// delay line they form the running-sum kernel mu/c_s (the "comb identity").
+// Empty for k = 0.
 std::vector<DiscreteMode> discrete_modes(const ElasticMaterial& material, double strip_height,
                                          double wavenumber, double time_step,
                                          std::size_t echo_steps);
@@ -77,10 +80,11 @@ class StripHistory {
   std::vector<std::size_t> first_oscillator_;  // size modes+1
   std::vector<double> cos_step_, sin_step_, weight_;
   std::vector<double> weight_sum_;             // per q: sum of weights
+  std::vector<double> integrator_weight_;      // per q >= 1: mu/c_s (delay line + comb modes)
   // State.
   std::vector<double> c_re_, c_im_, s_re_, s_im_;
   std::vector<std::complex<double>> running_sum_;  // per q: sum_{j>=1} v_{n-j}
-  std::vector<std::complex<double>> echo_line_;    // per q: M_s slots of (v + echo sum)
+  std::vector<std::complex<double>> echo_line_;    // q = 0: M_s slots of (v + echo sum)
   std::vector<std::complex<double>> history_;
 };
 

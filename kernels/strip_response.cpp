@@ -120,7 +120,10 @@ std::vector<StripMode> strip_modes(const ElasticMaterial& material, double strip
     if (omega_comb > max_frequency) break;  // omega_comb < omega_s < omega_d
     const double d2 = kappa * kappa - k * k;
     add(omega_s, -mu / H * cs * cs * d2 * d2 / q2, ModeFamily::shear, m);
-    add(omega_comb, mu / H * cs * cs * kappa * kappa, ModeFamily::comb, m);  // removes the comb's own mode
+    // The comb mode only with its shear partner: alone it is an O(mu/H) term
+    // that does not decay with m (the pair's sum decays like 1/m^2).
+    if (omega_s <= max_frequency)
+      add(omega_comb, mu / H * cs * cs * kappa * kappa, ModeFamily::comb, m);  // removes the comb's own mode
     add(omega_d, -4.0 * mu * k * k * cs * cs * kappa * kappa / (H * q2), ModeFamily::dilatational, m);
   }
   return modes;

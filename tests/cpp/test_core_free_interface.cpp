@@ -138,7 +138,7 @@ TEST_CASE("long free run: no mode decays or grows over 1000 round trips; peaks a
       if (std::hypot(buf[j][0], buf[j][1]) > std::hypot(buf[best][0], buf[best][1])) best = j;
     const double omega_peak = 2 * pi * best / (len * dt);
     // (1) The peak must sit on a root of the DISCRETE characteristic function
-    //     Z_d(theta) = eta (1+z^-M)/(1-z^-M) + dt sum_m w_m [1/(z-1) - (z c_m - 1)/(z^2 - 2 z c_m + 1)],
+    //     Z_d(theta) = eta + (mu/c_s)/(z-1) + dt sum_m w_m [1/(z-1) - (z c_m - 1)/(z^2 - 2 z c_m + 1)],
     //     z = e^{i theta}, built from the operator's own modes (Z_d is purely
     //     imaginary on |z| = 1 because the operator is lossless): within one FFT bin.
     // (2) That discrete root must lie within the derived dispersion bound of a
@@ -148,11 +148,11 @@ TEST_CASE("long free run: no mode decays or grows over 1000 round trips; peaks a
     const double k = 2 * pi * modes[m] / length;
     const double bin = 2 * pi / (len * dt);
     const auto dmodes = discrete_modes(c.material, height, k, dt, sim.history_operator().stats().echo_steps);
-    const double M = static_cast<double>(sim.history_operator().stats().echo_steps);
     const double eta = sim.radiation_damping();
     auto Zd = [&](double omega) {
       const std::complex<double> z = std::polar(1.0, omega * dt);
-      std::complex<double> total = eta * (1.0 + std::pow(z, -M)) / (1.0 - std::pow(z, -M));
+      // delay line + comb modes == running sum with weight mu/c_s = 2 eta
+      std::complex<double> total = eta + 2.0 * eta / (z - 1.0);
       for (const auto& d : dmodes) {
         const double cm = std::cos(d.phase);
         total += dt * d.weight * (1.0 / (z - 1.0) - (z * cm - 1.0) / (z * z - 2.0 * z * cm + 1.0));
