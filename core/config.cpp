@@ -470,14 +470,24 @@ void read_friction(const toml::table& root, FrictionParameters& f) {
     }
   };
   positive("f0", f.f0, "f0 > 0");
-  positive("a", f.a, "a > 0 (direct effect; a = 0 makes the local solve ill-posed)");
-  if (auto v = s.number("b")) {
-    if (!(*v >= 0.0)) s.out_of_range("b", format_number(*v), "b >= 0");
-    f.b = *v;
-  }
+  const auto non_negative = [&s](std::string_view key, double& field) {
+    if (auto v = s.number(key)) {
+      if (!(*v >= 0.0)) s.out_of_range(key, format_number(*v), std::string(key) + " >= 0");
+      field = *v;
+    }
+  };
+  non_negative("a", f.a);
+  non_negative("b", f.b);
   positive("characteristic_slip", f.characteristic_slip, "a slip distance D > 0 [m]");
   positive("v_star", f.v_star, "a velocity v* > 0 [m/s]");
   positive("phi_star", f.phi_star, "a time phi* > 0 [s]");
+
+  // The regularized law divides by a (exp(psi/a)); the others stay defined at
+  // a = 0 because radiation damping alone fixes the slip rate.
+  if (f.strength_law == StrengthLaw::regularized && !(f.a > 0.0))
+    fail(s.has("a") ? s.node("a") : s.node("law"),
+         "friction.a = " + format_number(f.a) +
+             " is out of range for friction.law = \"regularized\": expected a > 0");
 
   const Section state(root, "state");
   if (auto v = state.choice("law", kStateLawNames))

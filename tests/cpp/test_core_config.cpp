@@ -231,7 +231,12 @@ TEST_CASE("out-of-range values name the key, the value and the allowed range") {
   CHECK(contains(error_of("[friction]\ncharacteristic_slip = 0\n"),
                  "friction.characteristic_slip = 0.0 is out of range: expected a slip distance "
                  "D > 0"));
-  CHECK(contains(error_of("[friction]\na = -0.005\n"), "friction.a = -0.005 is out of range"));
+  CHECK(contains(error_of("[friction]\na = -0.005\n"),
+                 "friction.a = -0.005 is out of range: expected a >= 0"));
+  CHECK(contains(error_of("[friction]\nlaw = \"regularized\"\na = 0\n"),
+                 "friction.a = 0.0 is out of range for friction.law = \"regularized\": expected "
+                 "a > 0"));
+  CHECK(load_config_string("[friction]\na = 0\n").friction.a == 0.0);  // paper law: allowed
   CHECK(contains(error_of("[geometry]\nlength = nan\n"),
                  "geometry.length = nan is out of range: expected a finite number"));
   CHECK(contains(error_of("[geometry]\nnodes = 16\n[initial]\nsine_mode = 8\n"),
