@@ -249,6 +249,7 @@ RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
     const hsize_t chunk[2] = {64, std::min<hsize_t>(n, 256)};
     create_extendible(group, "crossing_time", columns, chunk, 0, "s", true);
   }
+  check(H5Fclose(file.release()), "H5Fclose(" + path + ")");
 }
 
 RunOutput::~RunOutput() {
