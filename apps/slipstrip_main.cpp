@@ -1,1 +1,254 @@
-int main() { return 0; }
+// slipstrip command-line program: run, stability, events, bench (and the
+// Python-backed analyze / scan, see python/slipstrip).
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "apps/bench.hpp"
+#include "core/config.hpp"
+#include "core/run.hpp"
+#include "events/catalog_io.hpp"
+#include "friction/linear_stability.hpp"
+#include "slipstrip/version.hpp"
+
+namespace {
+
+// The one piece of process-wide mutable state: a signal handler can only talk
+// to the program through a volatile sig_atomic_t.  It lives in the CLI, not in
+// the library, so a process embedding several simulations is unaffected.
+volatile std::sig_atomic_t interrupt_signal = 0;
+extern "C" void on_interrupt(int sig) { interrupt_signal = sig; }
+
+std::string format_duration(double seconds) {
+  if (!(seconds >= 0) || seconds > 1e7) return "--:--";
+  const long s = static_cast<long>(seconds + 0.5);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+  return buf;
+}
+
+void print_progress(const slipstrip::RunProgress& p, bool tty) {
+  const double fraction = p.duration > 0 ? std::min(1.0, p.time / p.duration) : 1.0;
+  const int width = 28;
+  const int filled = static_cast<int>(fraction * width);
+  const double eta = fraction > 0 ? p.wall_seconds * (1 - fraction) / fraction : -1;
+  std::string bar(filled, '#');
+  bar.resize(width, '.');
+  std::fprintf(stderr, "%s[%s] %5.1f%%  t = %.4e s  step %lld  max v = %.3e m/s  elapsed %s  ETA %s%s",
+               tty ? "\r" : "", bar.c_str(), 100 * fraction, p.time, p.step, p.max_slip_rate,
+               format_duration(p.wall_seconds).c_str(), format_duration(eta).c_str(), tty ? "" : "\n");
+  std::fflush(stderr);
+}
+
+std::vector<double> parse_list(const std::string& text, const std::string& what) {
+  std::vector<double> values;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      values.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw std::invalid_argument(what + " = '" + text + "': '" + item + "' is not a number (expected a comma-separated list of numbers in metres)");
+    }
+  }
+  if (values.empty()) throw std::invalid_argument(what + " is empty: expected a comma-separated list of numbers");
+  return values;
+}
+
+slipstrip::SteadySliding steady_sliding_of(const slipstrip::SimulationConfig& c) {
+  slipstrip::SteadySliding s;
+  s.material = c.material;
+  s.strip_height = c.geometry.height;
+  s.friction = c.friction;
+  s.normal_stress = c.loading.normal_stress;
+  s.driving_velocity = c.loading.driving_velocity;
+  return s;
+}
+
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string json_array(const std::vector<double>& v) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + json_number(v[i]);
+  return s + "]";
+}
+
+int run_command(const std::string& config_path, const std::vector<std::string>& overrides,
+                std::string out_path, bool quiet) {
+  const auto config = slipstrip::load_config_file(config_path, overrides);
+  if (out_path.empty()) {
+    auto base = config_path.substr(config_path.find_last_of('/') + 1);
+    if (auto dot = base.rfind('.'); dot != std::string::npos) base = base.substr(0, dot);
+    out_path = base + ".h5";
+  }
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+  const bool tty = isatty(fileno(stderr));
+  slipstrip::RunHooks hooks;
+  if (!quiet) hooks.progress = [tty](const slipstrip::RunProgress& p) { print_progress(p, tty); };
+  hooks.progress_interval = tty ? 0.25 : 5.0;
+  hooks.stop_requested = [] { return interrupt_signal != 0; };
+  std::fprintf(stderr, "slipstrip %s (%s): %s -> %s\n", slipstrip::code_version, slipstrip::git_hash,
+               config_path.c_str(), out_path.c_str());
+  const auto result = slipstrip::run_simulation(config, out_path, hooks);
+  if (!quiet && tty) std::fprintf(stderr, "\n");
+  std::fprintf(stderr, "%s after %lld steps (dt = %.6g s), simulated %.6g s in %.2f s wall; output %s\n",
+               result.status.c_str(), result.steps, result.time_step, result.simulated_time,
+               result.wall_seconds, out_path.c_str());
+  if (result.status == "completed") return 0;
+  if (result.status == "interrupted") return 130;
+  return 3;  // diverged
+}
+
+int stability_command(const std::string& config_path, const std::vector<std::string>& overrides,
+                      const std::string& wavelengths_text, const std::string& height_range,
+                      const std::string& out_path, bool json) {
+  const auto config = slipstrip::load_config_file(config_path, overrides);
+  const auto sliding = steady_sliding_of(config);
+  std::ostringstream table, csv, js;
+  if (!height_range.empty()) {
+    // Hmin:Hmax:n, n evenly spaced values including both ends.
+    double hmin, hmax;
+    int n;
+    char c1, c2;
+    std::istringstream is(height_range);
+    if (!(is >> hmin >> c1 >> hmax >> c2 >> n) || c1 != ':' || c2 != ':' || n < 1 || !(hmin > 0) || !(hmax >= hmin))
+      throw std::invalid_argument("--height-range = '" + height_range +
+                                  "' is invalid: expected Hmin:Hmax:n with 0 < Hmin <= Hmax [m] and n >= 1");
+    std::vector<double> heights;
+    for (int i = 0; i < n; ++i) heights.push_back(n == 1 ? hmin : hmin + (hmax - hmin) * i / (n - 1));
+    const auto lc = slipstrip::critical_wavelength_vs_height(sliding, heights);
+    table << "# critical wavelength Lc(H); H = inf: " ;
+    auto half = sliding;
+    half.strip_height = std::numeric_limits<double>::infinity();
+    const auto lc_inf = slipstrip::critical_wavelength_vs_height(half, {std::numeric_limits<double>::infinity()});
+    table << lc_inf[0] << " m\n" << "    H [m]          Lc [m]\n";
+    csv << "height_m,critical_wavelength_m\n";
+    for (std::size_t i = 0; i < heights.size(); ++i) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%10.5g  %14.8g\n", heights[i], lc[i]);
+      table << buf;
+      csv << json_number(heights[i]) << "," << json_number(lc[i]) << "\n";
+    }
+    csv << "inf," << json_number(lc_inf[0]) << "\n";
+    js << "{\"heights\": " << json_array(heights) << ", \"critical_wavelength\": " << json_array(lc)
+       << ", \"critical_wavelength_half_space\": " << json_number(lc_inf[0]) << "}";
+  } else {
+    const auto wavelengths = parse_list(wavelengths_text.empty() ? std::to_string(config.geometry.length) : wavelengths_text, "--wavelength");
+    const auto rates = slipstrip::growth_rates(sliding, wavelengths);
+    table << "  wavelength [m]   Re Lambda [1/s]   Im Lambda [rad/s]\n";
+    csv << "wavelength_m,growth_rate_per_s,frequency_rad_per_s\n";
+    std::vector<double> w, g, f;
+    for (const auto& r : rates) {
+      char buf[128];
+      std::snprintf(buf, sizeof buf, "%16.8g %17.8g %19.8g\n", r.wavelength, r.growth_rate, r.frequency);
+      table << buf;
+      csv << json_number(r.wavelength) << "," << json_number(r.growth_rate) << "," << json_number(r.frequency) << "\n";
+      w.push_back(r.wavelength);
+      g.push_back(r.growth_rate);
+      f.push_back(r.frequency);
+    }
+    js << "{\"wavelengths\": " << json_array(w) << ", \"growth_rate\": " << json_array(g)
+       << ", \"frequency\": " << json_array(f) << "}";
+  }
+  std::cout << (json ? js.str() + "\n" : table.str());
+  if (!out_path.empty()) {
+    std::ofstream f(out_path);
+    if (!f) throw std::runtime_error("cannot write --out " + out_path);
+    f << csv.str();
+    std::fprintf(stderr, "wrote %s\n", out_path.c_str());
+  }
+  return 0;
+}
+
+int events_command(const std::string& run_path, double alpha, const std::string& out_path,
+                   const std::string& csv_path) {
+  slipstrip::events::EventDetectionOptions options;
+  options.alpha = alpha;
+  const auto catalog = slipstrip::events::detect_events_in_file(run_path, options);
+  const std::string target = out_path.empty() ? run_path : out_path;
+  slipstrip::events::write_event_catalog(target, catalog);
+  if (!csv_path.empty()) slipstrip::events::write_event_catalog_csv(csv_path, catalog);
+  std::printf("%llu nodal slips, %llu events detected, %zu kept (alpha = %g, waiting-time threshold %.4g s); catalog in %s:/events\n",
+              static_cast<unsigned long long>(catalog.n_nodal_slips),
+              static_cast<unsigned long long>(catalog.n_events_detected), catalog.n_events(), alpha,
+              catalog.waiting_time_threshold, target.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"slipstrip: spectral boundary-integral solver for frictional sliding between two "
+               "elastic strips of height H (rate-and-state friction). SI units throughout."};
+  app.set_version_flag("--version", std::string(slipstrip::code_version) + " (" + slipstrip::git_hash + ")");
+  app.require_subcommand(1);
+
+  std::string config_path, out_path, csv_path, wavelengths, height_range;
+  std::vector<std::string> overrides;
+  bool quiet = false, json = false;
+  double alpha = 15.0;
+
+  auto* run = app.add_subcommand("run", "Run a simulation from a TOML config and write one HDF5 file "
+                                        "(see docs/config.md and docs/output.md). Ctrl-C stops cleanly.");
+  run->add_option("config", config_path, "TOML config file")->required();
+  run->add_option("--set", overrides, "Override a config key: section.key=value (repeatable)");
+  run->add_option("--out", out_path, "Output HDF5 file (default: <config name>.h5)");
+  run->add_flag("--quiet", quiet, "No progress bar");
+
+  auto* stab = app.add_subcommand("stability", "Linear stability of steady sliding: growth rates vs wavelength, or Lc(H)");
+  stab->add_option("config", config_path, "TOML config file (material, friction, loading, geometry.height)")->required();
+  stab->add_option("--set", overrides, "Override a config key: section.key=value (repeatable)");
+  stab->add_option("--wavelength", wavelengths, "Comma-separated wavelengths [m] (default: geometry.length)");
+  stab->add_option("--height-range", height_range, "Hmin:Hmax:n -> Lc for n evenly spaced heights [m] (both ends included)");
+  stab->add_option("--out", out_path, "Write the table as CSV");
+  stab->add_flag("--json", json, "Print JSON instead of a table");
+
+  auto* ev = app.add_subcommand("events", "Detect slip events from /slip_sampling (paper's slip-sampled procedure)");
+  std::string run_path;
+  ev->add_option("run", run_path, "Run file (or a file holding only /slip_sampling)")->required();
+  ev->add_option("--alpha", alpha, "Waiting-time threshold factor alpha (threshold alpha*delta_th/(v0 N))");
+  ev->add_option("--out", out_path, "Catalog HDF5 file (default: add /events to the run file)");
+  ev->add_option("--csv", csv_path, "Also write the catalog as CSV");
+
+  slipstrip::BenchOptions bench_options;
+  auto* bench = app.add_subcommand("bench", "Time per step and memory for N = 256..16384, H/L = 0.025, 0.25 and half-space");
+  bench->add_flag("--json", bench_options.json, "One JSON object per line");
+  bench->add_option("--nodes", bench_options.nodes, "Node counts to time (comma-separated)")->delimiter(',');
+  bench->add_option("--steps", bench_options.steps, "Time steps per measurement");
+  bench->add_option("--threads", bench_options.threads, "OpenMP threads (default 1)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (*run) return run_command(config_path, overrides, out_path, quiet);
+    if (*stab) return stability_command(config_path, overrides, wavelengths, height_range, out_path, json);
+    if (*ev) return events_command(run_path, alpha, out_path, csv_path);
+    if (*bench) return slipstrip::run_bench(bench_options);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,121 @@
+#include "apps/bench.hpp"
+
+#include <omp.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "core/simulation.hpp"
+#include "friction/friction_law.hpp"
+#include "kernels/fft.hpp"
+
+namespace slipstrip {
+namespace {
+
+double peak_rss_mib() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+struct BenchCase {
+  int nodes;
+  double height;  // inf = half-space
+};
+
+void bench_case(const BenchCase& c, const BenchOptions& options) {
+  using clock = std::chrono::steady_clock;
+  SimulationConfig config;
+  config.geometry = {4.0, c.height, c.nodes};
+  config.time.beta = 0.25;
+  config.initial.noise_amplitude = 1e-3;
+  // The half-space operator is sized to the run: time exactly what is run.
+  Simulation probe_dt(config);
+  config.time.duration = (options.steps + 20) * probe_dt.time_step();
+  Simulation sim(config);
+  for (int i = 0; i < 10; ++i) sim.step();
+  const auto t0 = clock::now();
+  for (int i = 0; i < options.steps; ++i) sim.step();
+  const double us_per_step =
+      std::chrono::duration<double, std::micro>(clock::now() - t0).count() / options.steps;
+
+  // Floor: the work every spectral BIM step must do whatever its kernels --
+  // one forward and one inverse FFT and the local interface solve (predictor
+  // + corrector, two state updates) at every node -- timed in this binary.
+  RealFft fft(c.nodes);
+  std::vector<double> v(sim.slip_rate().begin(), sim.slip_rate().end()), phi(sim.state().begin(), sim.state().end());
+  std::vector<double> field(c.nodes);
+  std::vector<std::complex<double>> spectrum(c.nodes / 2 + 1);
+  const auto& f = config.friction;
+  const double sigma0 = config.loading.normal_stress, eta = sim.radiation_damping(), dt = sim.time_step();
+  const double load = sim.reference_shear_stress() + eta * config.loading.driving_velocity;
+  const auto t1 = clock::now();
+  for (int s = 0; s < options.steps; ++s) {
+    fft.forward(v, spectrum);
+    fft.inverse(spectrum, field);
+    for (int i = 0; i < c.nodes; ++i) {
+      const double tau_history = load + 1e-9 * field[i];
+      const double phi_pred = evolve_state(f, phi[i], v[i], dt);
+      const double v_pred = solve_slip_rate(f, sigma0, eta, tau_history, phi_pred, v[i]);
+      phi[i] = evolve_state(f, phi[i], 0.5 * (v[i] + v_pred), dt);
+      v[i] = solve_slip_rate(f, sigma0, eta, tau_history, phi[i], v_pred);
+    }
+  }
+  const double floor_us =
+      std::chrono::duration<double, std::micro>(clock::now() - t1).count() / options.steps;
+  const double rss = peak_rss_mib();
+  const auto stats = sim.history_operator().stats();
+  const std::string height = std::isinf(c.height) ? "null" : std::to_string(c.height);
+  if (options.json) {
+    std::printf(
+        "{\"N\": %d, \"height\": %s, \"length\": 4.0, \"us_per_step\": %.3f, \"floor_us_per_step\": %.3f, "
+        "\"ratio_to_floor\": %.3f, \"rss_mib\": %.2f, \"oscillators\": %zu, \"operator_mib\": %.2f, "
+        "\"dt\": %.6g, \"threads\": %d, \"steps\": %d}\n",
+        c.nodes, height.c_str(), us_per_step, floor_us, us_per_step / floor_us, rss, stats.oscillators,
+        stats.memory_bytes / 1048576.0, dt, options.threads, options.steps);
+  } else {
+    std::printf("%6d  %-8s  %12.1f  %12.1f  %8.2f  %9.1f  %12zu\n", c.nodes,
+                std::isinf(c.height) ? "inf" : std::to_string(c.height).substr(0, 5).c_str(), us_per_step,
+                floor_us, us_per_step / floor_us, rss, stats.oscillators);
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& options) {
+  if (!options.json)
+    std::printf("# L = 4 m, beta = 0.25, Table S1 friction, %d thread(s), %d steps per case\n"
+                "#    N  H [m]     us/step     floor us/step  ratio  RSS [MiB]  oscillators\n",
+                options.threads, options.steps);
+  std::fflush(stdout);
+  for (int n : options.nodes) {
+    for (double height : {0.1, 1.0, std::numeric_limits<double>::infinity()}) {
+      const pid_t pid = fork();
+      if (pid < 0) return 1;
+      if (pid == 0) {
+        omp_set_num_threads(options.threads);
+        try {
+          bench_case({n, height}, options);
+        } catch (const std::exception& e) {
+          std::fprintf(stderr, "bench N=%d H=%g failed: %s\n", n, height, e.what());
+          _exit(1);
+        }
+        _exit(0);
+      }
+      int status = 0;
+      waitpid(pid, &status, 0);
+    }
+  }
+  return 0;
+}
+
+}  // namespace slipstrip

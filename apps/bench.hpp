@@ -1,0 +1,20 @@
+#pragma once
+#include <vector>
+
+namespace slipstrip {
+
+struct BenchOptions {
+  bool json = false;
+  std::vector<int> nodes = {256, 512, 1024, 2048, 4096, 8192, 16384};
+  int steps = 200;
+  int threads = 1;
+};
+
+// Times the full time step (history operator + FFTs + local friction solve)
+// and the floor cost (two FFTs + the elementwise interface work) for each N
+// and H/L = 0.025, 0.25 and the half-space (L = 4 m, beta = 0.25, Table S1
+// friction).  Each case runs in a forked child so its peak resident memory
+// (VmHWM) is its own.
+int run_bench(const BenchOptions& options);
+
+}  // namespace slipstrip
