@@ -76,6 +76,7 @@ struct Case {
   int nodes = 64;
   double beta = 0.25;
   double sine_amplitude = 1e-4;
+  int sine_mode = 1;  // 0 = uniform perturbation (k = 0, wavelength +inf)
 };
 
 SimulationConfig make_config(const Case& c) {
@@ -87,8 +88,13 @@ SimulationConfig make_config(const Case& c) {
   config.friction.state_law = c.state_law;
   config.time.beta = c.beta;
   config.initial.sine_amplitude = c.sine_amplitude;
-  config.initial.sine_mode = 1;
+  config.initial.sine_mode = c.sine_mode;
   return config;
+}
+
+// Wavelength of the perturbed Fourier mode (+inf for the uniform mode).
+double wavelength(const Case& c) {
+  return c.sine_mode == 0 ? std::numeric_limits<double>::infinity() : c.length / c.sine_mode;
 }
 
 SteadySliding make_sliding(const SimulationConfig& config) {
@@ -101,7 +107,7 @@ SteadySliding make_sliding(const SimulationConfig& config) {
   return s;
 }
 
-// Mode-1 history of one simulation, stopped at max_duration or just before the
+// History of Fourier mode c.sine_mode of one simulation, stopped at max_duration or just before the
 // perturbation leaves the linear regime.
 struct ModeRecord {
   double dt = 0.0;
@@ -120,6 +126,9 @@ ModeRecord simulate_mode(const Case& c, double max_duration) {
   RealFft fft(n);
   std::vector<double> field(static_cast<std::size_t>(n));
   std::vector<std::complex<double>> spectrum(static_cast<std::size_t>(n / 2 + 1));
+  const auto mode = static_cast<std::size_t>(c.sine_mode);
+  // c_q = (2/N) FFT[q] is the cosine amplitude for q >= 1; the mean for q = 0
+  const double scale = (mode == 0 ? 1.0 : 2.0) / n;
   ModeRecord record;
   record.dt = sim.time_step();
   const auto steps = static_cast<long long>(std::ceil(max_duration / record.dt));
@@ -136,10 +145,10 @@ ModeRecord simulate_mode(const Case& c, double max_duration) {
       break;
     }
     fft.forward(field, spectrum);
-    record.slip_rate.push_back(2.0 / n * spectrum[1].real() / v0);
+    record.slip_rate.push_back(scale * spectrum[mode].real() / v0);
     for (int i = 0; i < n; ++i) field[i] = sim.state()[i] - phi_ss;
     fft.forward(field, spectrum);
-    record.state.push_back(2.0 / n * spectrum[1].real() / phi_ss);
+    record.state.push_back(scale * spectrum[mode].real() / phi_ss);
     sim.step();
   }
   return record;
@@ -251,7 +260,7 @@ struct GrowthMeasurement {
 // record (the first half contains the transient of the other roots).
 GrowthMeasurement measure_unstable(const Case& c, double max_duration) {
   const SimulationConfig config = make_config(c);
-  const auto theory = growth_rates(make_sliding(config), {c.length}).at(0);
+  const auto theory = growth_rates(make_sliding(config), {wavelength(c)}).at(0);
   const ModeRecord r = simulate_mode(c, max_duration);
   const std::size_t last = r.slip_rate.size();
   const std::size_t first = last / 2;
@@ -389,6 +398,40 @@ TEST_CASE("wavelengths 5% below / above Lc decay / grow (H = 0.05, 0.1, 0.2)") {
   }
 }
 
+TEST_CASE("uniform mode k = 0: grows at H = 0.2, decays at H = 0.1, at the theory's rates") {
+  // k = 0 is uniform slip of the strip pair against the driven boundaries.
+  // Quasi-statically its stiffness mu/(2H) (2.25e10 Pa/m at H = 0.2) is below
+  // K_c = tau_v g_phi - tau_phi g_v ~ 3.2e10 Pa/m for H > ~0.14 m, so at H = 0.2
+  // steady sliding is unstable at k = 0 whatever L is: a wavelength below Lc
+  // decays on its own, but the uniform mode (seeded at O(eps^2) by the
+  // nonlinearity) eventually grows.  sine_mode = 0 seeds it directly
+  // (phi = phi_ss (1 + eps)); theory: growth_rates at wavelength +inf.
+  Case grows{0.2, 0.8};
+  grows.sine_mode = 0;
+  check_unstable("k=0 H=0.2", grows);
+
+  Case decays{0.1, 0.8};
+  decays.sine_mode = 0;
+  const SteadySliding sliding = make_sliding(make_config(decays));
+  const auto theory = growth_rates(sliding, {wavelength(decays)}).at(0);
+  REQUIRE_FALSE(theory.unstable);
+  const std::complex<double> root{theory.growth_rate, theory.frequency};
+  const ModeRecord r = simulate_mode(decays, 3e-3);
+  REQUIRE_FALSE(r.left_linear_regime);
+  const auto first = static_cast<std::size_t>(2e-4 / r.dt);
+  const auto poles = matrix_pencil(r.slip_rate, r.dt, first, r.slip_rate.size(), 4, 1e-8);
+  const auto p = pole_near(poles, root);
+  REQUIRE(p.has_value());
+  std::printf("k=0 H=0.1 N=%d dt=%.3e: theory %.3f%+.1fi measured %.3f%+.1fi (Re rel err %.2e)\n",
+              decays.nodes, r.dt, root.real(), root.imag(), p->rate.real(), p->rate.imag(),
+              (p->rate.real() - root.real()) / std::abs(root.real()));
+  CHECK(std::abs(p->rate.real() - root.real()) <= tolerance * std::abs(root.real()));
+  double largest = 0.0;
+  for (const auto& q : poles) largest = std::max(largest, q.initial_amplitude);
+  for (const auto& q : poles)
+    if (q.initial_amplitude >= 1e-3 * largest) CHECK(q.rate.real() < 0.0);
+}
+
 TEST_CASE("aging and slip laws: same Lc in theory, same simulated growth rates") {
   // At steady state the two laws have the same linearisation up to
   // O((v*/v0)^2) = 2.5e-9, so Lc agrees to ~1e-8 (bisection tolerance 1e-10).
@@ -429,10 +472,12 @@ TEST_CASE("resolution: N = 64 and N = 128 give the same growth rate (H=0.1, L=0.
 }
 
 TEST_CASE("convergence in dt and linearity (all plane-strain cases)" * doctest::test_suite("slow")) {
-  // N = 256 (4x smaller dt than the default) and beta = 0.125 at N = 128:
-  // the error against theory must stay within tolerance and not grow.
+  // N = 256 (4x smaller dt than the default) and beta = 0.125 at N = 128
+  // (the same dt: for mode 1 only dt matters, so the two must agree to
+  // round-off).  The pencil error against theory must shrink under refinement.
   for (const Case base :
        {Case{0.1, 0.8}, Case{0.1, 1.0}, Case{0.05, 0.6}, Case{0.2, 1.2}}) {
+    const GrowthMeasurement m_coarse = measure_unstable(base, 8e-3);
     Case fine = base;
     fine.nodes = 256;
     const GrowthMeasurement m_fine = measure_unstable(fine, 8e-3);
@@ -445,6 +490,8 @@ TEST_CASE("convergence in dt and linearity (all plane-strain cases)" * doctest::
     const GrowthMeasurement m_beta = measure_unstable(small_beta, 8e-3);
     report("slow N=128 beta=0.125", small_beta, m_beta);
     CHECK(std::abs(m_beta.envelope - m_beta.theory) <= tolerance * m_beta.theory);
+    CHECK(std::abs(m_beta.pencil - m_fine.pencil) <= 1e-6 * m_fine.theory);
+    CHECK(std::abs(m_fine.pencil - m_fine.theory) < std::abs(m_coarse.pencil - m_coarse.theory));
   }
   // Linearity: eps = 1e-6 gives ~4.6 more e-folds before the limit; the rate
   // must not depend on eps (nonlinear corrections to mode 1 are O(amplitude^2)).
