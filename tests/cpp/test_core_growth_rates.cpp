@@ -41,8 +41,9 @@
 // Tolerance: 2% relative on Re Lambda, from the issue (the scheme's dt error
 // and the fit error are measured here to be ~1e-4 relative, see the doc).
 //
-// Run: ./test_core_growth_rates            (default cases, ~ a few seconds)
-//      ./test_core_growth_rates -ts=slow   (convergence and linearity checks)
+// Run: ./test_core_growth_rates -tse=slow  (default set, ~3 s on one core)
+//      ./test_core_growth_rates -ts=slow   (refinement and linearity, ~6 s)
+//      ./test_core_growth_rates            (both; what ctest runs)
 #include <doctest/doctest.h>
 
 #include <Eigen/Dense>
