@@ -33,7 +33,7 @@ constexpr std::string_view kFrictionKeys[] = {"law", "f0", "a", "b", "characteri
 constexpr std::string_view kStateKeys[] = {"law"};
 constexpr std::string_view kInterfaceKeys[] = {"law",       "slip_amplitude",   "mode",
                                                "profile",   "rise_time",        "stress_amplitude",
-                                               "pulse_center", "pulse_width"};
+                                               "pulse_center", "pulse_width", "load_pulse_amplitude"};
 constexpr std::string_view kInitialKeys[] = {"noise_amplitude", "noise_seed",      "sine_amplitude",
                                              "sine_mode",       "local_amplitude", "local_center",
                                              "local_width"};
@@ -513,6 +513,7 @@ void read_interface(const toml::table& root, int nodes, InterfaceConfig& in) {
     in.rise_time = *v;
   }
   if (auto v = s.number("stress_amplitude")) in.stress_amplitude = *v;
+  if (auto v = s.number("load_pulse_amplitude")) in.load_pulse_amplitude = *v;
   if (auto v = s.number("pulse_center")) in.pulse_center = *v;
   if (auto v = s.number_or_inf("pulse_width")) {
     if (!(*v > 0.0))
@@ -766,6 +767,8 @@ std::string to_toml(const SimulationConfig& c) {
   name("profile", enum_name(c.interface.profile, kProfileNames), "\"ramp\" | \"bump\"");
   number("rise_time", c.interface.rise_time, "T [s]");
   number("stress_amplitude", c.interface.stress_amplitude, "[Pa] (free)");
+  number("load_pulse_amplitude", c.interface.load_pulse_amplitude,
+         "[Pa] extra shear-load pulse on the rate_and_state interface (same shape); 0 = off");
   number("pulse_center", c.interface.pulse_center, "x0 [m] (free)");
   length_or_inf("pulse_width", c.interface.pulse_width, "w [m] (free); \"inf\" = uniform");
 

@@ -123,12 +123,15 @@ double Simulation::profile_rate(double t) const {
 
 double Simulation::imposed_stress(double x, double t) const {
   const auto& in = config_.interface;
+  const double amplitude =
+      in.law == InterfaceLaw::free ? in.stress_amplitude : in.load_pulse_amplitude;
+  if (amplitude == 0.0) return 0.0;
   double shape = 1.0;
   if (std::isfinite(in.pulse_width) && in.pulse_width > 0.0) {
     const double d = std::remainder(x - in.pulse_center, config_.geometry.length);
     shape = std::exp(-0.5 * (d / in.pulse_width) * (d / in.pulse_width));
   }
-  return in.stress_amplitude * shape * profile(t);
+  return amplitude * shape * profile(t);
 }
 
 void Simulation::solve_rate_and_state(bool initial) {
@@ -137,11 +140,12 @@ void Simulation::solve_rate_and_state(bool initial) {
   const auto& f = config_.friction;
   const double sigma0 = config_.loading.normal_stress;
   const double load = reference_shear_stress_ + eta_ * driving_velocity_;
+  const double t_load = initial ? time_ : time_ + dt_;  // the level being solved for
   std::string failure;
 #pragma omp parallel for schedule(static)
   for (int i = 0; i < nodes_; ++i) {
     try {
-      const double tau_history = load - history_stress_[i];
+      const double tau_history = load - history_stress_[i] + imposed_stress(x_[i], t_load);
       if (initial) {
         slip_rate_[i] =
             solve_slip_rate(f, sigma0, eta_, tau_history, state_[i], driving_velocity_);
@@ -169,7 +173,15 @@ void Simulation::solve_rate_and_state(bool initial) {
 
 void Simulation::step() {
   // 1. history stress at t_{n+1} from slip rates up to t_n.
-  for (int i = 0; i < nodes_; ++i) work_real_[i] = slip_rate_[i] - driving_velocity_;
+  // The perturbation v - v0 is zero before t = 0 and may jump at t = 0+ (an
+  // initial state perturbation changes v at once).  The trapezoidal rule over
+  // the history puts weight 1/2 on that end point (equivalently: a delta of the
+  // echo comb that lands on the jump samples its mean), so the first sample
+  // enters the history at half weight.  Full weight costs an O(dt) error for
+  // the whole run (tests/cpp/test_core_convergence.cpp).
+  const double first_sample_weight = step_index_ == 0 ? 0.5 : 1.0;
+  for (int i = 0; i < nodes_; ++i)
+    work_real_[i] = first_sample_weight * (slip_rate_[i] - driving_velocity_);
   fft_->forward(work_real_, spectrum_);
   history_->push(spectrum_);
   fft_->inverse(history_->history(), history_stress_);

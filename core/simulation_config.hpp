@@ -46,6 +46,11 @@ struct InterfaceConfig {
   double stress_amplitude = 1e5;
   double pulse_center = 0.0;
   double pulse_width = std::numeric_limits<double>::infinity();
+  // rate_and_state: an extra shear-load pulse of this amplitude [Pa] with the
+  // same shape (pulse_center, pulse_width, profile, rise_time); 0 = off.  A
+  // smooth way to nucleate at a chosen place, and a problem that is smooth in
+  // time (an initial state perturbation makes v jump at t = 0+).
+  double load_pulse_amplitude = 0.0;
 };
 
 // Initial perturbations on top of steady sliding at v0 (phi = phi_ss(v0)).
