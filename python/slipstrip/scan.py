@@ -21,7 +21,7 @@ import subprocess
 import sys
 import time
 import tomllib
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Iterable, TextIO
@@ -294,7 +294,8 @@ def _events_count(run_file) -> float:
 
 
 def _tail(text: str) -> str:
-    text = text.strip()
+    # One line per table cell: CSV readers and terminals cope better.
+    text = " | ".join(line.strip() for line in text.strip().splitlines() if line.strip())
     return text if len(text) <= MAX_ERROR_CHARS else "..." + text[-MAX_ERROR_CHARS:]
 
 
@@ -407,8 +408,7 @@ def execute_task(payload: dict) -> dict:
         cmd += ["--out", str(run_file), "--quiet"]
         start = time.monotonic()
         try:
-            proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
-            returncode, out, err = proc.returncode, proc.stdout, proc.stderr
+            returncode, out, err = _run_solver(cmd, env)
         except OSError as e:
             returncode, out, err = -1, "", f"cannot start {binary}: {e}"
         row["wall_time_s"] = time.monotonic() - start
@@ -437,6 +437,22 @@ def execute_task(payload: dict) -> dict:
         record["analysis_details"] = details
     _write_json(_record_path(run_file), record)
     return row
+
+
+def _run_solver(cmd: list[str], env: dict) -> tuple[int, str, str]:
+    """Runs the solver to its end.  On Ctrl-C the solver (same process group)
+    gets SIGINT itself and closes its file with status "interrupted"; we wait
+    for that instead of killing it as subprocess.run would after 0.25 s."""
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env) as proc:
+        try:
+            out, err = proc.communicate()
+        except KeyboardInterrupt:
+            try:
+                proc.wait(timeout=60)  # the solver's clean stop: one last flush of the file
+            except subprocess.TimeoutExpired:
+                proc.kill()
+            raise
+        return proc.returncode, out, err
 
 
 def _file_wall_time(run_file: Path) -> float:
@@ -552,16 +568,26 @@ def run_scan(spec: ScanSpec, jobs: int = 1, dask_address: str | None = None, bin
                 rows.append(row)
                 progress.update(row)
         elif todo:
-            with ProcessPoolExecutor(max_workers=min(jobs, len(todo))) as pool:
+            # A subprocess pool: each thread waits on one solver process (the
+            # work is in the solver; the GIL is free while it runs).  Threads,
+            # not worker processes, because on Ctrl-C a process pool would still
+            # start the calls it had already queued, while here no new run starts
+            # and the running solvers, which get the terminal's SIGINT too, close
+            # their files as "interrupted" and their rows are kept.
+            with ThreadPoolExecutor(max_workers=min(jobs, len(todo)), thread_name_prefix="slipstrip-run") as pool:
                 futures = [pool.submit(execute_task, p) for p in todo]
+                collected = set()
                 try:
                     for future in as_completed(futures):
-                        row = future.result()
-                        rows.append(row)
-                        progress.update(row)
+                        rows.append(future.result())
+                        collected.add(future)
+                        progress.update(rows[-1])
                 except KeyboardInterrupt:
+                    pool.shutdown(wait=True, cancel_futures=True)
                     for f in futures:
-                        f.cancel()
+                        if f not in collected and f.done() and not f.cancelled() and f.exception() is None:
+                            rows.append(f.result())
+                            progress.update(rows[-1])
                     raise
     finally:
         # Also on Ctrl-C: the table then lists what has finished so far.

@@ -330,7 +330,8 @@ key = "geometry.height"
 values = [0.02, 0.03]
 """, mode="zip")
     out = tmp_path / "out"
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+    # processes=True: the run function really travels to other processes (pickled by value).
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster:
         rc = scan.main([str(scan_file), "--dask", cluster.scheduler_address, "--out", str(out),
                         "--binary", binary])
