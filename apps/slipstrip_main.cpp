@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -193,6 +194,31 @@ int events_command(const std::string& run_path, double alpha, const std::string&
 
 }  // namespace
 
+// analyze / scan / plot live in the Python package: run Debian's interpreter
+// on it, with the package directory of this source tree on PYTHONPATH (an
+// installed package is found anyway).
+int forward_to_python(const std::string& command, const std::vector<std::string>& args) {
+  std::string python_path = SLIPSTRIP_PYTHON_DIR;
+  if (const char* existing = std::getenv("PYTHONPATH")) python_path += std::string(":") + existing;
+  setenv("PYTHONPATH", python_path.c_str(), 1);
+  if (!std::getenv("SLIPSTRIP_BIN")) {
+    char self[4096];
+    const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n > 0) {
+      self[n] = 0;
+      setenv("SLIPSTRIP_BIN", self, 1);
+    }
+  }
+  std::vector<std::string> argv_strings = {"/usr/bin/python3", "-m", "slipstrip", command};
+  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
+  std::vector<char*> argv_ptrs;
+  for (auto& a : argv_strings) argv_ptrs.push_back(a.data());
+  argv_ptrs.push_back(nullptr);
+  execv(argv_ptrs[0], argv_ptrs.data());
+  std::perror("slipstrip: cannot start /usr/bin/python3");
+  return 1;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"slipstrip: spectral boundary-integral solver for frictional sliding between two "
                "elastic strips of height H (rate-and-state friction). SI units throughout."};
@@ -233,6 +259,13 @@ int main(int argc, char** argv) {
   bench->add_option("--steps", bench_options.steps, "Time steps per measurement");
   bench->add_option("--threads", bench_options.threads, "OpenMP threads (default 1)");
 
+  for (const char* name : {"analyze", "scan", "plot"}) {
+    auto* py = app.add_subcommand(name, std::string("Python: python3 -m slipstrip ") + name +
+                                            " (see docs/analysis.md, docs/scans.md); arguments are forwarded");
+    py->allow_extras();
+    py->prefix_command();
+  }
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -243,6 +276,8 @@ int main(int argc, char** argv) {
     if (*stab) return stability_command(config_path, overrides, wavelengths, height_range, out_path, json);
     if (*ev) return events_command(run_path, alpha, out_path, csv_path);
     if (*bench) return slipstrip::run_bench(bench_options);
+    for (const char* name : {"analyze", "scan", "plot"})
+      if (auto* py = app.get_subcommand(name); *py) return forward_to_python(name, py->remaining());
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;
