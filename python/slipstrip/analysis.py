@@ -1,0 +1,898 @@
+"""Slip-event statistics and figures (paper Figs. 1b-e, 2b-d, S3-S9).
+
+Input is one run file (docs/output.md) with a slip-event catalog in group
+/events (docs/events.md).  The catalog is produced by the C++ detector through
+the CLI (`slipstrip events`); this module never re-derives catalog numbers
+itself.  The one exception is the event-coloured space-slip map (Fig. S4b),
+whose colours come from `group_nodal_slips`, a numpy re-implementation of the
+grouping used for plotting only (a test checks that it finds the same number
+of events as the C++ detector).
+
+Conventions (see docs/analysis.md):
+  * normalisations: u_mean / D, T v0 / D, M0 / (mu D L)   (Figs. S8 captions);
+  * small events: u_mean < D, large events: u_mean >= D;
+  * exponents are reported positive: p(x) ~ x^(-exponent).
+
+Command line (dispatched by `python3 -m slipstrip analyze ...`):
+    analyze RUN.h5 [--out-dir DIR] [--pdf] [--alpha 15] [--event INDEX]
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import tomllib
+from pathlib import Path
+
+import h5py
+import numpy as np
+from scipy import optimize, stats
+
+DEFAULT_ALPHA = 15.0
+SENSITIVITY_ALPHAS = (8.0, 15.0, 30.0, 60.0)
+SPANNING_FRACTION = 0.9  # L_s >= 0.9 L counts as system-spanning
+# Periodic travelling pulse (Fig. 5 regime), event-based criterion.
+PULSE_MIN_SPANNING_SLIP = 0.8
+PULSE_MAX_CV = 0.2
+PULSE_MIN_SPANNING_EVENTS = 3
+# Periodic travelling pulse, time-series criterion: a pulse that never stops
+# is one never-ending event (excluded as first/last), so the catalog alone
+# cannot see it.  In the second half of the run the fastest node must always
+# slip faster than PULSE_MIN_RATE v0 and max slip rate must vary little.
+PULSE_MIN_RATE = 3.0
+MIN_FIT_EVENTS = 10  # fewer than this in a subset: the fit returns NaN
+CATALOG_FIELDS = ("t_start", "T", "x_start", "L_s", "u_mean", "M0", "max_slip_rate", "n_clusters")
+
+
+# ---------------------------------------------------------------------------
+# Reading
+# ---------------------------------------------------------------------------
+
+@dataclasses.dataclass(frozen=True)
+class RunInfo:
+    """Scales of one run [SI]."""
+    D: float            # characteristic slip [m]
+    L: float            # interface length [m]
+    H: float            # strip height [m] (inf for a half-space)
+    v0: float           # driving velocity [m/s]
+    mu: float           # shear modulus [Pa]
+    c_s: float          # shear wave speed [m/s]
+    sigma0: float       # normal stress [Pa]
+    delta_th: float     # slip-sampling threshold [m]
+    n_nodes: int
+    duration: float     # simulated time covered by the file [s]
+
+
+def read_run_info(path: str | os.PathLike) -> RunInfo:
+    with h5py.File(path, "r") as f:
+        config = tomllib.loads(_as_str(f.attrs["config"])) if "config" in f.attrs else {}
+        ss = f["slip_sampling"].attrs if "slip_sampling" in f else {}
+        geometry = config.get("geometry", {})
+        material = config.get("material", {})
+        friction = config.get("friction", {})
+        L = float(ss.get("L", geometry.get("length", math.nan)))
+        D = float(ss.get("D", friction.get("characteristic_slip", math.nan)))
+        v0 = float(ss.get("v0", config.get("loading", {}).get("driving_velocity", math.nan)))
+        mu = float(ss.get("mu", material.get("shear_modulus", math.nan)))
+        rho = float(material.get("density", math.nan))
+        H = geometry.get("height", math.nan)
+        H = math.inf if isinstance(H, str) and H.strip().lower() == "inf" else float(H)
+        if "snapshots" in f and "x" in f["snapshots"]:
+            n = int(f["snapshots/x"].shape[0])
+        elif "slip_sampling" in f:
+            n = int(f["slip_sampling/crossing_time"].shape[1])
+        else:
+            n = int(geometry.get("nodes", 0))
+        duration = math.nan
+        if "timeseries" in f and f["timeseries/time"].shape[0] > 0:
+            duration = float(f["timeseries/time"][-1])
+        elif "snapshots" in f and f["snapshots/time"].shape[0] > 0:
+            duration = float(f["snapshots/time"][-1])
+        return RunInfo(D=D, L=L, H=H, v0=v0, mu=mu, c_s=math.sqrt(mu / rho) if rho > 0 else math.nan,
+                       sigma0=float(config.get("loading", {}).get("normal_stress", math.nan)),
+                       delta_th=float(ss.get("delta_th", math.nan)), n_nodes=n, duration=duration)
+
+
+def _as_str(value) -> str:
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+def read_catalog(path: str | os.PathLike) -> dict:
+    """/events of `path` as {field: ndarray} plus 'attrs' (dict)."""
+    with h5py.File(path, "r") as f:
+        if "events" not in f:
+            raise KeyError(f"{path}: no group /events (run `slipstrip events {path}` first)")
+        g = f["events"]
+        catalog = {k: np.asarray(g[k][:]) for k in CATALOG_FIELDS if k in g}
+        catalog["attrs"] = {k: (_as_str(v) if isinstance(v, (bytes, str)) else v.item() if hasattr(v, "item") else v)
+                            for k, v in g.attrs.items()}
+    return catalog
+
+
+# ---------------------------------------------------------------------------
+# Event detection through the C++ CLI
+# ---------------------------------------------------------------------------
+
+def find_slipstrip_binary() -> str | None:
+    """$SLIPSTRIP_BIN, else `slipstrip` on PATH, else /work/main/build/slipstrip."""
+    explicit = os.environ.get("SLIPSTRIP_BIN")
+    if explicit:
+        return explicit if os.access(explicit, os.X_OK) else None
+    found = shutil.which("slipstrip")
+    if found:
+        return found
+    default = Path(__file__).resolve().parents[2] / "build" / "slipstrip"
+    if os.access(default, os.X_OK):
+        return str(default)
+    default = Path("/work/main/build/slipstrip")
+    return str(default) if os.access(default, os.X_OK) else None
+
+
+def run_event_detection(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
+                        out: str | os.PathLike | None = None) -> str:
+    """Runs `slipstrip events RUN --alpha A [--out OUT]`; returns the file holding /events."""
+    binary = find_slipstrip_binary()
+    if binary is None:
+        raise FileNotFoundError("slipstrip binary not found (set SLIPSTRIP_BIN, put it on PATH, "
+                                "or build /work/main/build/slipstrip)")
+    cmd = [binary, "events", str(run_path), "--alpha", repr(float(alpha))]
+    if out is not None:
+        cmd += ["--out", str(out)]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}): {proc.stderr.strip()}")
+    return str(out if out is not None else run_path)
+
+
+def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
+                workdir: str | os.PathLike | None = None) -> dict:
+    """The catalog of `run_path` for `alpha`: /events of the run file if it was
+    made with this alpha; else detection is run (into the run file when it has
+    no /events, else into a catalog file in `workdir` or a temporary one)."""
+    with h5py.File(run_path, "r") as f:
+        stored_alpha = float(f["events"].attrs["alpha"]) if "events" in f else None
+    if stored_alpha is not None and stored_alpha == float(alpha):
+        return read_catalog(run_path)
+    if stored_alpha is None:
+        try:
+            run_event_detection(run_path, alpha)
+            return read_catalog(run_path)
+        except RuntimeError:
+            pass  # e.g. read-only run file: fall back to a separate catalog file
+    if workdir is not None:
+        out = Path(workdir) / f"events_alpha{alpha:g}.h5"
+        run_event_detection(run_path, alpha, out)
+        return read_catalog(out)
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / f"events_alpha{alpha:g}.h5"
+        run_event_detection(run_path, alpha, out)
+        return read_catalog(out)
+
+
+# ---------------------------------------------------------------------------
+# Distributions and fits
+# ---------------------------------------------------------------------------
+
+def normalised_observables(catalog: dict, info: RunInfo) -> dict:
+    """u_mean/D, T v0/D, M0/(mu D L) (the paper's Fig. S8 normalisations)."""
+    return {
+        "u": np.asarray(catalog["u_mean"], float) / info.D,
+        "T": np.asarray(catalog["T"], float) * info.v0 / info.D,
+        "M0": np.asarray(catalog["M0"], float) / (info.mu * info.D * info.L),
+    }
+
+
+def log_binned_pdf(values, bins_per_decade: int = 5, lo: float | None = None, hi: float | None = None):
+    """Histogram density on logarithmic bins.
+
+    Only finite positive values are used; pdf = count / (n_used * bin width), so
+    sum(pdf * diff(edges)) = 1 when [lo, hi] covers all of them.  Returns
+    (centres (geometric), pdf, edges); empty arrays if there is nothing to bin.
+    """
+    x = np.asarray(values, float)
+    x = x[np.isfinite(x) & (x > 0)]
+    if x.size == 0:
+        return np.array([]), np.array([]), np.array([])
+    lo = x.min() if lo is None else lo
+    hi = x.max() if hi is None else hi
+    if hi <= lo:
+        hi = lo * 1.0001
+    n_bins = max(1, int(math.ceil(bins_per_decade * math.log10(hi / lo))))
+    edges = np.logspace(math.log10(lo), math.log10(hi), n_bins + 1)
+    edges[0], edges[-1] = lo, hi  # logspace round-off must not drop the extreme samples
+    counts, _ = np.histogram(x, bins=edges)
+    pdf = counts / (x.size * np.diff(edges))
+    return np.sqrt(edges[:-1] * edges[1:]), pdf, edges
+
+
+@dataclasses.dataclass(frozen=True)
+class PowerLawFit:
+    exponent: float       # p(x) ~ x^-exponent on [xmin, xmax]
+    stderr: float         # asymptotic (Fisher) standard error
+    xmin: float
+    xmax: float           # inf: untruncated
+    n: int                # samples in [xmin, xmax]
+    ks: float             # KS distance between data in [xmin, xmax] and the fit
+    bootstrap_stderr: float = math.nan
+
+
+def _log_norm(a: float, lo: float, hi: float) -> float:
+    """ln of Z(a) = int_lo^hi x^-a dx (hi may be inf, then a > 1)."""
+    if math.isinf(hi):
+        return math.log(lo ** (1.0 - a) / (a - 1.0))
+    ll, lh = math.log(lo), math.log(hi)
+    s = 1.0 - a
+    if abs(s) * (lh - ll) < 1e-8:
+        return math.log(lh - ll) + 0.5 * s * (lh + ll)
+    # Z = (hi^s - lo^s)/s, computed as lo^s expm1(s (lh - ll)) / s for accuracy.
+    return s * ll + math.log(math.expm1(s * (lh - ll)) / s)
+
+
+def _power_law_cdf(x, a, lo, hi):
+    x = np.asarray(x, float)
+    s = 1.0 - a
+    if math.isinf(hi):
+        return 1.0 - (x / lo) ** s
+    if abs(s) < 1e-12:
+        return np.log(x / lo) / math.log(hi / lo)
+    return np.expm1(s * np.log(x / lo)) / math.expm1(s * math.log(hi / lo))
+
+
+def _power_law_mle(x: np.ndarray, lo: float, hi: float) -> tuple[float, float]:
+    """Exponent and Fisher standard error for samples x in [lo, hi]."""
+    n = x.size
+    mean_log = float(np.mean(np.log(x)))
+    if math.isinf(hi):
+        a = 1.0 + 1.0 / (mean_log - math.log(lo))  # Clauset et al. (2009), Eq. 3.1
+        return a, (a - 1.0) / math.sqrt(n)
+
+    def nll(a):  # per sample
+        return a * mean_log + _log_norm(a, lo, hi)
+
+    res = optimize.minimize_scalar(nll, bounds=(-10.0, 20.0), method="bounded",
+                                   options={"xatol": 1e-10})
+    a = float(res.x)
+    # d^2 ln Z / da^2 = Var_a(ln x): the log-likelihood is an exponential family in ln x.
+    h = 1e-4
+    curv = (_log_norm(a + h, lo, hi) - 2 * _log_norm(a, lo, hi) + _log_norm(a - h, lo, hi)) / h ** 2
+    return a, 1.0 / math.sqrt(n * curv) if curv > 0 else math.nan
+
+
+def fit_power_law(values, xmin: float | None = None, xmax: float = math.inf, min_tail: int = 50,
+                  max_candidates: int = 200, n_bootstrap: int = 0, seed: int = 0) -> PowerLawFit:
+    """Continuous power law p(x) ~ x^-a on [xmin, xmax] by maximum likelihood.
+
+    xmax = inf: the Clauset-Shalizi-Newman estimator.  Finite xmax: the
+    truncated power law, whose likelihood is maximised numerically.  If xmin
+    is None it is chosen, as in Clauset et al., to minimise the KS distance
+    between the data in [xmin, xmax] and the fit, among up to `max_candidates`
+    sample values that leave at least `min_tail` samples.  Too few samples:
+    NaN fields.  `n_bootstrap` > 0 adds a bootstrap standard error (resampling
+    the samples in [xmin, xmax] with xmin held fixed).
+    """
+    x = np.asarray(values, float)
+    x = np.sort(x[np.isfinite(x) & (x > 0) & (x <= xmax)])
+    nan = PowerLawFit(math.nan, math.nan, math.nan, xmax, 0, math.nan)
+    if xmin is None:
+        if x.size < max(min_tail, 2):
+            return nan
+        candidates = np.unique(x[: x.size - min_tail + 1])
+        if candidates.size > max_candidates:
+            candidates = np.unique(np.quantile(candidates, np.linspace(0, 1, max_candidates),
+                                               method="nearest"))
+        best = None
+        for c in candidates:
+            fit = _fit_fixed(x, float(c), xmax)
+            if np.isfinite(fit.ks) and (best is None or fit.ks < best.ks):
+                best = fit
+        if best is None:
+            return nan
+        fit = best
+    else:
+        fit = _fit_fixed(x, float(xmin), xmax)
+        if fit.n < 2:
+            return nan
+    if n_bootstrap > 0 and fit.n >= 2:
+        rng = np.random.default_rng(seed)
+        tail = x[(x >= fit.xmin) & (x <= fit.xmax)]
+        boot = [_power_law_mle(rng.choice(tail, tail.size), fit.xmin, fit.xmax)[0]
+                for _ in range(n_bootstrap)]
+        fit = dataclasses.replace(fit, bootstrap_stderr=float(np.std(boot, ddof=1)))
+    return fit
+
+
+def _fit_fixed(x_sorted: np.ndarray, xmin: float, xmax: float) -> PowerLawFit:
+    tail = x_sorted[(x_sorted >= xmin) & (x_sorted <= xmax)]
+    if tail.size < 2 or np.all(tail == tail[0]):
+        return PowerLawFit(math.nan, math.nan, xmin, xmax, int(tail.size), math.nan)
+    a, err = _power_law_mle(tail, xmin, xmax)
+    cdf = _power_law_cdf(tail, a, xmin, xmax)
+    n = tail.size
+    ks = float(max(np.max(np.arange(1, n + 1) / n - cdf), np.max(cdf - np.arange(n) / n)))
+    return PowerLawFit(a, err, xmin, xmax, int(n), ks)
+
+
+@dataclasses.dataclass(frozen=True)
+class LognormalFit:
+    mu: float              # mean of ln x
+    sigma: float           # std of ln x (MLE, ddof = 0)
+    n: int
+    ks: float              # KS distance data vs fitted log-normal
+    ks_pvalue_naive: float  # scipy kstest p-value, ignores that mu, sigma were fitted
+    ks_pvalue: float       # parametric-bootstrap (Lilliefors) p-value: accounts for the fit
+
+
+def fit_lognormal(values, n_bootstrap: int = 500, seed: int = 0) -> LognormalFit:
+    """scipy.stats.lognorm MLE with loc = 0, and how log-normal the data look.
+
+    ks_pvalue is the fraction of synthetic log-normal samples (same n, refitted)
+    whose KS distance exceeds the data's: the plain KS p-value is far too
+    lenient when the parameters come from the same data.
+    """
+    x = np.asarray(values, float)
+    x = x[np.isfinite(x) & (x > 0)]
+    if x.size < MIN_FIT_EVENTS:
+        return LognormalFit(math.nan, math.nan, int(x.size), math.nan, math.nan, math.nan)
+    shape, _, scale = stats.lognorm.fit(x, floc=0)
+    mu, sigma = math.log(scale), float(shape)
+    res = stats.kstest(x, "lognorm", args=(sigma, 0, scale))
+    p_boot = math.nan
+    if n_bootstrap > 0 and sigma > 0:
+        rng = np.random.default_rng(seed)
+        exceed = 0
+        for _ in range(n_bootstrap):
+            y = np.log(rng.lognormal(mu, sigma, x.size))
+            m, s = y.mean(), y.std()  # the loc = 0 lognorm MLE in closed form
+            d = stats.kstest(y, "norm", args=(m, s)).statistic if s > 0 else 1.0
+            exceed += d >= res.statistic
+        p_boot = (exceed + 1) / (n_bootstrap + 1)
+    return LognormalFit(mu, sigma, int(x.size), float(res.statistic), float(res.pvalue), p_boot)
+
+
+# ---------------------------------------------------------------------------
+# Slip partition, stationarity, regime
+# ---------------------------------------------------------------------------
+
+def slip_fractions(u_mean, L_s, D: float, L: float) -> dict:
+    """Slip-weighted fractions: sum(u_mean L_s) over a subset / over all events.
+
+    small: u_mean < D; spanning: L_s >= 0.9 L.  NaN when there are no events.
+    """
+    u = np.asarray(u_mean, float)
+    Ls = np.asarray(L_s, float)
+    w = u * Ls
+    total = float(w.sum())
+    if w.size == 0 or total <= 0:
+        return {"small": math.nan, "spanning": math.nan}
+    return {"small": float(w[u < D].sum() / total),
+            "spanning": float(w[Ls >= SPANNING_FRACTION * L].sum() / total)}
+
+
+def _cv(values) -> float:
+    v = np.asarray(values, float)
+    if v.size < 2 or v.mean() == 0:
+        return math.nan
+    return float(v.std(ddof=1) / abs(v.mean()))
+
+
+def periodic_pulse_from_catalog(catalog: dict, info: RunInfo) -> dict:
+    """Event-based criterion of the Fig. 5 regime (a single periodic pulse):
+    >= 80% of the slip in system-spanning events (L_s >= 0.9 L), at least 3
+    such events, and coefficients of variation < 0.2 both of their
+    inter-event times (t_start differences) and of their u_mean."""
+    Ls = np.asarray(catalog["L_s"], float)
+    spanning = Ls >= SPANNING_FRACTION * info.L
+    fr = slip_fractions(catalog["u_mean"], Ls, info.D, info.L)["spanning"]
+    t = np.sort(np.asarray(catalog["t_start"], float)[spanning])
+    cv_dt = _cv(np.diff(t)) if t.size >= PULSE_MIN_SPANNING_EVENTS else math.nan
+    cv_u = _cv(np.asarray(catalog["u_mean"], float)[spanning])
+    flag = bool(spanning.sum() >= PULSE_MIN_SPANNING_EVENTS and fr >= PULSE_MIN_SPANNING_SLIP
+                and cv_dt < PULSE_MAX_CV and cv_u < PULSE_MAX_CV)
+    return {"flag": flag, "spanning_slip_fraction": fr, "cv_interevent": cv_dt, "cv_u_mean": cv_u,
+            "n_spanning": int(spanning.sum())}
+
+
+def periodic_pulse_from_timeseries(time, max_slip_rate, v0: float) -> dict:
+    """Continuous-pulse criterion: over the second half of the record the
+    largest slip rate on the interface never drops below 3 v0 (the interface
+    never sticks everywhere, unlike stick-slip) and its coefficient of
+    variation is < 0.2 (a steadily travelling pulse, not bursts)."""
+    t = np.asarray(time, float)
+    v = np.asarray(max_slip_rate, float)
+    if t.size < 10:
+        return {"flag": False, "min_max_slip_rate_v0": math.nan, "cv_max_slip_rate": math.nan}
+    late = t >= 0.5 * (t[0] + t[-1])
+    vmin = float(v[late].min() / v0)
+    cv = float(v[late].std() / v[late].mean())
+    return {"flag": bool(vmin > PULSE_MIN_RATE and cv < PULSE_MAX_CV),
+            "min_max_slip_rate_v0": vmin, "cv_max_slip_rate": cv}
+
+
+def stationarity(catalog: dict, info: RunInfo, t_total: float | None = None) -> dict:
+    """Events with t_start < 0.2 t_s vs t_start > 0.8 t_s (Fig. S8), with a
+    two-sample KS test per observable.  t_s is the run duration (default: the
+    time covered by the run file)."""
+    t_total = info.duration if t_total is None else t_total
+    t = np.asarray(catalog["t_start"], float)
+    first, last = t < 0.2 * t_total, t > 0.8 * t_total
+    obs = normalised_observables(catalog, info)
+    out = {"t_total": t_total, "n_first": int(first.sum()), "n_last": int(last.sum())}
+    for name, x in obs.items():
+        if first.sum() >= 2 and last.sum() >= 2:
+            r = stats.ks_2samp(x[first], x[last])
+            out[name] = {"ks": float(r.statistic), "pvalue": float(r.pvalue)}
+        else:
+            out[name] = {"ks": math.nan, "pvalue": math.nan}
+    return out
+
+
+# ---------------------------------------------------------------------------
+# Catalog statistics
+# ---------------------------------------------------------------------------
+
+def catalog_statistics(catalog: dict, info: RunInfo, seed: int = 0, n_bootstrap: int = 200) -> dict:
+    """Fits and fractions of one catalog (no figures, no detection)."""
+    obs = normalised_observables(catalog, info)
+    small = obs["u"] < 1.0
+    large = ~small
+    res = {"n_events": int(obs["u"].size), "n_events_small": int(small.sum()),
+           "n_events_large": int(large.sum())}
+    # u: truncated at the split u = D (the power law describes u < D only).
+    fits = {}
+    for name in ("u", "T", "M0"):
+        xs = obs[name][small]
+        xs = xs[np.isfinite(xs) & (xs > 0)]
+        if xs.size >= MIN_FIT_EVENTS:
+            xmax = 1.0 if name == "u" else float(xs.max())
+            fit = fit_power_law(xs, xmax=xmax, min_tail=max(MIN_FIT_EVENTS, min(50, xs.size // 4)),
+                                n_bootstrap=n_bootstrap, seed=seed)
+        else:
+            fit = PowerLawFit(math.nan, math.nan, math.nan, math.nan, int(xs.size), math.nan)
+        fits[name] = fit
+        res[f"small_exponent_{name}"] = fit.exponent
+        res[f"small_exponent_{name}_err"] = fit.stderr
+        res[f"small_exponent_{name}_bootstrap_err"] = fit.bootstrap_stderr
+        res[f"small_exponent_{name}_xmin"] = fit.xmin
+        res[f"small_exponent_{name}_n"] = fit.n
+        res[f"small_exponent_{name}_ks"] = fit.ks
+    logfits = {name: fit_lognormal(obs[name][large], seed=seed) for name in ("u", "T", "M0")}
+    for name, lf in logfits.items():
+        res[f"lognormal_{name}"] = dataclasses.asdict(lf)
+    # The headline log-normal is the one of the paper's Fig. 1d inset: T of large events.
+    res["lognormal_mu"] = logfits["T"].mu
+    res["lognormal_sigma"] = logfits["T"].sigma
+    res["lognormal_ks"] = logfits["T"].ks
+    res["lognormal_ks_pvalue"] = logfits["T"].ks_pvalue
+    res["lognormal_ks_pvalue_naive"] = logfits["T"].ks_pvalue_naive
+    fr = slip_fractions(catalog["u_mean"], catalog["L_s"], info.D, info.L)
+    res["slip_fraction_small"] = fr["small"]
+    res["slip_fraction_spanning"] = fr["spanning"]
+    res["_fits"] = fits
+    res["_lognormal_fits"] = logfits
+    return res
+
+
+def _public(d: dict) -> dict:
+    return {k: v for k, v in d.items() if not k.startswith("_")}
+
+
+def summarize_run(path: str | os.PathLike, alpha: float = DEFAULT_ALPHA) -> dict:
+    """Headline numbers of one run (used by the parameter scan).
+
+    Keys: n_events, n_events_small, n_events_large, small_exponent_u,
+    small_exponent_u_err, lognormal_mu, lognormal_sigma, lognormal_ks_pvalue
+    (log-normal of T v0/D of the large events), slip_fraction_small,
+    slip_fraction_spanning, periodic_pulse (bool), plus diagnostics.  Fits
+    with too few events are NaN.  Runs detection through the CLI if needed.
+    """
+    info = read_run_info(path)
+    catalog = catalog_for(path, alpha)
+    res = _public(catalog_statistics(catalog, info, n_bootstrap=0))
+    by_events = periodic_pulse_from_catalog(catalog, info)
+    with h5py.File(path, "r") as f:
+        if "timeseries" in f:
+            by_ts = periodic_pulse_from_timeseries(f["timeseries/time"][:], f["timeseries/max_slip_rate"][:], info.v0)
+        else:
+            by_ts = {"flag": False}
+    res["periodic_pulse"] = bool(by_events["flag"] or by_ts["flag"])
+    res["periodic_pulse_events"] = by_events
+    res["periodic_pulse_timeseries"] = by_ts
+    res["alpha"] = float(alpha)
+    return res
+
+
+# ---------------------------------------------------------------------------
+# numpy grouping of nodal slips (for the event-coloured map only)
+# ---------------------------------------------------------------------------
+
+@dataclasses.dataclass
+class NodalSlipGroups:
+    label: np.ndarray        # [n_levels, N] int64: detected-event index of each NS, -1 = no NS
+    n_detected: int          # events before any exclusion or filter
+    kept: np.ndarray         # [n_detected] bool: passes exclusion and size filters (C++ rules)
+    waiting_time_threshold: float
+
+
+def group_nodal_slips(crossing_time: np.ndarray, delta_th: float, v0: float, alpha: float = DEFAULT_ALPHA,
+                      min_extent_dx: float = 2.0, min_mean_slip_dth: float = 2.0,
+                      exclude_first_last: bool = True) -> NodalSlipGroups:
+    """Groups the nodal slips of crossing_time [n_levels, N] into events by the
+    global waiting time (> alpha delta_th / (v0 N) starts a new event), with
+    the conventions of docs/events.md: a column ends at its first NaN, ties
+    are ordered by node then level, first and last events are excluded before
+    the size filters.  For plotting only; the catalog comes from the C++ code.
+    """
+    ct = np.asarray(crossing_time, float)
+    n_levels, n = ct.shape
+    finite = np.isfinite(ct)
+    valid = np.cumprod(finite, axis=0).astype(bool)  # NaN tail: ignore after the first NaN
+    level, node = np.nonzero(valid)
+    t = ct[level, node]
+    order = np.lexsort((level, node, t))
+    threshold = alpha * delta_th / (v0 * n)
+    t_sorted = t[order]
+    new_event = np.concatenate(([True], np.diff(t_sorted) > threshold)) if t.size else np.array([], bool)
+    event_sorted = np.cumsum(new_event) - 1
+    n_detected = int(event_sorted[-1] + 1) if t.size else 0
+    label = np.full(ct.shape, -1, dtype=np.int64)
+    label[level[order], node[order]] = event_sorted
+    kept = np.zeros(n_detected, bool)
+    if n_detected:
+        ev_of_ns = label[level, node]
+        n_ns = np.bincount(ev_of_ns, minlength=n_detected)
+        pair = np.unique(ev_of_ns * n + node)  # distinct (event, node)
+        n_nodes_ev = np.bincount(pair // n, minlength=n_detected)
+        kept = (n_nodes_ev >= min_extent_dx) & (n_ns >= min_mean_slip_dth * n_nodes_ev)
+        if exclude_first_last:
+            kept[0] = False
+            kept[-1] = False
+    return NodalSlipGroups(label=label, n_detected=n_detected, kept=kept, waiting_time_threshold=threshold)
+
+
+# ---------------------------------------------------------------------------
+# Figures
+# ---------------------------------------------------------------------------
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _save(fig, out_dir: Path, name: str, pdf: bool) -> list[str]:
+    paths = [out_dir / f"{name}.png"]
+    fig.savefig(paths[0], dpi=130, bbox_inches="tight")
+    if pdf:
+        paths.append(out_dir / f"{name}.pdf")
+        fig.savefig(paths[1], bbox_inches="tight")
+    _plt().close(fig)
+    return [str(p) for p in paths]
+
+
+def _stride(n: int, target: int) -> int:
+    return max(1, int(math.ceil(n / target)))
+
+
+def plot_space_time(path, info: RunInfo, out_dir: Path, pdf: bool = False, max_rows: int = 2000) -> list[str]:
+    """log10(|v|/v0) in the x/L -- t c_s/L plane from /snapshots (Figs. 2a, S3a)."""
+    plt = _plt()
+    with h5py.File(path, "r") as f:
+        t = f["snapshots/time"][:]
+        step = _stride(t.size, max_rows)
+        v = f["snapshots/slip_rate"][::step]
+        t = t[::step]
+        x = f["snapshots/x"][:]
+    fig, ax = plt.subplots(figsize=(6, 5))
+    z = np.log10(np.maximum(np.abs(v) / info.v0, 1e-6))
+    im = ax.pcolormesh(x / info.L, t * info.c_s / info.L, z, shading="auto", cmap="viridis",
+                       vmin=max(-3.0, float(np.nanmin(z))), rasterized=True)
+    fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
+    ax.set_xlabel("$x/L$")
+    ax.set_ylabel("$t\\,c_s/L$")
+    return _save(fig, out_dir, "space_time", pdf)
+
+
+def _read_crossing_time(path):
+    with h5py.File(path, "r") as f:
+        g = f["slip_sampling"]
+        ct = g["crossing_time"][:]
+        x = g["x"][:] if "x" in g else np.arange(ct.shape[1]) * float(g.attrs["dx"])
+    return ct, x
+
+
+def slip_rate_space_slip(crossing_time: np.ndarray, delta_th: float) -> np.ndarray:
+    """v(x, delta) = delta_th / Delta t, Delta t = crossing_time[j] - crossing_time[j-1]
+    (j = 0: from t = 0).  NaN where the level was not reached; inf for Delta t = 0."""
+    ct = np.asarray(crossing_time, float)
+    prev = np.vstack([np.zeros((1, ct.shape[1])), ct[:-1]])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return delta_th / (ct - prev)
+
+
+def plot_space_slip(ct, x, info: RunInfo, out_dir: Path, pdf: bool = False, max_rows: int = 3000) -> list[str]:
+    """v(x, delta)/v0 in the x/L -- delta/D plane (Figs. 1b, S3b)."""
+    plt = _plt()
+    v = slip_rate_space_slip(ct, info.delta_th)
+    step = _stride(v.shape[0], max_rows)
+    v = v[::step]
+    delta = (np.arange(0, ct.shape[0], step) + 1) * info.delta_th / info.D
+    fig, ax = plt.subplots(figsize=(6, 5))
+    z = np.log10(np.clip(v / info.v0, 1e-4, 1e4))
+    im = ax.pcolormesh(x / info.L, delta, np.ma.masked_invalid(z), shading="auto", cmap="viridis_r",
+                       rasterized=True)
+    fig.colorbar(im, ax=ax, label=r"$\log_{10}(v(x,\delta)/v_0)$")
+    ax.set_xlabel("$x/L$")
+    ax.set_ylabel(r"$\delta/D$")
+    return _save(fig, out_dir, "space_slip", pdf)
+
+
+def plot_event_map(groups: NodalSlipGroups, x, info: RunInfo, out_dir: Path, pdf: bool = False,
+                   max_rows: int = 3000) -> list[str]:
+    """Each nodal slip coloured by its (kept) event; grey: NS of removed events (Fig. S4b)."""
+    plt = _plt()
+    from matplotlib.colors import ListedColormap
+    step = _stride(groups.label.shape[0], max_rows)
+    lab = groups.label[::step]
+    kept_index = np.cumsum(groups.kept) - 1  # colour index among kept events
+    colour = np.full(lab.shape, np.nan)
+    has = lab >= 0
+    kept_ns = has.copy()
+    kept_ns[has] = groups.kept[lab[has]]
+    colour[kept_ns] = kept_index[lab[kept_ns]] % 20
+    grey = has & ~kept_ns
+    delta = (np.arange(0, groups.label.shape[0], step) + 1) * info.delta_th / info.D
+    fig, ax = plt.subplots(figsize=(6, 5))
+    ax.pcolormesh(x / info.L, delta, np.ma.masked_where(~grey, grey.astype(float)), shading="auto",
+                  cmap=ListedColormap(["0.8"]), rasterized=True)
+    ax.pcolormesh(x / info.L, delta, np.ma.masked_invalid(colour), shading="auto", cmap="tab20",
+                  vmin=0, vmax=20, rasterized=True)
+    ax.set_xlabel("$x/L$")
+    ax.set_ylabel(r"$\delta/D$")
+    ax.set_title(f"{int(groups.kept.sum())} events (alpha grouping re-done in numpy; grey: removed)",
+                 fontsize=8)
+    return _save(fig, out_dir, "event_map", pdf)
+
+
+def _pdf_line(ax, x, label, **kw):
+    c, p, _ = log_binned_pdf(x)
+    m = p > 0
+    if m.any():
+        ax.loglog(c[m], p[m], label=label, **kw)
+
+
+def plot_pdfs(catalog: dict, info: RunInfo, stats_: dict, out_dir: Path, pdf: bool = False) -> list[str]:
+    """p(u/D), p(T v0/D), p(M0/(mu D L)) with the power-law and log-normal fits (Fig. 1c-e)."""
+    plt = _plt()
+    obs = normalised_observables(catalog, info)
+    large = obs["u"] >= 1.0
+    labels = {"u": r"$\bar u/D$", "T": r"$T v_0/D$", "M0": r"$M_0/(\mu D L)$"}
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    n_all = max(1, np.sum(np.isfinite(obs["u"]) & (obs["u"] > 0)))
+    for ax, name in zip(axes, ("u", "T", "M0")):
+        _pdf_line(ax, obs[name], "all events", marker="o", ms=3, color="C1")
+        c, p, _ = log_binned_pdf(obs[name][large])
+        m = p > 0
+        if m.any():  # large events, weighted by their share so that both curves are on one scale
+            ax.loglog(c[m], p[m] * large.sum() / n_all, "--", color="green", label=r"$\bar u \geq D$")
+        fit = stats_["_fits"][name]
+        if np.isfinite(fit.exponent):
+            xs = np.logspace(math.log10(fit.xmin), math.log10(fit.xmax), 50)
+            small_share = fit.n / n_all
+            norm = math.exp(-_log_norm(fit.exponent, fit.xmin, fit.xmax))
+            ax.loglog(xs, small_share * norm * xs ** -fit.exponent, "k--",
+                      label=f"power law {fit.exponent:.2f}$\\pm${fit.stderr:.2f}")
+        lf = stats_["_lognormal_fits"][name]
+        if np.isfinite(lf.mu):
+            xs = np.logspace(lf.mu / math.log(10) - 3 * lf.sigma / math.log(10),
+                             lf.mu / math.log(10) + 3 * lf.sigma / math.log(10), 80)
+            ax.loglog(xs, stats.lognorm.pdf(xs, lf.sigma, 0, math.exp(lf.mu)) * large.sum() / n_all,
+                      "-", color="gold", label=f"log-normal ($\\sigma$={lf.sigma:.2f})")
+        if name == "u":
+            ax.axvline(1.0, color="k", lw=1)
+        ax.set_xlabel(labels[name])
+        ax.set_ylabel("p")
+        ax.legend(fontsize=7)
+    return _save(fig, out_dir, "pdfs", pdf)
+
+
+def plot_pdf_comparison(sets: dict, info: RunInfo, out_dir: Path, name: str, pdf: bool = False) -> list[str]:
+    """PDFs of several catalogs (stationarity, Fig. S8; thresholds, Fig. S9)."""
+    plt = _plt()
+    labels = {"u": r"$\bar u/D$", "T": r"$T v_0/D$", "M0": r"$M_0/(\mu D L)$"}
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    for label, catalog in sets.items():
+        obs = normalised_observables(catalog, info)
+        for ax, key in zip(axes, ("u", "T", "M0")):
+            _pdf_line(ax, obs[key], f"{label} (n={obs[key].size})")
+    for ax, key in zip(axes, ("u", "T", "M0")):
+        ax.set_xlabel(labels[key])
+        ax.set_ylabel("p")
+        ax.legend(fontsize=7)
+    return _save(fig, out_dir, name, pdf)
+
+
+def plot_event_fields(path, catalog: dict, index: int, info: RunInfo, out_dir: Path, pdf: bool = False):
+    """phi, tau/sigma0 and slip/D before and after event `index` (Fig. 2b-d):
+    the last snapshot at or before t_start and the first at or after t_start + T."""
+    plt = _plt()
+    t0 = float(catalog["t_start"][index])
+    t1 = t0 + float(catalog["T"][index])
+    with h5py.File(path, "r") as f:
+        ts = f["snapshots/time"][:]
+        before = np.nonzero(ts <= t0)[0]
+        after = np.nonzero(ts >= t1)[0]
+        if before.size == 0 or after.size == 0:
+            return [], None
+        ib, ia = int(before[-1]), int(after[0])
+        x = f["snapshots/x"][:]
+        fields = {k: (f["snapshots"][k][ib], f["snapshots"][k][ia]) for k in ("slip", "state", "shear_stress")}
+    fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
+    xs = x / info.L
+    axes[0].plot(xs, (fields["slip"][1] - fields["slip"][0]) / info.D, "C0")
+    axes[0].set_ylabel(r"$(\delta-\delta_{\rm before})/D$")
+    for k, (ax, name, scale, lab) in enumerate(((axes[1], "state", 1.0, r"$\phi$ [s]"),
+                                                 (axes[2], "shear_stress", info.sigma0, r"$\tau/\sigma_0$"))):
+        ax.plot(xs, fields[name][0] / scale, "k", lw=1, label=f"before (t={ts[ib]:.4g} s)")
+        ax.plot(xs, fields[name][1] / scale, "g", lw=1, label=f"after (t={ts[ia]:.4g} s)")
+        ax.set_ylabel(lab)
+        ax.legend(fontsize=7)
+    axes[1].set_yscale("log")
+    axes[2].set_xlabel("$x/L$")
+    axes[0].set_title(f"event {index}: t_start={t0:.4g} s, T={t1 - t0:.3g} s, "
+                      f"u_mean/D={catalog['u_mean'][index] / info.D:.3g}, L_s/L={catalog['L_s'][index] / info.L:.3g}",
+                      fontsize=8)
+    return _save(fig, out_dir, f"event_{index}_fields", pdf), (float(ts[ib]), float(ts[ia]))
+
+
+# ---------------------------------------------------------------------------
+# Full analysis and CLI
+# ---------------------------------------------------------------------------
+
+def _jsonable(obj):
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_jsonable(v) for v in obj]
+    if isinstance(obj, (np.floating, float)):
+        return None if not math.isfinite(float(obj)) else float(obj)
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    return obj
+
+
+def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, event: int | None = None,
+            sensitivity_alphas=SENSITIVITY_ALPHAS, seed: int = 0) -> dict:
+    """Everything: statistics, stationarity, threshold sensitivity, figures, summary.json."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    info = read_run_info(path)
+    catalog = catalog_for(path, alpha, workdir=out_dir)
+    st = catalog_statistics(catalog, info, seed=seed)
+    summary = {"run": str(path), "alpha": float(alpha), "normalisation": {
+        "u": "u_mean/D", "T": "T*v0/D", "M0": "M0/(mu*D*L)"}, "scales": dataclasses.asdict(info)}
+    summary.update(_public(st))
+    summary["catalog_counts"] = {k: catalog["attrs"].get(k) for k in (
+        "n_nodal_slips", "n_events_detected", "n_events_excluded_first_last", "n_events_below_thresholds",
+        "n_events")}
+    by_events = periodic_pulse_from_catalog(catalog, info)
+    with h5py.File(path, "r") as f:
+        has_ts = "timeseries" in f
+        has_snap = "snapshots" in f and f["snapshots/time"].shape[0] > 0
+        has_ss = "slip_sampling" in f
+        by_ts = (periodic_pulse_from_timeseries(f["timeseries/time"][:], f["timeseries/max_slip_rate"][:], info.v0)
+                 if has_ts else {"flag": False})
+    summary["periodic_pulse"] = bool(by_events["flag"] or by_ts["flag"])
+    summary["periodic_pulse_events"] = by_events
+    summary["periodic_pulse_timeseries"] = by_ts
+    summary["stationarity"] = stationarity(catalog, info)
+
+    sens = {}
+    catalogs_by_alpha = {}
+    for a in sensitivity_alphas:
+        cat_a = catalog if float(a) == float(alpha) else catalog_for(path, a, workdir=out_dir)
+        catalogs_by_alpha[f"alpha={a:g}"] = cat_a
+        st_a = catalog_statistics(cat_a, info, n_bootstrap=0)
+        sens[f"{a:g}"] = {k: st_a[k] for k in ("n_events", "small_exponent_u", "small_exponent_u_err",
+                                                "small_exponent_T", "small_exponent_M0")}
+    summary["threshold_sensitivity"] = sens
+
+    figures = []
+    if has_snap:
+        figures += plot_space_time(path, info, out_dir, pdf)
+    if has_ss:
+        ct, x = _read_crossing_time(path)
+        figures += plot_space_slip(ct, x, info, out_dir, pdf)
+        groups = group_nodal_slips(ct, info.delta_th, info.v0, alpha,
+                                   catalog["attrs"].get("min_extent_dx", 2.0),
+                                   catalog["attrs"].get("min_mean_slip_dth", 2.0),
+                                   bool(catalog["attrs"].get("exclude_first_last", 1)))
+        figures += plot_event_map(groups, x, info, out_dir, pdf)
+        summary["event_map"] = {"n_detected_numpy": groups.n_detected, "n_kept_numpy": int(groups.kept.sum()),
+                                "n_detected_cpp": catalog["attrs"].get("n_events_detected")}
+        del ct, groups
+    figures += plot_pdfs(catalog, info, st, out_dir, pdf)
+    t = np.asarray(catalog["t_start"], float)
+    T_s = info.duration
+    subset = lambda m: {k: np.asarray(v)[m] for k, v in catalog.items() if k != "attrs"}
+    figures += plot_pdf_comparison({"all": catalog, "first fifth": subset(t < 0.2 * T_s),
+                                    "last fifth": subset(t > 0.8 * T_s)}, info, out_dir, "stationarity", pdf)
+    figures += plot_pdf_comparison(catalogs_by_alpha, info, out_dir, "threshold_sensitivity", pdf)
+    n_ev = len(catalog["t_start"])
+    if n_ev and has_snap:
+        index = int(np.argmax(catalog["M0"])) if event is None else int(event)
+        if not -n_ev <= index < n_ev:
+            raise ValueError(f"--event {event}: allowed 0..{n_ev - 1} ({n_ev} events)")
+        index %= n_ev
+        paths, times = plot_event_fields(path, catalog, index, info, out_dir, pdf)
+        figures += paths
+        summary["event_fields"] = {"event": index, "snapshot_times": times}
+    summary["figures"] = figures
+    summary = _jsonable(summary)
+    with open(out_dir / "summary.json", "w") as fh:
+        json.dump(summary, fh, indent=2)
+    return summary
+
+
+def format_summary(s: dict) -> str:
+    def f(v, fmt=".3g"):
+        return "nan" if v is None else format(v, fmt)
+    lines = [
+        f"run: {s['run']}  (alpha = {s['alpha']:g})",
+        f"events: {s['n_events']} ({s['n_events_small']} small u<D, {s['n_events_large']} large)",
+        f"small-event exponent p(u/D) ~ x^-a: a = {f(s['small_exponent_u'])} +- {f(s['small_exponent_u_err'])}"
+        f" (bootstrap {f(s.get('small_exponent_u_bootstrap_err'))}, xmin = {f(s['small_exponent_u_xmin'])},"
+        f" n = {s['small_exponent_u_n']})",
+        f"  T v0/D: a = {f(s['small_exponent_T'])} +- {f(s['small_exponent_T_err'])};"
+        f"  M0/(mu D L): a = {f(s['small_exponent_M0'])} +- {f(s['small_exponent_M0_err'])}",
+        f"large events, log-normal of T v0/D: mu = {f(s['lognormal_mu'])}, sigma = {f(s['lognormal_sigma'])},"
+        f" KS = {f(s['lognormal_ks'])}, p = {f(s['lognormal_ks_pvalue'])} (naive {f(s['lognormal_ks_pvalue_naive'])})",
+        f"slip fraction: small events {f(s['slip_fraction_small'])}, system-spanning {f(s['slip_fraction_spanning'])}",
+        f"periodic pulse: {s['periodic_pulse']}",
+        "stationarity (first vs last fifth, KS p): " + ", ".join(
+            f"{k} {f(s['stationarity'][k]['pvalue'])}" for k in ("u", "T", "M0")),
+        "threshold sensitivity: " + "; ".join(
+            f"alpha={a}: n={v['n_events']}, a_u={f(v['small_exponent_u'])}"
+            for a, v in s["threshold_sensitivity"].items()),
+        f"figures: {len(s['figures'])} files",
+    ]
+    return "\n".join(lines)
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(prog="slipstrip analyze",
+                                     description="Slip-event statistics and figures of one run file")
+    parser.add_argument("run", help="run file (HDF5, docs/output.md)")
+    parser.add_argument("--out-dir", default=None, help="output directory (default: <run>_analysis)")
+    parser.add_argument("--pdf", action="store_true", help="also write PDF figures")
+    parser.add_argument("--alpha", type=float, default=DEFAULT_ALPHA, help="waiting-time threshold factor")
+    parser.add_argument("--event", type=int, default=None,
+                        help="event index for the before/after fields figure (default: largest M0)")
+    args = parser.parse_args(list(argv[1:] if argv and argv[0] == "analyze" else argv))
+    if not Path(args.run).is_file():
+        print(f"run file {args.run!r} not found", file=sys.stderr)
+        return 2
+    if not args.alpha > 0:
+        print(f"--alpha {args.alpha}: must be > 0", file=sys.stderr)
+        return 2
+    out_dir = args.out_dir or str(Path(args.run).with_suffix("")) + "_analysis"
+    try:
+        summary = analyze(args.run, out_dir, pdf=args.pdf, alpha=args.alpha, event=args.event)
+    except (FileNotFoundError, RuntimeError, KeyError, ValueError) as err:
+        print(f"analyze: {err}", file=sys.stderr)
+        return 1
+    print(format_summary(summary))
+    print(f"summary: {Path(out_dir) / 'summary.json'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
