@@ -1,5 +1,5 @@
 """Parameter scans: many `slipstrip run`s of one base config, on this machine
-(process pool), on a Dask cluster, or as a Slurm job array, with one summary
+(a pool of solver subprocesses), on a Dask cluster, or as a Slurm job array, with one summary
 table per scan.  File format, commands and output layout: docs/scans.md.
 
 Each run is the C++ solver as a subprocess, so a scan needs nothing of the
@@ -22,7 +22,7 @@ import sys
 import time
 import tomllib
 from concurrent.futures import ThreadPoolExecutor, as_completed
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable, TextIO
 
@@ -371,7 +371,7 @@ def _write_json(path: Path, data) -> None:
 
 def task_payload(task: RunTask, base_config: Path, binary: str, simulate: bool = True,
                  threads: int | None = None) -> dict:
-    """What a worker needs, as plain data (pickles anywhere: process pool, Dask, JSON for Slurm)."""
+    """What a worker needs, as plain data (pickles anywhere: Dask workers, JSON for Slurm)."""
     return {
         "index": task.index,
         "parameters": dict(task.parameters),
@@ -406,6 +406,10 @@ def execute_task(payload: dict) -> dict:
         for o in payload["overrides"]:
             cmd += ["--set", o]
         cmd += ["--out", str(run_file), "--quiet"]
+        # A file of an earlier attempt must not outlive this one: if this run
+        # fails before writing, an old "completed" file would pass for its result.
+        run_file.unlink(missing_ok=True)
+        _record_path(run_file).unlink(missing_ok=True)
         start = time.monotonic()
         try:
             returncode, out, err = _run_solver(cmd, env)
@@ -501,16 +505,17 @@ class Progress:
               f"elapsed {elapsed:.1f} s, ETA {eta_text}; {note}", file=self.stream, flush=True)
 
 
+def _read_record(task: RunTask) -> dict | None:
+    try:
+        return json.loads(_record_path(task.run_file).read_text())
+    except (OSError, json.JSONDecodeError):  # absent or unreadable: as if never analysed
+        return None
+
+
 def _previous_row(task: RunTask) -> dict | None:
     """The stored row of a finished run whose overrides are this task's, else None."""
-    record_path = _record_path(task.run_file)
-    if not record_path.is_file():
-        return None
-    try:
-        record = json.loads(record_path.read_text())
-    except (OSError, json.JSONDecodeError):
-        return None
-    if record.get("overrides") != list(task.overrides) or record.get("status") != "completed":
+    record = _read_record(task)
+    if record is None or record.get("overrides") != list(task.overrides) or record.get("status") != "completed":
         return None
     record.pop("overrides")
     record.pop("analysis_details", None)
@@ -532,8 +537,8 @@ def plan(spec: ScanSpec, binary: str, threads: int | None = None, stream: TextIO
             if previous is not None:
                 done.append(previous)
                 continue
-            record_path = _record_path(task.run_file)
-            stale = record_path.is_file() and json.loads(record_path.read_text()).get("overrides") != list(task.overrides)
+            record = _read_record(task)
+            stale = record is not None and record.get("overrides") != list(task.overrides)
             if stale and stream is not None:
                 print(f"[scan] run {task.index}: {task.run_file.name} was made with other overrides; running it again",
                       file=stream)
@@ -701,13 +706,11 @@ def collect(spec: ScanSpec, binary: str | None = None, stream: TextIO | None | s
                    "error": f"run file status is {status!r}" if status else "no run file",
                    "wall_time_s": math.nan, **{k: math.nan for k in ANALYSIS_KEYS},
                    "analysis_error": "", "run_file": task.run_file.name}
-            record_path = _record_path(task.run_file)
-            if record_path.is_file():  # a failed run's own error text is more useful
-                record = json.loads(record_path.read_text())
-                if record.get("overrides") == list(task.overrides):
-                    record.pop("overrides")
-                    record.pop("analysis_details", None)
-                    row = record
+            record = _read_record(task)  # a failed run's own error text is more useful
+            if record is not None and record.get("overrides") == list(task.overrides):
+                record.pop("overrides")
+                record.pop("analysis_details", None)
+                row = record
             rows.append(row)
     write_summary(spec, rows)
     if stream is not None:

@@ -32,8 +32,7 @@ def _load_scan_module():
         return importlib.import_module("slipstrip.scan")
     except Exception:
         # The package's __init__ may not import (yet): load the file itself, under
-        # the same name so that the process pool's pickles find it.
-        # A top-level name: pickle (process pool) must find it without importing the package.
+        # a top-level name that pickle finds without importing the package.
         spec = importlib.util.spec_from_file_location("slipstrip_scan", REPO / "python/slipstrip/scan.py")
         module = importlib.util.module_from_spec(spec)
         sys.modules["slipstrip_scan"] = module
@@ -101,7 +100,7 @@ def read_csv(path: Path) -> list[dict]:
 def test_product_zip_ranges_and_overrides(tmp_path):
     base = tmp_path / "base.toml"
     base.write_text("")
-    (tmp_path / "s.toml").write_text(f"""
+    (tmp_path / "s.toml").write_text("""
 base = "base.toml"
 mode = "product"
 [fixed.geometry]
@@ -111,7 +110,7 @@ key = "friction.a"
 values = [0.004, 0.006]
 [[parameter]]
 key = "geometry.height"
-logspace = {{start = 0.01, stop = 1.0, num = 3}}
+logspace = {start = 0.01, stop = 1.0, num = 3}
 [[parameter]]
 key = "state.law"
 values = ["aging", "slip"]
@@ -223,7 +222,7 @@ def test_analysis_failure_is_recorded_not_raised(tmp_path):
     assert row["periodic_pulse"] is True
 
 
-# ------------------------------------------------------------------ local process pool
+# ------------------------------------------------------------------ this machine (--jobs)
 
 
 def test_scan_jobs2_summary_and_relaunch_skips(binary, tmp_path, capfd):
@@ -317,6 +316,13 @@ def test_edited_scan_reruns_changed_runs(binary, tmp_path, capfd):
     assert scan.main([str(scan_file), "--out", str(out), "--binary", binary]) == 0
     assert "made with other overrides" in capfd.readouterr().err
     assert resolved_config(out / "run_0000.h5")["friction"]["a"] == 0.007
+    # Edited to an invalid value: the old completed file must not pass for this run's result.
+    write_scan(tmp_path / "s.toml", body.format("-0.001"))
+    for _ in range(2):  # and a re-launch must not take it for finished either
+        assert scan.main([str(scan_file), "--out", str(out), "--binary", binary]) == 1
+        rows = read_csv(out / "summary.csv")
+        assert rows[0]["status"] == "failed" and "friction.a" in rows[0]["error"]
+        assert not (out / "run_0000.h5").exists()
 
 
 # ------------------------------------------------------------------ beyond one machine
