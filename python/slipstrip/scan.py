@@ -16,6 +16,7 @@ import itertools
 import json
 import math
 import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -773,10 +774,10 @@ def emit_slurm(spec: ScanSpec, directory: str | os.PathLike, binary: str | None 
         f"export PYTHONPATH=\"{scan_py.parents[1]}${{PYTHONPATH:+:$PYTHONPATH}}\"",
         f"PYTHON=\"${{SLIPSTRIP_PYTHON:-{python}}}\"",
     ]
-    array = ["TASKS=("] + [f"  \"{p}\"" for p in task_files] + [")"]
+    array = ["TASKS=("] + [f"  {shlex.quote(str(p))}" for p in task_files] + [")"]
     body = [
         "TASK=\"${TASKS[$SLURM_ARRAY_TASK_ID]}\"",
-        f"exec \"$PYTHON\" \"{scan_py}\" --run-task \"$TASK\"",
+        f"exec \"$PYTHON\" {shlex.quote(str(scan_py))} --run-task \"$TASK\"",
     ]
     sbatch = directory / "scan.sbatch"
     sbatch.write_text("\n".join(header + common + array + body) + "\n")
@@ -788,14 +789,15 @@ def emit_slurm(spec: ScanSpec, directory: str | os.PathLike, binary: str | None 
         f"#SBATCH --output={directory}/logs/collect.out",
         f"#SBATCH --error={directory}/logs/collect.err",
         *common,
-        f"exec \"$PYTHON\" \"{scan_py}\" \"{spec.path}\" --out \"{spec.output_dir}\" --collect",
+        f"exec \"$PYTHON\" {shlex.quote(str(scan_py))} {shlex.quote(str(spec.path))} "
+        f"--out {shlex.quote(str(spec.output_dir))} --collect",
     ]) + "\n")
     submit = directory / "submit.sh"
     submit.write_text("\n".join([
         "#!/bin/bash",
         "set -euo pipefail",
-        f"array=$(sbatch --parsable \"{sbatch}\")",
-        f"sbatch --dependency=afterany:${{array%%;*}} \"{collect_script}\"",
+        f"array=$(sbatch --parsable {shlex.quote(str(sbatch))})",
+        f"sbatch --dependency=afterany:${{array%%;*}} {shlex.quote(str(collect_script))}",
     ]) + "\n")
     for p in (sbatch, collect_script, submit):
         p.chmod(0o755)

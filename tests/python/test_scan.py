@@ -14,6 +14,7 @@ import json
 import math
 import os
 import re
+import shlex
 import subprocess
 import sys
 import tomllib
@@ -359,7 +360,7 @@ values = [0.005, 0.006, 0.007]
 key = "geometry.height"
 values = [0.02, 0.03]
 """)
-    out, slurm = tmp_path / "out", tmp_path / "slurm"
+    out, slurm = tmp_path / "out dir", tmp_path / "slurm"  # a space: the scripts must quote paths
     assert scan.main([str(scan_file), "--emit-slurm", str(slurm), "--out", str(out), "--binary", binary]) == 0
     script = (slurm / "scan.sbatch").read_text()
     assert script.startswith("#!/bin/bash\n")
@@ -369,7 +370,7 @@ values = [0.02, 0.03]
     assert len(tasks) == 6
     # Bash array index i (= SLURM_ARRAY_TASK_ID) -> the task file of run i.
     listed = re.search(r"^TASKS=\(\n(.*?)\n\)$", script, re.M | re.S).group(1).split("\n")
-    assert [Path(l.strip().strip('"')) for l in listed] == tasks
+    assert [Path(shlex.split(l)[0]) for l in listed] == tasks
     spec = scan.load_scan(scan_file, output_dir=out)
     for i, (path, run) in enumerate(zip(tasks, scan.expand_runs(spec))):
         task = json.loads(path.read_text())
