@@ -1,0 +1,88 @@
+// Configuration: load/validate (core/config.hpp) and the elastic material
+// (kernels/elastic_material.hpp).  Python's Config class (python/slipstrip/
+// config.py) subclasses _Config, so a Config *is* a SimulationConfig and can be
+// passed to every C++ function without conversion.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <string>
+#include <vector>
+
+#include "core/config.hpp"
+#include "kernels/elastic_material.hpp"
+
+namespace py = pybind11;
+using slipstrip::ElasticMaterial;
+using slipstrip::PlaneCondition;
+using slipstrip::SimulationConfig;
+
+namespace {
+
+PlaneCondition parse_plane(const std::string& name) {
+  if (name == "strain") return PlaneCondition::strain;
+  if (name == "stress") return PlaneCondition::stress;
+  throw std::invalid_argument("plane = '" + name + "' is invalid: allowed values are 'strain' and 'stress'");
+}
+
+const char* plane_name(PlaneCondition p) { return p == PlaneCondition::strain ? "strain" : "stress"; }
+
+}  // namespace
+
+void bind_config(py::module_& m) {
+  py::class_<ElasticMaterial>(m, "ElasticMaterial",
+                              "Isotropic elastic bulk of the two strips (SI units).")
+      .def(py::init([](double shear_modulus, double poisson_ratio, double density, const std::string& plane) {
+             ElasticMaterial mat;
+             mat.shear_modulus = shear_modulus;
+             mat.poisson_ratio = poisson_ratio;
+             mat.density = density;
+             mat.plane = parse_plane(plane);
+             return mat;
+           }),
+           py::arg("shear_modulus") = 9e9, py::arg("poisson_ratio") = 0.33, py::arg("density") = 1200.0,
+           py::arg("plane") = "strain")
+      .def_readwrite("shear_modulus", &ElasticMaterial::shear_modulus, "mu [Pa]")
+      .def_readwrite("poisson_ratio", &ElasticMaterial::poisson_ratio, "nu [-]")
+      .def_readwrite("density", &ElasticMaterial::density, "rho [kg/m^3]")
+      .def_property(
+          "plane", [](const ElasticMaterial& mat) { return plane_name(mat.plane); },
+          [](ElasticMaterial& mat, const std::string& name) { mat.plane = parse_plane(name); },
+          "'strain' or 'stress'")
+      .def_property_readonly("shear_wave_speed", &ElasticMaterial::shear_wave_speed, "c_s [m/s]")
+      .def_property_readonly("dilatational_wave_speed", &ElasticMaterial::dilatational_wave_speed, "c_d [m/s]")
+      .def_property_readonly("wave_speed_ratio_squared", &ElasticMaterial::wave_speed_ratio_squared,
+                             "c_d^2 / c_s^2 [-]")
+      .def_property_readonly("effective_modulus", &ElasticMaterial::effective_modulus, "E' [Pa]")
+      .def("__repr__", [](const ElasticMaterial& mat) {
+        return "ElasticMaterial(shear_modulus=" + py::repr(py::float_(mat.shear_modulus)).cast<std::string>() +
+               ", poisson_ratio=" + py::repr(py::float_(mat.poisson_ratio)).cast<std::string>() +
+               ", density=" + py::repr(py::float_(mat.density)).cast<std::string>() + ", plane='" +
+               plane_name(mat.plane) + "')";
+      });
+
+  // Native config.  Construction without arguments gives the defaults exactly
+  // as an empty TOML file resolves them (Table S1 of the paper).
+  py::class_<SimulationConfig>(m, "_Config")
+      .def(py::init([] { return slipstrip::load_config_string(""); }))
+      .def("_assign", [](SimulationConfig& self, const SimulationConfig& other) { self = other; })
+      .def("to_toml", [](const SimulationConfig& c) { return slipstrip::to_toml(c); },
+           "The resolved config as TOML text (every key; reads back to the same values).")
+      .def_property_readonly("length", [](const SimulationConfig& c) { return c.geometry.length; }, "L [m]")
+      .def_property_readonly("height", [](const SimulationConfig& c) { return c.geometry.height; },
+                             "H [m] of each strip (inf = half-space)")
+      .def_property_readonly("nodes", [](const SimulationConfig& c) { return c.geometry.nodes; }, "N")
+      .def_property_readonly("driving_velocity", [](const SimulationConfig& c) { return c.loading.driving_velocity; },
+                             "v0 [m/s]")
+      .def_property_readonly("normal_stress", [](const SimulationConfig& c) { return c.loading.normal_stress; },
+                             "sigma0 [Pa]")
+      .def_property_readonly("duration", [](const SimulationConfig& c) { return c.time.duration; }, "[s]")
+      .def_property_readonly("delta_th", [](const SimulationConfig& c) { return c.output.delta_th; }, "[m]")
+      .def_property_readonly("material", [](const SimulationConfig& c) { return c.material; });
+
+  m.def("load_config_file", &slipstrip::load_config_file, py::arg("path"),
+        py::arg("overrides") = std::vector<std::string>{},
+        "Read, override ('section.key=value') and validate a TOML file.  Raises ConfigError.");
+  m.def("load_config_string", &slipstrip::load_config_string, py::arg("toml_text"),
+        py::arg("overrides") = std::vector<std::string>{},
+        "Parse, override and validate TOML text ('' = defaults).  Raises ConfigError.");
+}

@@ -1,0 +1,192 @@
+// Simulation (core/simulation.hpp) with zero-copy NumPy views of the interface
+// fields, and run_simulation (core/run.hpp) with a Python progress callback
+// and Ctrl-C support.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "core/run.hpp"
+#include "core/simulation.hpp"
+
+namespace py = pybind11;
+using slipstrip::RunProgress;
+using slipstrip::RunResult;
+using slipstrip::Simulation;
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+
+// How often the GIL is taken back to look for Ctrl-C while C++ runs: often
+// enough that an interrupt feels immediate, rarely enough that other Python
+// threads are not slowed down and the solver is not either.
+constexpr std::chrono::milliseconds signal_poll_interval{50};
+
+std::span<const double> field_of(const Simulation& sim, const std::string& name) {
+  if (name == "x") return sim.x();
+  if (name == "slip") return sim.slip();
+  if (name == "slip_rate") return sim.slip_rate();
+  if (name == "state") return sim.state();
+  if (name == "shear_stress") return sim.shear_stress();
+  throw std::invalid_argument("field = '" + name +
+                              "' is unknown: allowed are x, slip, slip_rate, state, shear_stress");
+}
+
+// A read-only 1-D array over the solver's own memory.  `owner` (the Python
+// Simulation object) becomes the array's base, so the memory outlives every
+// view; the vectors never reallocate after construction.  Read-only because the
+// solver owns the data: writing into it would silently corrupt the run.
+py::array field_view(py::object owner, const std::string& name) {
+  const auto data = field_of(owner.cast<const Simulation&>(), name);
+  py::array view(py::dtype::of<double>(), {static_cast<py::ssize_t>(data.size())},
+                 {static_cast<py::ssize_t>(sizeof(double))}, data.data(), owner);
+  view.attr("setflags")(py::arg("write") = false);
+  return view;
+}
+
+// Steps until n steps are done, releasing the GIL; Ctrl-C is honoured between
+// steps (the simulation stays at a whole step) and raised as KeyboardInterrupt.
+void advance(Simulation& sim, long long n) {
+  if (n < 0) throw std::invalid_argument("n = " + std::to_string(n) + " is invalid: expected n >= 0 steps");
+  long long done = 0;
+  while (done < n) {
+    {
+      py::gil_scoped_release release;
+      const auto start = clock_type::now();
+      do {
+        sim.step();
+        ++done;
+      } while (done < n && clock_type::now() - start < signal_poll_interval);
+    }
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  }
+}
+
+py::dict progress_dict(const RunProgress& p) {
+  py::dict d;
+  d["time"] = p.time;
+  d["duration"] = p.duration;
+  d["step"] = p.step;
+  d["max_slip_rate"] = p.max_slip_rate;
+  d["wall_seconds"] = p.wall_seconds;
+  return d;
+}
+
+// run_simulation with the GIL released.  The progress callback and the signal
+// check take the GIL back.  A Python exception from either (KeyboardInterrupt
+// from Ctrl-C, or anything the callback raises) stops the run cleanly -- the
+// file is closed with status "interrupted" -- and is then re-raised with the
+// RunResult attached as `run_result`.
+RunResult run(const slipstrip::SimulationConfig& config, const std::string& output_path,
+              py::object progress, double progress_interval) {
+  if (!(progress_interval >= 0))
+    throw std::invalid_argument("progress_interval = " + std::to_string(progress_interval) +
+                                " is invalid: expected >= 0 seconds of wall time");
+  std::optional<py::error_already_set> pending;  // touched only with the GIL held
+  bool stop = false;
+  auto last_poll = clock_type::now();
+
+  slipstrip::RunHooks hooks;
+  hooks.progress_interval = progress_interval;
+  if (!progress.is_none()) {
+    hooks.progress = [&](const RunProgress& p) {
+      py::gil_scoped_acquire gil;
+      if (pending) return;
+      try {
+        progress(progress_dict(p));
+      } catch (py::error_already_set& e) {
+        pending.emplace(std::move(e));
+        stop = true;
+      }
+    };
+  }
+  hooks.stop_requested = [&] {
+    if (stop) return true;
+    const auto now = clock_type::now();
+    if (now - last_poll < signal_poll_interval) return false;
+    last_poll = now;
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) {
+      pending.emplace();  // fetches (and clears) the KeyboardInterrupt
+      stop = true;
+    }
+    return stop;
+  };
+
+  RunResult result;
+  {
+    py::gil_scoped_release release;
+    result = slipstrip::run_simulation(config, output_path, hooks);
+  }
+  if (pending) {
+    try {
+      pending->value().attr("run_result") = py::cast(result);
+    } catch (py::error_already_set&) {
+      // exception types without a __dict__ cannot carry it; the file has the status anyway
+    }
+    pending->restore();
+    throw py::error_already_set();
+  }
+  return result;
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  py::class_<Simulation>(m, "_Simulation")
+      .def(py::init<const slipstrip::SimulationConfig&>(), py::arg("config"))
+      .def("step", &Simulation::step, "Advance one time step dt.", py::call_guard<py::gil_scoped_release>())
+      .def("advance", &advance, py::arg("n"),
+           "Advance n time steps with the GIL released.  Ctrl-C raises KeyboardInterrupt "
+           "between steps; the simulation is then at a whole step (see step_index).")
+      .def_property_readonly("x", [](py::object self) { return field_view(self, "x"); },
+                             "Node positions [m] (read-only view of the solver's memory)")
+      .def_property_readonly("slip", [](py::object self) { return field_view(self, "slip"); },
+                             "Slip [m] (read-only view, updated in place by step())")
+      .def_property_readonly("slip_rate", [](py::object self) { return field_view(self, "slip_rate"); },
+                             "Slip rate [m/s] (read-only view, updated in place by step())")
+      .def_property_readonly("state", [](py::object self) { return field_view(self, "state"); },
+                             "State phi [s] (read-only view, updated in place by step())")
+      .def_property_readonly("shear_stress", [](py::object self) { return field_view(self, "shear_stress"); },
+                             "Shear stress [Pa] (read-only view, updated in place by step())")
+      .def("_field_address",
+           [](const Simulation& sim, const std::string& name) {
+             return reinterpret_cast<std::uintptr_t>(field_of(sim, name).data());
+           },
+           py::arg("name"), "Address of the C++ vector behind a field (for zero-copy checks).")
+      .def_property_readonly("time", &Simulation::time, "t [s]")
+      .def_property_readonly("step_index", &Simulation::step_index)
+      .def_property_readonly("time_step", &Simulation::time_step, "dt [s]")
+      .def_property_readonly("dx", &Simulation::dx, "[m]")
+      .def_property_readonly("radiation_damping", &Simulation::radiation_damping, "mu / (2 c_s) [Pa s/m]")
+      .def_property_readonly("operator_height", &Simulation::operator_height,
+                             "H used by the history operator (virtual height for a half-space) [m]")
+      .def_property_readonly("reference_shear_stress", &Simulation::reference_shear_stress, "tau_0 [Pa]")
+      .def_property_readonly("max_slip_rate", &Simulation::max_slip_rate, "[m/s]")
+      .def_property_readonly("mean_slip", &Simulation::mean_slip, "[m]")
+      .def_property_readonly("mean_shear_stress", &Simulation::mean_shear_stress, "[Pa]")
+      .def_property_readonly("_native_config", [](const Simulation& sim) { return sim.config(); });
+
+  py::class_<RunResult>(m, "RunResult")
+      .def_readonly("status", &RunResult::status, "'completed', 'interrupted' or 'diverged: ...'")
+      .def_readonly("simulated_time", &RunResult::simulated_time, "[s]")
+      .def_readonly("steps", &RunResult::steps)
+      .def_readonly("wall_seconds", &RunResult::wall_seconds, "[s]")
+      .def_readonly("time_step", &RunResult::time_step, "[s]")
+      .def("__repr__", [](const RunResult& r) {
+        return "RunResult(status=" + py::repr(py::str(r.status)).cast<std::string>() +
+               ", steps=" + std::to_string(r.steps) +
+               ", simulated_time=" + py::repr(py::float_(r.simulated_time)).cast<std::string>() +
+               ", wall_seconds=" + py::repr(py::float_(r.wall_seconds)).cast<std::string>() + ")";
+      });
+
+  m.def("_run", &run, py::arg("config"), py::arg("output_path"), py::arg("progress") = py::none(),
+        py::arg("progress_interval") = 0.5);
+}

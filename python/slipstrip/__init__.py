@@ -1,0 +1,159 @@
+"""slipstrip: spectral boundary-integral solver for frictional sliding between
+two elastic strips of height H with rate-and-state friction (Python API).
+
+SI units everywhere.  See docs/python.md for an overview with examples.
+
+    import slipstrip
+    cfg = slipstrip.load_config("configs/quickstart.toml", {"geometry.nodes": 128})
+    sim = slipstrip.Simulation(cfg)
+    v = sim.slip_rate            # NumPy view of the solver's memory, updated in place
+    sim.advance(100)
+    slipstrip.run(cfg, "run.h5", progress=print)
+    r = slipstrip.open_run("run.h5")
+"""
+from __future__ import annotations
+
+import os
+from typing import Any, Callable, Iterable
+
+import numpy as np
+
+from . import _slipstrip
+from ._slipstrip import (  # noqa: F401  (re-exported)
+    ConfigError,
+    ElasticMaterial,
+    LocalSolveFailure,
+    RunResult,
+    SimulationError,
+    detect_events,
+    detect_events_in_file,
+    half_space_response,
+    read_event_catalog,
+    read_slip_sampling_info,
+    strip_response,
+    strip_static_stiffness,
+    waiting_time_threshold,
+    write_event_catalog,
+    write_event_catalog_csv,
+    write_slip_sampling,
+)
+from .config import Config, load_config, overrides_from, to_toml_text  # noqa: F401
+from .runfile import RunFile, open_run  # noqa: F401
+
+__version__ = _slipstrip.code_version
+git_hash = _slipstrip.git_hash
+
+__all__ = [
+    "Config", "ConfigError", "ElasticMaterial", "LocalSolveFailure", "RunFile", "RunResult",
+    "Simulation", "SimulationError", "characteristic_roots", "critical_wavelength",
+    "critical_wavelength_vs_height", "detect_events", "detect_events_in_file", "growth_rates",
+    "half_space_response", "linearise_friction", "load_config", "most_unstable_root", "open_run",
+    "quasi_static_critical_wavelength", "read_event_catalog", "read_slip_sampling_info", "run",
+    "solve_slip_rate", "characteristic_function",
+    "strip_response", "strip_static_stiffness", "to_toml_text", "waiting_time_threshold",
+    "write_event_catalog", "write_event_catalog_csv", "write_slip_sampling",
+]
+
+
+class Simulation(_slipstrip._Simulation):
+    """One simulation, stepped from Python.
+
+    Simulation(config=None, overrides=None): config is anything load_config
+    accepts (Config, path, TOML text, dict).
+
+    Fields x, slip, slip_rate, state, shear_stress are read-only NumPy arrays
+    that view the solver's memory (no copy): they change in place after
+    step()/advance().  Use .copy() to keep a value.
+    """
+
+    def __init__(self, config=None, overrides=None):
+        cfg = load_config(config, overrides)
+        super().__init__(cfg)
+        self._config = cfg
+
+    @property
+    def config(self) -> Config:
+        return self._config
+
+    def fields(self, copy: bool = False) -> dict[str, np.ndarray]:
+        """All interface fields as a dict (views, or copies with copy=True)."""
+        names = ("x", "slip", "slip_rate", "state", "shear_stress")
+        return {n: (getattr(self, n).copy() if copy else getattr(self, n)) for n in names}
+
+    def __repr__(self) -> str:
+        return (f"Simulation(N={self.config.nodes}, t={self.time!r} s, step={self.step_index}, "
+                f"dt={self.time_step!r} s, max_slip_rate={self.max_slip_rate!r} m/s)")
+
+
+def run(config, out_path: str | os.PathLike, progress: Callable[[dict], Any] | None = None,
+        overrides=None, progress_interval: float = 0.5) -> RunResult:
+    """Run a whole simulation and write the HDF5 run file (docs/output.md).
+
+    progress(p) is called about every progress_interval seconds of wall time
+    and once at the end, with p a dict: time [s], duration [s], step,
+    max_slip_rate [m/s], wall_seconds.
+
+    Ctrl-C (or an exception raised by progress) stops the run cleanly: the file
+    is closed with status "interrupted" and the exception is re-raised with the
+    RunResult attached as exc.run_result.  A divergence is not an exception:
+    it is reported in RunResult.status ("diverged: ...").
+    """
+    cfg = load_config(config, overrides)
+    return _slipstrip._run(cfg, os.fspath(out_path), progress, progress_interval)
+
+
+# --- linear stability of steady sliding (friction/linear_stability.hpp) -----------
+# `config` is anything load_config accepts; material, friction, loading and
+# geometry.height describe the steady sliding state, as in `slipstrip stability`.
+
+def growth_rates(config, wavelengths: Iterable[float] | float) -> dict[str, np.ndarray]:
+    """For each wavelength [m]: growth_rate = Re Lambda [1/s] of the least stable
+    root, frequency = |Im Lambda| [rad/s], unstable (bool)."""
+    w = np.atleast_1d(np.asarray(wavelengths, dtype=float))
+    return _slipstrip._growth_rates(load_config(config), w.tolist())
+
+
+def most_unstable_root(config, wavelength: float) -> complex | None:
+    """Lambda [1/s] with the largest real part among unstable roots; None if stable."""
+    return _slipstrip._most_unstable_root(load_config(config), float(wavelength))
+
+
+def characteristic_roots(config, wavelength: float) -> np.ndarray:
+    """All roots with Re Lambda > 0 (complete set), by decreasing real part."""
+    return np.asarray(_slipstrip._characteristic_roots(load_config(config), float(wavelength)), dtype=complex)
+
+
+def critical_wavelength(config, lower: float, upper: float, relative_tolerance: float = 1e-10) -> float:
+    """Lc [m] bracketed by a stable `lower` and an unstable `upper` wavelength."""
+    return _slipstrip._critical_wavelength(load_config(config), lower, upper, relative_tolerance)
+
+
+def critical_wavelength_vs_height(config, heights: Iterable[float] | float) -> np.ndarray:
+    """Lc(H) [m] for each strip height H [m] (inf allowed)."""
+    h = np.atleast_1d(np.asarray(heights, dtype=float))
+    return np.asarray(_slipstrip._critical_wavelength_vs_height(load_config(config), h.tolist()))
+
+
+def quasi_static_critical_wavelength(config) -> float:
+    """Lc [m] with inertia dropped (closed form for a half-space)."""
+    return _slipstrip._quasi_static_critical_wavelength(load_config(config))
+
+
+def linearise_friction(config) -> dict[str, float]:
+    """Friction derivatives at steady sliding: state phi0 [s], strength_dv [Pa s/m],
+    strength_dstate [Pa/s], state_rate_dv [s/m], state_rate_dstate [1/s]."""
+    return _slipstrip._linearise_friction(load_config(config))
+
+
+def characteristic_function(config, wavenumber: float, growth: complex) -> complex:
+    """F(Lambda) for wavenumber k [1/m] (roots are the modes of steady sliding)."""
+    return _slipstrip._characteristic_function(load_config(config), float(wavenumber), complex(growth))
+
+
+def solve_slip_rate(config, tau_history: float, state: float, initial_guess: float | None = None) -> float:
+    """Slip rate v [m/s] of one node: tau_history - eta v = sign(v) strength(|v|, state),
+    eta = mu / (2 c_s), friction and normal stress from `config` (0 if the node sticks).
+    Raises LocalSolveFailure (a RuntimeError) with all inputs in the message."""
+    cfg = load_config(config)
+    guess = cfg.driving_velocity if initial_guess is None else initial_guess
+    return _slipstrip._solve_slip_rate(cfg, float(tau_history), float(state), float(guess))

@@ -1,0 +1,76 @@
+"""python3 -m slipstrip <command> [...]
+
+  plot     RUN.h5 [--out spacetime.png] [--kind spacetime|timeseries]
+  analyze  ...  (slipstrip.analysis.main)
+  scan     ...  (slipstrip.scan.main)
+
+Each command parses its own arguments (`python3 -m slipstrip <command> -h`).
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+USAGE = __doc__
+
+
+def plot_main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(prog="python3 -m slipstrip plot",
+                                     description="Plot a run file (space-time map of log10(v/v0) by default).")
+    parser.add_argument("run", help="run file (HDF5) written by `slipstrip run`")
+    parser.add_argument("--out", default=None,
+                        help="output PNG (default: spacetime.png or timeseries.png in the current directory)")
+    parser.add_argument("--kind", choices=("spacetime", "timeseries"), default="spacetime")
+    parser.add_argument("--vmin", type=float, default=None, help="colour scale minimum of log10(v/v0)")
+    parser.add_argument("--vmax", type=float, default=None, help="colour scale maximum of log10(v/v0)")
+    parser.add_argument("--dpi", type=int, default=150)
+    args = parser.parse_args(argv)
+
+    from . import plots  # matplotlib is imported only when plotting
+
+    out = args.out or f"{args.kind}.png"
+    try:
+        if args.kind == "spacetime":
+            plots.spacetime(args.run, out, vmin=args.vmin, vmax=args.vmax, dpi=args.dpi)
+        else:
+            plots.timeseries(args.run, out, dpi=args.dpi)
+    except (ValueError, OSError, KeyError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    print(f"wrote {out}")
+    return 0
+
+
+def _delegate(module: str, argv: list[str]) -> int:
+    try:
+        mod = importlib.import_module(f"slipstrip.{module}")
+    except ImportError as e:
+        print(f"error: slipstrip.{module} is not available ({e})", file=sys.stderr)
+        return 2
+    result = mod.main(argv)
+    return 0 if result is None else int(result)
+
+
+COMMANDS = {
+    "plot": plot_main,
+    "analyze": lambda argv: _delegate("analysis", argv),
+    "scan": lambda argv: _delegate("scan", argv),
+}
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if not argv or argv[0] in ("-h", "--help"):
+        print(USAGE.strip())
+        return 0 if argv else 2
+    command, rest = argv[0], argv[1:]
+    if command not in COMMANDS:
+        print(f"error: unknown command '{command}': allowed are {', '.join(COMMANDS)}\n\n{USAGE.strip()}",
+              file=sys.stderr)
+        return 2
+    return COMMANDS[command](rest)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,110 @@
+"""Figures from run files (matplotlib, Agg backend: no display needed).
+
+spacetime(run, out_png): log10(v / v0) over x / L (horizontal) and t c_s / L
+(vertical) from /snapshots -- the paper's space-time representation.
+timeseries(run, out_png): max slip rate and mean shear stress against time.
+"""
+from __future__ import annotations
+
+import math
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")  # before pyplot: files only, works without a display
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .runfile import RunFile, open_run  # noqa: E402
+
+__all__ = ["spacetime", "spacetime_axes", "timeseries"]
+
+# Upper bound of cells drawn per axis: a longer run is subsampled (every k-th
+# snapshot / node) so memory and drawing time stay bounded whatever the run size.
+MAX_CELLS = 2000
+
+
+def _as_run(run) -> RunFile:
+    return run if isinstance(run, RunFile) else open_run(run)
+
+
+def _format_length(value: float) -> str:
+    return "inf" if math.isinf(value) else f"{value:g} m"
+
+
+def spacetime_axes(run, ax, vmin: float | None = None, vmax: float | None = None,
+                   max_cells: int = MAX_CELLS):
+    """Draws the space-time map of log10(v/v0) on `ax`; returns the QuadMesh."""
+    run = _as_run(run)
+    snaps = run.snapshots
+    if "snapshots" not in run._groups or "time" not in snaps or len(snaps) == 0:
+        raise ValueError(f"run file '{run.path}' has no snapshots: set [output] snapshot_interval "
+                         "or snapshot_slip_increment > 0 to record them")
+    n_snap, n_nodes = snaps["slip_rate"].shape
+    row_step = max(1, math.ceil(n_snap / max_cells))
+    col_step = max(1, math.ceil(n_nodes / max_cells))
+    t = snaps.time[::row_step]
+    x = snaps.x[::col_step]
+    v = snaps["slip_rate"][::row_step, ::col_step]
+
+    v0 = run.driving_velocity
+    L = run.length
+    with np.errstate(divide="ignore", invalid="ignore"):
+        logv = np.log10(np.abs(v) / v0)
+    finite = np.isfinite(logv)
+    if not finite.any():
+        raise ValueError(f"run file '{run.path}': no finite positive slip rate in /snapshots/slip_rate")
+    lo = float(np.min(logv[finite])) if vmin is None else vmin
+    hi = float(np.max(logv[finite])) if vmax is None else vmax
+    if hi <= lo:  # uniform sliding: give the colour scale a visible width
+        lo, hi = lo - 0.5, hi + 0.5
+    # Stuck nodes (v = 0) are shown at the bottom of the scale, not left blank.
+    logv = np.where(finite, logv, lo)
+
+    mesh = ax.pcolormesh(x / L, t * run.shear_wave_speed / L, logv, shading="nearest",
+                         cmap="inferno", vmin=lo, vmax=hi, rasterized=True)
+    ax.set_xlabel("x / L")
+    ax.set_ylabel(r"t $c_s$ / L")
+    ax.set_xlim(0.0, 1.0)
+    return mesh
+
+
+def spacetime(run, out_png: str | os.PathLike, vmin: float | None = None, vmax: float | None = None,
+              dpi: int = 150) -> str:
+    """Writes the space-time plot of `run` (path or RunFile) to out_png; returns the path."""
+    run = _as_run(run)
+    fig, ax = plt.subplots(figsize=(6.0, 7.0), constrained_layout=True)
+    try:
+        mesh = spacetime_axes(run, ax, vmin=vmin, vmax=vmax)
+        cbar = fig.colorbar(mesh, ax=ax)
+        cbar.set_label(r"$\log_{10}(v / v_0)$")
+        ax.set_title(f"H = {_format_length(run.height)}, L = {_format_length(run.length)}, "
+                     f"N = {run.nodes}  (status: {run.status})", fontsize=10)
+        out = os.fspath(out_png)
+        fig.savefig(out, dpi=dpi)
+    finally:
+        plt.close(fig)
+    return out
+
+
+def timeseries(run, out_png: str | os.PathLike, dpi: int = 150) -> str:
+    """Max slip rate / v0 (log scale) and mean shear stress against t c_s / L."""
+    run = _as_run(run)
+    ts = run.timeseries
+    if len(ts.get("time", ())) == 0:
+        raise ValueError(f"run file '{run.path}' has an empty /timeseries")
+    t = ts["time"] * run.shear_wave_speed / run.length
+    fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(7.0, 5.0), constrained_layout=True)
+    try:
+        a1.semilogy(t, np.maximum(ts["max_slip_rate"], np.finfo(float).tiny) / run.driving_velocity, lw=0.8)
+        a1.set_ylabel(r"max $v$ / $v_0$")
+        a2.plot(t, ts["mean_shear_stress"] / 1e6, lw=0.8)
+        a2.set_ylabel("mean shear stress [MPa]")
+        a2.set_xlabel(r"t $c_s$ / L")
+        a1.set_title(f"H = {_format_length(run.height)}, L = {_format_length(run.length)}, N = {run.nodes}",
+                     fontsize=10)
+        out = os.fspath(out_png)
+        fig.savefig(out, dpi=dpi)
+    finally:
+        plt.close(fig)
+    return out

@@ -1,0 +1,270 @@
+"""Read a run file (docs/output.md) without holding it open.
+
+The writer defers its flushes while a reader holds the file (HDF5 file
+locks), so RunFile opens the file only for the duration of each read and
+closes it again.  Everything is read on demand; nothing is cached except the
+small root attributes, which `refresh()` re-reads.
+"""
+from __future__ import annotations
+
+import os
+import time
+import tomllib
+from typing import Any
+
+import h5py
+import numpy as np
+
+__all__ = ["RunFile", "LazyDataset", "open_run"]
+
+TIMESERIES = ("time", "max_slip_rate", "mean_slip", "mean_shear_stress")
+SNAPSHOT_FIELDS = ("slip", "slip_rate", "state", "shear_stress")
+
+
+def _open(path: str, attempts: int = 40, wait: float = 0.05) -> h5py.File:
+    # During a write-out (a few ms) the writer holds an exclusive lock and
+    # opening fails with "unable to lock file": retry briefly.
+    for i in range(attempts):
+        try:
+            return h5py.File(path, "r")
+        except OSError as e:
+            if "lock" not in str(e) or i == attempts - 1:
+                raise
+            time.sleep(wait)
+    raise AssertionError("unreachable")
+
+
+def _attr(value: Any) -> Any:
+    if isinstance(value, bytes):
+        return value.decode()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+class LazyDataset:
+    """A dataset of the run file read on indexing (file opened per read).
+
+    ds[...] or np.asarray(ds) reads; ds.shape, ds.units need one short open."""
+
+    def __init__(self, path: str, name: str):
+        self.path = path
+        self.name = name
+
+    def _meta(self):
+        with _open(self.path) as f:
+            d = f[self.name]
+            return d.shape, d.dtype, _attr(d.attrs.get("units", ""))
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return self._meta()[0]
+
+    @property
+    def dtype(self) -> np.dtype:
+        return self._meta()[1]
+
+    @property
+    def units(self) -> str:
+        return self._meta()[2]
+
+    def __len__(self) -> int:
+        return self.shape[0]
+
+    def __getitem__(self, key) -> np.ndarray:
+        with _open(self.path) as f:
+            return f[self.name][key]
+
+    def __array__(self, dtype=None, copy=None):
+        a = self[()]
+        return a if dtype is None else a.astype(dtype)
+
+    def __repr__(self) -> str:
+        shape, dtype, units = self._meta()
+        return f"<LazyDataset {self.name} shape={shape} dtype={dtype} units={units!r}>"
+
+
+class _Group:
+    """Lazy view of a group: g["slip"] is a LazyDataset, g.attrs a dict."""
+
+    def __init__(self, path: str, name: str):
+        self.path = path
+        self.name = name
+
+    def keys(self) -> list[str]:
+        with _open(self.path) as f:
+            return list(f[self.name].keys())
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.keys()
+
+    def __getitem__(self, key: str) -> LazyDataset:
+        if key not in self.keys():
+            raise KeyError(f"{self.name}/{key} is not in {self.path} (has: {', '.join(self.keys())})")
+        return LazyDataset(self.path, f"{self.name}/{key}")
+
+    @property
+    def attrs(self) -> dict[str, Any]:
+        with _open(self.path) as f:
+            return {k: _attr(v) for k, v in f[self.name].attrs.items()}
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {self.name}: {', '.join(self.keys())}>"
+
+
+class Snapshots(_Group):
+    """/snapshots: time [n], x [N] and the fields [n, N], read lazily:
+    run.snapshots["slip_rate"][-1] reads only the last snapshot."""
+
+    @property
+    def time(self) -> np.ndarray:
+        return self["time"][()]
+
+    @property
+    def x(self) -> np.ndarray:
+        return self["x"][()]
+
+    @property
+    def trigger(self) -> str:
+        return self.attrs.get("trigger", "")
+
+    def __len__(self) -> int:
+        return len(self["time"])
+
+
+class SlipSampling(_Group):
+    """/slip_sampling: attributes delta_th, dx, v0, mu, D, L; x; crossing_time [n_levels, N]."""
+
+    @property
+    def x(self) -> np.ndarray:
+        return self["x"][()]
+
+    @property
+    def crossing_time(self) -> LazyDataset:
+        return self["crossing_time"]
+
+
+class RunFile:
+    """A run file.  Attributes:
+
+    path, attrs (root attributes), config (resolved config, dict), status,
+    code_version, git_hash, units (dataset path -> units), timeseries (dict of
+    arrays, read on each access), snapshots (lazy), slip_sampling (lazy, or
+    None), events (catalog dict, or None).  Derived: length, height, nodes,
+    driving_velocity, shear_wave_speed, transit_time (L / c_s)."""
+
+    def __init__(self, path: str | os.PathLike):
+        self.path = os.fspath(path)
+        if not os.path.exists(self.path):
+            raise FileNotFoundError(f"run file '{self.path}' does not exist")
+        self.refresh()
+
+    def refresh(self) -> "RunFile":
+        """Re-read the root attributes (status changes while a run goes on)."""
+        with _open(self.path) as f:
+            self.attrs = {k: _attr(v) for k, v in f.attrs.items()}
+            self._groups = set(f.keys())
+        text = self.attrs.get("config", "")
+        self.config = tomllib.loads(text) if text else {}
+        return self
+
+    # --- metadata ---------------------------------------------------------------
+    @property
+    def status(self) -> str:
+        return self.attrs.get("status", "")
+
+    @property
+    def code_version(self) -> str:
+        return self.attrs.get("code_version", "")
+
+    @property
+    def git_hash(self) -> str:
+        return self.attrs.get("git_hash", "")
+
+    @property
+    def units(self) -> dict[str, str]:
+        """Dataset path -> units attribute, e.g. units["timeseries/time"] == "s"."""
+        out: dict[str, str] = {}
+        with _open(self.path) as f:
+            def visit(name, obj):
+                if isinstance(obj, h5py.Dataset) and "units" in obj.attrs:
+                    out[name] = _attr(obj.attrs["units"])
+            f.visititems(visit)
+        return out
+
+    @property
+    def units_table(self) -> str:
+        """The root `units` attribute (a short text table)."""
+        return self.attrs.get("units", "")
+
+    # --- derived scalars (from the resolved config) ------------------------------
+    def _cfg(self, section: str, key: str):
+        try:
+            return self.config[section][key]
+        except KeyError:
+            raise KeyError(f"[{section}] {key} is not in the config of {self.path}") from None
+
+    @property
+    def length(self) -> float:
+        return float(self._cfg("geometry", "length"))
+
+    @property
+    def height(self) -> float:
+        return float(self._cfg("geometry", "height"))
+
+    @property
+    def nodes(self) -> int:
+        return int(self._cfg("geometry", "nodes"))
+
+    @property
+    def driving_velocity(self) -> float:
+        return float(self._cfg("loading", "driving_velocity"))
+
+    @property
+    def shear_wave_speed(self) -> float:
+        return float(np.sqrt(self._cfg("material", "shear_modulus") / self._cfg("material", "density")))
+
+    @property
+    def transit_time(self) -> float:
+        """L / c_s [s]"""
+        return self.length / self.shear_wave_speed
+
+    # --- data ----------------------------------------------------------------------
+    @property
+    def timeseries(self) -> dict[str, np.ndarray]:
+        with _open(self.path) as f:
+            g = f["timeseries"]
+            return {k: g[k][()] for k in g.keys()}
+
+    @property
+    def snapshots(self) -> Snapshots:
+        return Snapshots(self.path, "snapshots")
+
+    @property
+    def slip_sampling(self) -> SlipSampling | None:
+        return SlipSampling(self.path, "slip_sampling") if "slip_sampling" in self._groups else None
+
+    @property
+    def events(self) -> dict[str, Any] | None:
+        """The /events catalog (see slipstrip.read_event_catalog), None if absent."""
+        with _open(self.path) as f:
+            present = "events" in f
+        if not present:
+            return None
+        from . import _slipstrip
+        return _slipstrip.read_event_catalog(self.path)
+
+    def detect_events(self, **options) -> dict[str, Any]:
+        """Detect events from /slip_sampling (options: alpha, min_extent_dx,
+        min_mean_slip_dth, exclude_first_last, block_rows); does not write."""
+        from . import _slipstrip
+        return _slipstrip.detect_events_in_file(self.path, **options)
+
+    def __repr__(self) -> str:
+        return (f"<RunFile {self.path!r} status={self.status!r} L={self.config.get('geometry', {}).get('length')} "
+                f"H={self.config.get('geometry', {}).get('height')} N={self.config.get('geometry', {}).get('nodes')}>")
+
+
+def open_run(path: str | os.PathLike) -> RunFile:
+    """Open a run file written by `slipstrip run` or slipstrip.run()."""
+    return RunFile(path)
