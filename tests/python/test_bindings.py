@@ -15,6 +15,7 @@ import os
 import pickle
 import signal
 import subprocess
+import time
 import tomllib
 
 import h5py
@@ -255,6 +256,59 @@ def test_advance_equals_repeated_step(ss):
     assert a.step_index == b.step_index == 50
     for name in ("slip", "slip_rate", "state", "shear_stress"):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
+
+
+def test_advance_releases_the_gil(ss):
+    # A Python thread counts while the main thread (a) sleeps, which releases
+    # the GIL, then (b) sits in one advance() call.  Released during the C++
+    # loop, the counting rate in (b) is comparable to (a) (OpenMP threads may
+    # compete for the cores: allow a factor 4).  Held, the counter would only
+    # run for the ~5 ms switch interval at the start and end of the call,
+    # i.e. < 5% of a call lasting >= 0.2 s.
+    import threading
+    sim = ss.Simulation(small(ss))
+    count = [0]
+    done = threading.Event()
+
+    def counter():
+        while not done.is_set():
+            count[0] += 1
+
+    thread = threading.Thread(target=counter)
+    thread.start()
+    try:
+        c0, t0 = count[0], time.perf_counter()
+        time.sleep(0.2)
+        free_rate = (count[0] - c0) / (time.perf_counter() - t0)
+        steps = 200
+        while True:  # until one call lasts >= 0.2 s (the machine's speed varies)
+            c0, t0 = count[0], time.perf_counter()
+            sim.advance(steps)
+            elapsed = time.perf_counter() - t0
+            if elapsed >= 0.2:
+                break
+            steps *= 2
+        advance_rate = (count[0] - c0) / elapsed
+    finally:
+        done.set()
+        thread.join()
+    assert advance_rate > 0.25 * free_rate, (advance_rate, free_rate)
+
+
+def test_ctrl_c_interrupts_advance_at_a_whole_step(ss):
+    import threading
+    sim = ss.Simulation(small(ss))
+    timer = threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sim.advance(10**9)
+    finally:
+        timer.cancel()
+    assert 0 < sim.step_index < 10**9
+    # Stopped between steps: the clock is a whole number of steps.
+    assert sim.time == pytest.approx(sim.step_index * sim.time_step, rel=1e-9)
+    sim.step()  # and the simulation is still usable
 
 
 def test_unperturbed_steady_sliding_stays_steady(ss):
