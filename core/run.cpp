@@ -86,6 +86,8 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
     if (result.status.empty()) result.status = "completed";
   } catch (const SimulationError& e) {
     result.status = std::string("diverged: ") + e.what();
+  } catch (const SlipSamplingOverflow& e) {
+    result.status = std::string("diverged: ") + e.what();
   }
   result.simulated_time = sim.time();
   result.steps = sim.step_index();

@@ -1,5 +1,7 @@
 #include "core/run_output.hpp"
 
+#include <sstream>
+
 #include <fcntl.h>
 #include <hdf5.h>
 #include <sys/file.h>
@@ -323,6 +325,17 @@ void RunOutput::add_crossings(std::size_t node, double t_old, double t_new, doub
   // +inf would mean infinitely many levels; divergence is the solver's to report.
   if (!std::isfinite(slip_new)) return;
   const double slip_step = slip_new - slip_old;
+  // A physical step crosses a handful of levels (v dt / delta_th ~ 10 at
+  // 1 m/s).  Millions mean the solution is blowing up while still finite;
+  // recording them would exhaust memory before the non-finite check fires.
+  const double levels_in_step = (slip_new - next_threshold_[node]) / delta_th_;
+  if (levels_in_step > kMaxLevelsPerStep) {
+    std::ostringstream msg;
+    msg << "slip at node " << node << " jumped from " << slip_old << " m to " << slip_new
+        << " m between t = " << t_old << " s and " << t_new << " s (" << levels_in_step
+        << " levels of delta_th = " << delta_th_ << " m in one step): the run is diverging";
+    throw SlipSamplingOverflow(msg.str());
+  }
   while (slip_new >= next_threshold_[node]) {
     const std::size_t level = levels_reached_[node];
     const double threshold = next_threshold_[node];

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,13 @@ struct SlipSamplingSetup {
   double L = 0.0;          // [m] period length
   std::vector<double> x;   // [m] node positions; x.size() is the node count N
 };
+
+// record_slip saw a slip increment of more than kMaxLevelsPerStep levels in
+// one step at one node: the solution is diverging (while still finite).
+struct SlipSamplingOverflow : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+inline constexpr double kMaxLevelsPerStep = 1e6;
 
 struct RunOutputOptions {
   bool snapshots_by_slip = false;     // trigger attribute: "slip_increment" instead of "time"

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "friction/friction_law.hpp"
+#include "kernels/kernel_cache.hpp"
 
 namespace slipstrip {
 namespace {
@@ -31,7 +32,12 @@ Simulation::Simulation(const SimulationConfig& config)
   dt_ = strip_time_step(config_.material, operator_height_, dx_, config_.time.beta);
   eta_ = config_.material.shear_modulus / (2.0 * config_.material.shear_wave_speed());
   fft_ = std::make_unique<RealFft>(nodes_);
-  history_ = std::make_unique<StripHistory>(config_.material, operator_height_, g.length, nodes_, dt_);
+  const auto kernels =
+      config_.output.kernel_cache.empty()
+          ? compute_strip_kernels(config_.material, operator_height_, g.length, nodes_, dt_)
+          : load_or_compute_strip_kernels(config_.output.kernel_cache, config_.material,
+                                          operator_height_, g.length, nodes_, dt_);
+  history_ = std::make_unique<StripHistory>(config_.material, kernels);
 
   const auto n = static_cast<std::size_t>(nodes_);
   x_.resize(n);

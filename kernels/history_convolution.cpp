@@ -71,41 +71,61 @@ double strip_time_step(const ElasticMaterial& material, double strip_height, dou
   return echo_time / steps;
 }
 
+StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip_height,
+                                   double length, int nodes, double time_step) {
+  if (is_half_space(strip_height))
+    throw std::invalid_argument("compute_strip_kernels needs a finite strip_height (got inf)");
+  if (!(strip_height > 0)) throw std::invalid_argument("strip_height must be > 0");
+  const double echo_time = 2.0 * strip_height / material.shear_wave_speed();
+  StripKernels kernels;
+  kernels.time_step = time_step;
+  kernels.echo_steps = static_cast<std::size_t>(std::llround(echo_time / time_step));
+  if (kernels.echo_steps < 1 ||
+      std::abs(kernels.echo_steps * time_step - echo_time) > 1e-9 * echo_time)
+    throw std::invalid_argument(
+        "time_step = " + std::to_string(time_step) +
+        " s must divide the shear echo time 2H/c_s = " + std::to_string(echo_time) +
+        " s into a whole number of steps (use strip_time_step)");
+  const int n_modes = nodes / 2 + 1;
+  kernels.first_oscillator.assign(1, 0);
+  for (int q = 0; q < n_modes; ++q) {
+    const double k = 2.0 * std::numbers::pi * q / length;
+    for (const auto& m : discrete_modes(material, strip_height, k, time_step, kernels.echo_steps)) {
+      kernels.phase.push_back(m.phase);
+      kernels.weight.push_back(m.weight);
+    }
+    kernels.first_oscillator.push_back(kernels.weight.size());
+  }
+  return kernels;
+}
+
 StripHistory::StripHistory(const ElasticMaterial& material, double strip_height, double length,
                            int nodes, double time_step)
-    : dt_(time_step) {
-  if (is_half_space(strip_height))
-    throw std::invalid_argument("StripHistory needs a finite strip_height (got inf)");
-  if (!(strip_height > 0)) throw std::invalid_argument("strip_height must be > 0");
+    : StripHistory(material, compute_strip_kernels(material, strip_height, length, nodes, time_step)) {}
+
+StripHistory::StripHistory(const ElasticMaterial& material, const StripKernels& kernels)
+    : dt_(kernels.time_step), echo_steps_(kernels.echo_steps),
+      first_oscillator_(kernels.first_oscillator), weight_(kernels.weight) {
   const double mu = material.shear_modulus;
   const double cs = material.shear_wave_speed();
   eta_ = mu / (2.0 * cs);
   echo_weight_ = mu / cs;
-  const double echo_time = 2.0 * strip_height / cs;
-  echo_steps_ = static_cast<std::size_t>(std::llround(echo_time / dt_));
-  if (echo_steps_ < 1 || std::abs(echo_steps_ * dt_ - echo_time) > 1e-9 * echo_time)
-    throw std::invalid_argument(
-        "time_step = " + std::to_string(dt_) +
-        " s must divide the shear echo time 2H/c_s = " + std::to_string(echo_time) +
-        " s into a whole number of steps (use strip_time_step)");
-
-  const int n_modes = nodes / 2 + 1;
-  first_oscillator_.assign(1, 0);
+  if (first_oscillator_.size() < 2 || first_oscillator_.back() != weight_.size() ||
+      kernels.phase.size() != weight_.size() || echo_steps_ < 1)
+    throw std::invalid_argument("StripHistory: inconsistent kernels");
+  const int n_modes = static_cast<int>(first_oscillator_.size()) - 1;
+  cos_step_.reserve(weight_.size());
+  sin_step_.reserve(weight_.size());
+  for (double phase : kernels.phase) {
+    cos_step_.push_back(std::cos(phase));
+    sin_step_.push_back(std::sin(phase));
+  }
   // For q >= 1 the delay line and the comb modes are never built: in discrete
   // time they add up to exactly the constant kernel mu/c_s (for every lag
   // j >= 1; docs/theory.md, "comb identity"), i.e. a running sum.  Only the
   // uniform mode q = 0 keeps the delay line (it has no other modes).
-  integrator_weight_.assign(n_modes, 0.0);
-  for (int q = 0; q < n_modes; ++q) {
-    const double k = 2.0 * std::numbers::pi * q / length;
-    for (const auto& m : discrete_modes(material, strip_height, k, dt_, echo_steps_)) {
-      cos_step_.push_back(std::cos(m.phase));
-      sin_step_.push_back(std::sin(m.phase));
-      weight_.push_back(m.weight);
-    }
-    if (q > 0) integrator_weight_[q] = echo_weight_;
-    first_oscillator_.push_back(weight_.size());
-  }
+  integrator_weight_.assign(n_modes, echo_weight_);
+  integrator_weight_[0] = 0.0;
   weight_sum_.assign(n_modes, 0.0);
   for (int q = 0; q < n_modes; ++q)
     for (std::size_t m = first_oscillator_[q]; m < first_oscillator_[q + 1]; ++m)

@@ -46,6 +46,21 @@ std::vector<DiscreteMode> discrete_modes(const ElasticMaterial& material, double
                                          double wavenumber, double time_step,
                                          std::size_t echo_steps);
 
+// Everything the history operator needs, per Fourier mode q = 0..N/2: the
+// discrete normal modes (phase = omega dt, weight) flattened, with
+// first_oscillator[q] .. first_oscillator[q+1] the modes of q.  A plain value:
+// computed in closed form (compute_strip_kernels) or read from a cache
+// (kernels/kernel_cache.hpp).
+struct StripKernels {
+  double time_step = 0.0;
+  std::size_t echo_steps = 0;
+  std::vector<std::size_t> first_oscillator;
+  std::vector<double> phase, weight;
+};
+
+StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip_height,
+                                   double length, int nodes, double time_step);
+
 struct ModeOperatorStats {
   std::size_t modes = 0;            // Fourier modes q = 0..N/2
   std::size_t oscillators = 0;      // normal-mode recursions in total
@@ -57,6 +72,8 @@ class StripHistory {
  public:
   StripHistory(const ElasticMaterial& material, double strip_height, double length, int nodes,
                double time_step);
+  // From precomputed (or cached) kernels of this material and strip height.
+  StripHistory(const ElasticMaterial& material, const StripKernels& kernels);
 
   double time_step() const { return dt_; }
   double radiation_damping() const { return eta_; }

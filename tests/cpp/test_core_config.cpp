@@ -222,7 +222,7 @@ TEST_CASE("out-of-range values name the key, the value and the allowed range") {
   CHECK(contains(error_of("[loading]\nnormal_stress = -1e6\n"),
                  "loading.normal_stress = -1e+06 is out of range"));
   CHECK(contains(error_of("[time]\nbeta = 0.6\n"),
-                 "time.beta = 0.6 is out of range: expected 0 < beta <= 0.5"));
+                 "time.beta = 0.6 is out of range: expected 0 < beta <= 0.4"));
   CHECK(contains(error_of("[time]\nbeta = 0\n"), "time.beta = 0.0 is out of range"));
   CHECK(contains(error_of("[time]\nduration = 0\n"),
                  "time.duration = 0.0 is out of range: expected a time > 0 [s]"));
@@ -245,7 +245,8 @@ TEST_CASE("out-of-range values name the key, the value and the allowed range") {
   CHECK(contains(error_of("[initial]\nlocal_amplitude = -0.5\n"),
                  "initial.local_amplitude = -0.5 needs initial.local_width > 0"));
   // accepted boundary values
-  CHECK(load_config_string("[time]\nbeta = 0.5\n").time.beta == 0.5);
+  CHECK(load_config_string("[time]\nbeta = 0.4\n").time.beta == 0.4);
+  CHECK(contains(error_of("[time]\nbeta = 0.45\n"), "expected 0 < beta <= 0.4"));
   CHECK(load_config_string("[geometry]\nnodes = 8\n").geometry.nodes == 8);
   CHECK(load_config_string("[geometry]\nnodes = 1000\n").geometry.nodes == 1000);  // not 2^k
   CHECK(load_config_string("[output]\ndelta_th = 0\n").output.delta_th == 0.0);

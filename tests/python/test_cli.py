@@ -81,6 +81,20 @@ def test_divergence_stops_with_a_diagnostic_and_a_readable_file(cli, repo, tmp_p
         assert np.all(np.isfinite(f["timeseries/max_slip_rate"][:]))  # nothing non-finite was written
 
 
+def test_finite_blow_up_is_diagnosed_not_recorded_forever(cli, repo, tmp_path):
+    # Slip that grows huge but stays finite must not make the slip sampling
+    # record ~1e300 threshold crossings (it used to exhaust memory).
+    out = tmp_path / "blowup.h5"
+    r = run(cli, "run", repo / "configs/quickstart.toml", "--set", "geometry.nodes=32",
+            "--set", "interface.law=free", "--set", "interface.stress_amplitude=1e300",
+            "--set", "interface.rise_time=1e-9", "--set", "time.duration_transits=1",
+            "--out", out, "--quiet", timeout=60)
+    assert r.returncode == 3, r.stderr
+    assert "diverging" in r.stderr or "non-finite" in r.stderr
+    with h5py.File(out, "r") as f:
+        assert f.attrs["status"].startswith("diverged: ")
+
+
 @pytest.mark.parametrize("override, expected", [
     ("geometry.lenght=3", "did you mean 'geometry.length'"),
     ("geometry.nodes=many", "geometry.nodes"),

@@ -1,0 +1,151 @@
+#include "kernels/kernel_cache.hpp"
+
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <stdexcept>
+#include <vector>
+
+#include "core/hdf5_handle.hpp"
+
+namespace slipstrip {
+namespace {
+
+constexpr const char* kFormat = "slipstrip strip kernels v1";
+
+std::string full_precision(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+// FNV-1a: stable across runs and platforms (std::hash is not).
+std::string fnv1a_hex(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+template <class T>
+void write_vector(hid_t group, const char* name, const std::vector<T>& v, hid_t type) {
+  const hsize_t n = v.size();
+  hdf5::Handle space(H5Screate_simple(1, &n, nullptr), "create dataspace");
+  hdf5::Handle set(H5Dcreate2(group, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                   std::string("create dataset ") + name);
+  if (n) hdf5::check(H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), name);
+}
+
+template <class T>
+std::vector<T> read_vector(hid_t group, const char* name, hid_t type) {
+  hdf5::Handle set(H5Dopen2(group, name, H5P_DEFAULT), std::string("open dataset ") + name);
+  hdf5::Handle space(H5Dget_space(set), "get dataspace");
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(space, &n, nullptr);
+  std::vector<T> v(n);
+  if (n) hdf5::check(H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), name);
+  return v;
+}
+
+std::string read_string_attribute(hid_t object, const char* name) {
+  hdf5::Handle attr(H5Aopen(object, name, H5P_DEFAULT), std::string("open attribute ") + name);
+  hdf5::Handle type(H5Aget_type(attr), "attribute type");
+  std::string value;
+  if (H5Tis_variable_str(type) > 0) {
+    char* text = nullptr;
+    hdf5::Handle mem(H5Tcopy(H5T_C_S1), "string type");
+    H5Tset_size(mem, H5T_VARIABLE);
+    hdf5::check(H5Aread(attr, mem, &text), name);
+    value = text ? text : "";
+    H5free_memory(text);
+  } else {
+    value.resize(H5Tget_size(type));
+    hdf5::check(H5Aread(attr, type, value.data()), name);
+    while (!value.empty() && value.back() == '\0') value.pop_back();
+  }
+  return value;
+}
+
+void write_string_attribute(hid_t object, const char* name, const std::string& value) {
+  hdf5::Handle type(H5Tcopy(H5T_C_S1), "string type");
+  H5Tset_size(type, value.size() + 1);
+  hdf5::Handle space(H5Screate(H5S_SCALAR), "scalar space");
+  hdf5::Handle attr(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT),
+                    std::string("create attribute ") + name);
+  hdf5::check(H5Awrite(attr, type, value.c_str()), name);
+}
+
+}  // namespace
+
+std::string strip_kernel_key(const ElasticMaterial& m, double strip_height, double length,
+                             int nodes, double time_step) {
+  return std::string(kFormat) + "; shear_modulus=" + full_precision(m.shear_modulus) +
+         "; poisson_ratio=" + full_precision(m.poisson_ratio) + "; density=" +
+         full_precision(m.density) + "; plane=" +
+         (m.plane == PlaneCondition::strain ? "strain" : "stress") +
+         "; height=" + full_precision(strip_height) + "; length=" + full_precision(length) +
+         "; nodes=" + std::to_string(nodes) + "; time_step=" + full_precision(time_step);
+}
+
+StripKernels load_or_compute_strip_kernels(const std::string& cache_path,
+                                           const ElasticMaterial& material, double strip_height,
+                                           double length, int nodes, double time_step,
+                                           KernelSource* source) {
+  const std::string key = strip_kernel_key(material, strip_height, length, nodes, time_step);
+  const std::string group_name = "/kernels_" + fnv1a_hex(key);
+  // Silence HDF5's own error printing: every failure is turned into an
+  // exception with a message below.
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const bool exists = std::filesystem::exists(cache_path);
+  if (exists) {
+    if (H5Fis_hdf5(cache_path.c_str()) <= 0)
+      throw std::invalid_argument("kernel cache '" + cache_path + "' exists but is not an HDF5 file");
+    hdf5::Handle file(H5Fopen(cache_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
+                      "open kernel cache " + cache_path);
+    if (H5Lexists(file, group_name.c_str() + 1, H5P_DEFAULT) > 0) {
+      hdf5::Handle group(H5Gopen2(file, group_name.c_str(), H5P_DEFAULT), "open " + group_name);
+      if (read_string_attribute(group, "key") == key) {
+        StripKernels k;
+        k.time_step = time_step;
+        const auto echo = read_vector<unsigned long long>(group, "echo_steps", H5T_NATIVE_ULLONG);
+        const auto first = read_vector<unsigned long long>(group, "first_oscillator", H5T_NATIVE_ULLONG);
+        if (echo.size() != 1) throw std::runtime_error("kernel cache " + cache_path + ": bad entry " + group_name);
+        k.echo_steps = echo[0];
+        k.first_oscillator.assign(first.begin(), first.end());
+        k.phase = read_vector<double>(group, "phase", H5T_NATIVE_DOUBLE);
+        k.weight = read_vector<double>(group, "weight", H5T_NATIVE_DOUBLE);
+        if (source) *source = KernelSource::cache;
+        return k;
+      }
+      // Same hash, different inputs: never reuse; recompute without caching.
+      if (source) *source = KernelSource::computed;
+      return compute_strip_kernels(material, strip_height, length, nodes, time_step);
+    }
+  }
+  StripKernels k = compute_strip_kernels(material, strip_height, length, nodes, time_step);
+  if (source) *source = KernelSource::computed;
+  if (const auto dir = std::filesystem::path(cache_path).parent_path(); !dir.empty())
+    std::filesystem::create_directories(dir);
+  hdf5::Handle file(exists ? H5Fopen(cache_path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)
+                           : H5Fcreate(cache_path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT),
+                    "open kernel cache " + cache_path + " for writing");
+  hdf5::Handle group(H5Gcreate2(file, group_name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                     "create " + group_name);
+  write_string_attribute(group, "key", key);
+  write_string_attribute(group, "units", "phase: rad (omega dt); weight: Pa/m");
+  const std::vector<unsigned long long> echo{k.echo_steps};
+  const std::vector<unsigned long long> first(k.first_oscillator.begin(), k.first_oscillator.end());
+  write_vector(group, "echo_steps", echo, H5T_NATIVE_ULLONG);
+  write_vector(group, "first_oscillator", first, H5T_NATIVE_ULLONG);
+  write_vector(group, "phase", k.phase, H5T_NATIVE_DOUBLE);
+  write_vector(group, "weight", k.weight, H5T_NATIVE_DOUBLE);
+  return k;
+}
+
+}  // namespace slipstrip
