@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <numbers>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -585,6 +586,17 @@ void read_time(const toml::table& root, const SimulationConfig& c, TimeConfig& t
     // placed passively for the shortest wavelengths (docs/config.md, docs/theory.md).
     if (!(*v > 0.0 && *v <= 0.4))
       s.out_of_range("beta", format_number(*v), "0 < beta <= 0.4 (dt = beta dx / c_s)");
+    // Exact limit of a positive-real discrete operator (docs/theory.md 6.4):
+    // dt S(k,0)/2 <= eta at the grid's Nyquist wavenumber, i.e.
+    // beta <= 1 / (pi (1 - c_s^2/c_d^2)); it falls below 0.4 for nu > ~0.36
+    // in plane strain.
+    const double beta_max =
+        1.0 / (std::numbers::pi * (1.0 - 1.0 / c.material.wave_speed_ratio_squared()));
+    if (*v > beta_max)
+      s.out_of_range("beta", format_number(*v),
+                     "0 < beta <= " + format_number(std::floor(beta_max * 1e4) / 1e4) +
+                         " for this material (1/(pi (1 - c_s^2/c_d^2)), the limit of a passive "
+                         "discrete strip operator; docs/theory.md)");
     t.beta = *v;
   }
   if (auto v = s.number("duration")) {

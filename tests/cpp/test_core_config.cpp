@@ -247,6 +247,11 @@ TEST_CASE("out-of-range values name the key, the value and the allowed range") {
   // accepted boundary values
   CHECK(load_config_string("[time]\nbeta = 0.4\n").time.beta == 0.4);
   CHECK(contains(error_of("[time]\nbeta = 0.45\n"), "expected 0 < beta <= 0.4"));
+  // The passivity limit 1/(pi (1 - c_s^2/c_d^2)) binds for nearly incompressible solids:
+  // nu = 0.45, plane strain: c_s^2/c_d^2 = 0.1/1.1 -> beta <= 0.3501.
+  CHECK(contains(error_of("[material]\npoisson_ratio = 0.45\n[time]\nbeta = 0.38\n"),
+                 "expected 0 < beta <= 0.3501 for this material"));
+  CHECK(load_config_string("[material]\npoisson_ratio = 0.45\n[time]\nbeta = 0.35\n").time.beta == 0.35);
   CHECK(load_config_string("[geometry]\nnodes = 8\n").geometry.nodes == 8);
   CHECK(load_config_string("[geometry]\nnodes = 1000\n").geometry.nodes == 1000);  // not 2^k
   CHECK(load_config_string("[output]\ndelta_th = 0\n").output.delta_th == 0.0);
