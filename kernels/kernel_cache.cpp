@@ -106,8 +106,14 @@ StripKernels load_or_compute_strip_kernels(const std::string& cache_path,
   if (exists) {
     if (H5Fis_hdf5(cache_path.c_str()) <= 0)
       throw std::invalid_argument("kernel cache '" + cache_path + "' exists but is not an HDF5 file");
-    hdf5::Handle file(H5Fopen(cache_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
-                      "open kernel cache " + cache_path);
+    // Another process of a scan may hold the file (HDF5 file locks) while it
+    // writes an entry: then compute, and leave the caching to that process.
+    const hid_t file_id = H5Fopen(cache_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (file_id < 0) {
+      if (source) *source = KernelSource::computed;
+      return compute_strip_kernels(material, strip_height, length, nodes, time_step);
+    }
+    hdf5::Handle file(file_id, "open kernel cache " + cache_path);
     if (H5Lexists(file, group_name.c_str() + 1, H5P_DEFAULT) > 0) {
       hdf5::Handle group(H5Gopen2(file, group_name.c_str(), H5P_DEFAULT), "open " + group_name);
       if (read_string_attribute(group, "key") == key) {
@@ -132,11 +138,15 @@ StripKernels load_or_compute_strip_kernels(const std::string& cache_path,
   if (source) *source = KernelSource::computed;
   if (const auto dir = std::filesystem::path(cache_path).parent_path(); !dir.empty())
     std::filesystem::create_directories(dir);
-  hdf5::Handle file(exists ? H5Fopen(cache_path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)
-                           : H5Fcreate(cache_path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT),
-                    "open kernel cache " + cache_path + " for writing");
-  hdf5::Handle group(H5Gcreate2(file, group_name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                     "create " + group_name);
+  // Writing is best effort: if another process holds the file or created the
+  // entry first, these kernels are still right -- they just are not stored.
+  const hid_t file_id = exists ? H5Fopen(cache_path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)
+                               : H5Fcreate(cache_path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
+  if (file_id < 0) return k;
+  hdf5::Handle file(file_id, "open kernel cache " + cache_path + " for writing");
+  const hid_t group_id = H5Gcreate2(file, group_name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (group_id < 0) return k;
+  hdf5::Handle group(group_id, "create " + group_name);
   write_string_attribute(group, "key", key);
   write_string_attribute(group, "units", "phase: rad (omega dt); weight: Pa/m");
   const std::vector<unsigned long long> echo{k.echo_steps};

@@ -21,7 +21,10 @@ enum class KernelSource { computed, cache };
 
 // Reads the kernels from `cache_path` if an entry for these inputs exists;
 // otherwise computes them and adds them to the file (created if needed).
-// An unreadable or foreign file is an error naming the path.
+// A file that is not HDF5 is an error naming the path.  Concurrent runs of a
+// scan may share one cache: a file locked by another process, or an entry
+// created by it first, means "compute and do not store" (the kernels are the
+// same either way), never a failed run.
 StripKernels load_or_compute_strip_kernels(const std::string& cache_path,
                                            const ElasticMaterial& material, double strip_height,
                                            double length, int nodes, double time_step,

@@ -370,6 +370,15 @@ def _write_json(path: Path, data) -> None:
     os.replace(tmp, path)  # a record is either absent or complete, even if the scan is killed
 
 
+def _kernel_cache_override(overrides, directory) -> list[str]:
+    """Runs of a scan share one strip-kernel cache (kernels/kernel_cache.hpp),
+    so kernels that several runs need (same material, H, L, N, dt) are
+    computed once.  A scan file that sets output.kernel_cache itself wins."""
+    if any(o.split("=", 1)[0].strip() == "output.kernel_cache" for o in overrides):
+        return []
+    return ["--set", f'output.kernel_cache="{Path(directory).resolve() / "kernel_cache.h5"}"']
+
+
 def task_payload(task: RunTask, base_config: Path, binary: str, simulate: bool = True,
                  threads: int | None = None) -> dict:
     """What a worker needs, as plain data (pickles anywhere: Dask workers, JSON for Slurm)."""
@@ -406,6 +415,7 @@ def execute_task(payload: dict) -> dict:
         cmd = [binary, "run", payload["base_config"]]
         for o in payload["overrides"]:
             cmd += ["--set", o]
+        cmd += _kernel_cache_override(payload["overrides"], run_file.parent)
         cmd += ["--out", str(run_file), "--quiet"]
         # A file of an earlier attempt must not outlive this one: if this run
         # fails before writing, an old "completed" file would pass for its result.
@@ -750,6 +760,7 @@ def emit_slurm(spec: ScanSpec, directory: str | os.PathLike, binary: str | None 
         payload = task_payload(task, spec.base_config, binary="", simulate=True)
         payload["command"] = ["slipstrip", "run", str(spec.base_config),
                               *itertools.chain.from_iterable(("--set", o) for o in task.overrides),
+                              *_kernel_cache_override(task.overrides, spec.output_dir),
                               "--out", str(task.run_file), "--quiet"]
         path = directory / "tasks" / f"task_{task.index:0{max(4, len(str(len(tasks) - 1)))}d}.json"
         _write_json(path, payload)
