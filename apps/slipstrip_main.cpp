@@ -172,7 +172,19 @@ int stability_command(const std::string& config_path, const std::vector<std::str
     std::ofstream f(out_path);
     if (!f) throw std::runtime_error("cannot write --out " + out_path);
     f << csv.str();
+    f.close();
     std::fprintf(stderr, "wrote %s\n", out_path.c_str());
+    // The figure (Fig. S2 style) comes from the Python package, next to the CSV.
+    std::string png = out_path;
+    if (auto dot = png.rfind('.'); dot != std::string::npos && png.find('/', dot) == std::string::npos)
+      png = png.substr(0, dot);
+    png += ".png";
+    std::string python_path = SLIPSTRIP_PYTHON_DIR;
+    if (const char* existing = std::getenv("PYTHONPATH")) python_path += std::string(":") + existing;
+    const std::string command = "PYTHONPATH='" + python_path + "' /usr/bin/python3 -m slipstrip plot-stability '" +
+                                out_path + "' --out '" + png + "' >&2";
+    if (std::system(command.c_str()) != 0)
+      std::fprintf(stderr, "warning: could not plot %s (the CSV is written)\n", png.c_str());
   }
   return 0;
 }

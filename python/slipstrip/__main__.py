@@ -1,6 +1,7 @@
 """python3 -m slipstrip <command> [...]
 
   plot     RUN.h5 [--out spacetime.png] [--kind spacetime|timeseries]
+  plot-stability  TABLE.csv --out FIG.png   (the CSV of `slipstrip stability --out`)
   analyze  ...  (slipstrip.analysis.main)
   scan     ...  (slipstrip.scan.main)
 
@@ -42,6 +43,24 @@ def plot_main(argv: list[str]) -> int:
     return 0
 
 
+def plot_stability_main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(prog="python3 -m slipstrip plot-stability",
+                                     description="Plot the CSV written by `slipstrip stability --out` "
+                                                 "(Lc(H) in the style of the supplement's Fig. S2, or "
+                                                 "growth rate vs wavelength).")
+    parser.add_argument("table", help="CSV from `slipstrip stability --out`")
+    parser.add_argument("--out", required=True, help="output PNG")
+    args = parser.parse_args(argv)
+    from . import plots
+    try:
+        plots.stability(args.table, args.out)
+    except (ValueError, OSError, KeyError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    print(f"wrote {args.out}")
+    return 0
+
+
 def _delegate(module: str, argv: list[str]) -> int:
     try:
         mod = importlib.import_module(f"slipstrip.{module}")
@@ -54,6 +73,7 @@ def _delegate(module: str, argv: list[str]) -> int:
 
 COMMANDS = {
     "plot": plot_main,
+    "plot-stability": plot_stability_main,
     "analyze": lambda argv: _delegate("analysis", argv),
     "scan": lambda argv: _delegate("scan", argv),
 }

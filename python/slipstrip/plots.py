@@ -108,3 +108,54 @@ def timeseries(run, out_png: str | os.PathLike, dpi: int = 150) -> str:
     finally:
         plt.close(fig)
     return out
+
+
+def stability(table_csv, out_png, dpi: int = 150):
+    """Plot the table written by `slipstrip stability --out TABLE.csv`.
+
+    Lc(H) table (columns height_m, critical_wavelength_m; a row "inf" holds the
+    half-space value): Lc against H as a line, the H -> infinity value as a
+    horizontal line, in the style of the supplement's Fig. S2.  Growth-rate
+    table (wavelength_m, growth_rate_per_s, frequency_rad_per_s): Re Lambda and
+    Im Lambda against wavelength, with the neutral line Re Lambda = 0.
+    """
+    import csv
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    with open(table_csv, newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        raise ValueError(f"{table_csv}: empty table")
+    fig, ax = plt.subplots(figsize=(5.5, 4.0))
+    if "critical_wavelength_m" in rows[0]:
+        finite = [r for r in rows if r["height_m"] != "inf"]
+        half = [r for r in rows if r["height_m"] == "inf"]
+        h = np.array([float(r["height_m"]) for r in finite])
+        lc = np.array([float(r["critical_wavelength_m"]) for r in finite])
+        ax.plot(h, lc, color="saddlebrown", lw=2, label=r"$L_c(H)$, linear stability")
+        if half:
+            ax.axhline(float(half[0]["critical_wavelength_m"]), color="green", lw=1.5,
+                       label=r"$L_c(H\to\infty)$")
+        ax.set_xlabel(r"strip height $H$ [m]")
+        ax.set_ylabel(r"critical wavelength $L_c$ [m]")
+        ax.set_ylim(bottom=0)
+    elif "growth_rate_per_s" in rows[0]:
+        w = np.array([float(r["wavelength_m"]) for r in rows])
+        g = np.array([float(r["growth_rate_per_s"]) for r in rows])
+        fr = np.array([float(r["frequency_rad_per_s"]) for r in rows])
+        ax.plot(w, g, "o-", color="saddlebrown", label=r"Re $\Lambda$ [1/s]")
+        ax.plot(w, fr, "s--", color="gray", label=r"Im $\Lambda$ [rad/s]")
+        ax.axhline(0.0, color="k", lw=0.8)
+        ax.set_xlabel(r"wavelength $2\pi/k$ [m]")
+        ax.set_ylabel(r"$\Lambda$")
+    else:
+        raise ValueError(f"{table_csv}: not a table written by `slipstrip stability --out`")
+    ax.legend(frameon=False)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=dpi)
+    plt.close(fig)
+    return out_png

@@ -133,3 +133,16 @@ def test_bench_json_keys(cli):
         assert set(row) >= {"N", "height", "length", "us_per_step", "floor_us_per_step", "rss_mib"}
         assert row["N"] == 256 and row["us_per_step"] > 0 and row["rss_mib"] > 0
     assert [row["height"] for row in rows] == [0.1, 1.0, None]
+
+
+def test_stability_writes_csv_and_fig_s2_style_png(cli, repo, tmp_path):
+    out = tmp_path / "lc.csv"
+    r = run(cli, "stability", repo / "configs/reference.toml", "--height-range", "0.05:0.2:3",
+            "--out", out, timeout=120)
+    assert r.returncode == 0, r.stderr
+    lines = out.read_text().splitlines()
+    assert lines[0] == "height_m,critical_wavelength_m"
+    assert lines[-1].startswith("inf,")                      # the H -> infinity line
+    assert len(lines) == 1 + 3 + 1
+    png = tmp_path / "lc.png"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000
