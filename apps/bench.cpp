@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/simulation.hpp"
+#include "kernels/elastic_material.hpp"
 #include "friction/friction_law.hpp"
 #include "kernels/fft.hpp"
 
@@ -101,6 +102,28 @@ int run_bench(const BenchOptions& options) {
   std::fflush(stdout);
   for (int n : options.nodes) {
     for (double height : {0.1, 1.0, std::numeric_limits<double>::infinity()}) {
+      // Thick strips cost O(N H/dx): estimate the operator (7 doubles per
+      // recursion, (N/2)(M/2)(1 + c_s/c_d) recursions) before building it.
+      if (!std::isinf(height)) {
+        const ElasticMaterial material;
+        const double dx = 4.0 / n;
+        const double echo_steps = 2.0 * height / (0.25 * dx);
+        const double recursions = (n / 2.0) * (echo_steps / 2.0) *
+                                  (1.0 + material.shear_wave_speed() / material.dilatational_wave_speed());
+        const double gib = recursions * 7.0 * 8.0 / (1024.0 * 1024.0 * 1024.0);
+        if (gib > options.max_operator_gib) {
+          if (options.json)
+            std::printf("{\"N\": %d, \"height\": %g, \"length\": 4.0, \"us_per_step\": null, "
+                        "\"floor_us_per_step\": null, \"rss_mib\": null, \"skipped\": "
+                        "\"estimated operator memory %.1f GiB > %.1f GiB (--max-gib)\"}\n",
+                        n, height, gib, options.max_operator_gib);
+          else
+            std::printf("%6d  %-8g  skipped: estimated operator memory %.1f GiB > %.1f GiB\n", n, height,
+                        gib, options.max_operator_gib);
+          std::fflush(stdout);
+          continue;
+        }
+      }
       const pid_t pid = fork();
       if (pid < 0) return 1;
       if (pid == 0) {

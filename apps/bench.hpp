@@ -8,6 +8,7 @@ struct BenchOptions {
   std::vector<int> nodes = {256, 512, 1024, 2048, 4096, 8192, 16384};
   int steps = 200;
   int threads = 1;
+  double max_operator_gib = 6.0;  // cases whose estimated operator memory exceeds this are reported as skipped
 };
 
 // Times the full time step (history operator + FFTs + local friction solve)

@@ -270,6 +270,8 @@ int main(int argc, char** argv) {
   bench->add_option("--nodes", bench_options.nodes, "Node counts to time (comma-separated)")->delimiter(',');
   bench->add_option("--steps", bench_options.steps, "Time steps per measurement");
   bench->add_option("--threads", bench_options.threads, "OpenMP threads (default 1)");
+  bench->add_option("--max-gib", bench_options.max_operator_gib,
+                    "Skip cases whose estimated history-operator memory exceeds this [GiB]");
 
   for (const char* name : {"analyze", "scan", "plot"}) {
     auto* py = app.add_subcommand(name, std::string("Python: python3 -m slipstrip ") + name +
