@@ -146,3 +146,33 @@ def test_stability_writes_csv_and_fig_s2_style_png(cli, repo, tmp_path):
     assert len(lines) == 1 + 3 + 1
     png = tmp_path / "lc.png"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000
+
+
+def test_events_cli_on_a_file_holding_only_slip_sampling(cli, tmp_path):
+    """Three crack-like events on nodes 10..20 of 32 (5 levels of delta_th each,
+    in 50 ns), separated by long stick periods: first and last are excluded, so
+    the catalog holds exactly the middle one, with L_s = 11 dx and u_mean = 5 delta_th."""
+    n_nodes, delta_th, dx, v0 = 32, 1e-8, 0.01, 2e-3
+    starts = [1e-3, 2e-3, 3e-3]
+    crossing = np.full((15, n_nodes), np.nan)
+    for e, t0 in enumerate(starts):
+        for level in range(5):
+            for i in range(10, 21):
+                crossing[5 * e + level, i] = t0 + 1e-8 * level + 1e-10 * (i - 10)
+    path = tmp_path / "sampling_only.h5"
+    with h5py.File(path, "w") as f:
+        g = f.create_group("slip_sampling")
+        for k, v in dict(delta_th=delta_th, dx=dx, v0=v0, mu=9e9, D=5e-7, L=n_nodes * dx).items():
+            g.attrs[k] = v
+        g["x"] = np.arange(n_nodes) * dx
+        g["crossing_time"] = crossing
+    r = run(cli, "events", path, "--csv", tmp_path / "catalog.csv")
+    assert r.returncode == 0, r.stderr
+    with h5py.File(path, "r") as f:
+        ev = f["events"]
+        assert ev["t_start"][:] == pytest.approx([starts[1]])
+        assert ev["L_s"][:] == pytest.approx([11 * dx])
+        assert ev["u_mean"][:] == pytest.approx([5 * delta_th])
+        assert ev["M0"][:] == pytest.approx([9e9 * 11 * dx * 5 * delta_th])
+        assert list(ev["n_clusters"][:]) == [1]
+    assert len((tmp_path / "catalog.csv").read_text().splitlines()) == 2  # header + 1 event
