@@ -64,3 +64,15 @@ def slipstrip_module():
                     "cmake -S . -B build-python -DSLIPSTRIP_PYTHON=ON && "
                     "cmake --build build-python --target _slipstrip -j1")
     return slipstrip
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _sigint_raises_keyboard_interrupt():
+    """Tests that send SIGINT to this process expect KeyboardInterrupt.  A
+    shell starts background jobs (CI runners, `cmd &`) with SIGINT ignored, and
+    Python then installs no handler: the signal would be dropped and such a test
+    would wait forever.  Install Python's default handler for the session."""
+    import signal
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
