@@ -16,6 +16,7 @@
 #include "apps/bench.hpp"
 #include "core/config.hpp"
 #include "core/run.hpp"
+#include "core/steady_sliding.hpp"
 #include "events/catalog_io.hpp"
 #include "friction/linear_stability.hpp"
 #include "slipstrip/version.hpp"
@@ -66,16 +67,6 @@ std::vector<double> parse_list(const std::string& text, const std::string& what)
   return values;
 }
 
-slipstrip::SteadySliding steady_sliding_of(const slipstrip::SimulationConfig& c) {
-  slipstrip::SteadySliding s;
-  s.material = c.material;
-  s.strip_height = c.geometry.height;
-  s.friction = c.friction;
-  s.normal_stress = c.loading.normal_stress;
-  s.driving_velocity = c.loading.driving_velocity;
-  return s;
-}
-
 std::string json_number(double v) {
   if (!std::isfinite(v)) return "null";
   char buf[64];
@@ -120,7 +111,7 @@ int stability_command(const std::string& config_path, const std::vector<std::str
                       const std::string& wavelengths_text, const std::string& height_range,
                       const std::string& out_path, bool json) {
   const auto config = slipstrip::load_config_file(config_path, overrides);
-  const auto sliding = steady_sliding_of(config);
+  const auto sliding = slipstrip::steady_sliding_of(config);
   std::ostringstream table, csv, js;
   if (!height_range.empty()) {
     // Hmin:Hmax:n, n evenly spaced values including both ends.

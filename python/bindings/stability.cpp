@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "core/steady_sliding.hpp"
 #include "core/simulation_config.hpp"
 #include "friction/friction_law.hpp"
 #include "friction/linear_stability.hpp"
@@ -18,20 +19,9 @@ using slipstrip::complex;
 using slipstrip::ElasticMaterial;
 using slipstrip::SimulationConfig;
 using slipstrip::SteadySliding;
+using slipstrip::steady_sliding_of;
 
 namespace {
-
-// Same mapping as apps/slipstrip_main.cpp (steady_sliding_of), so Python and the
-// CLI analyse the same problem for the same config.
-SteadySliding steady_sliding_of(const SimulationConfig& c) {
-  SteadySliding s;
-  s.material = c.material;
-  s.strip_height = c.geometry.height;
-  s.friction = c.friction;
-  s.normal_stress = c.loading.normal_stress;
-  s.driving_velocity = c.loading.driving_velocity;
-  return s;
-}
 
 py::dict growth_rates(const SimulationConfig& config, const std::vector<double>& wavelengths) {
   std::vector<slipstrip::GrowthRate> rates;

@@ -57,6 +57,7 @@
 #include <span>
 #include <vector>
 
+#include "core/steady_sliding.hpp"
 #include "core/simulation.hpp"
 #include "friction/linear_stability.hpp"
 #include "kernels/fft.hpp"
@@ -96,16 +97,6 @@ SimulationConfig make_config(const Case& c) {
 // Wavelength of the perturbed Fourier mode (+inf for the uniform mode).
 double wavelength(const Case& c) {
   return c.sine_mode == 0 ? std::numeric_limits<double>::infinity() : c.length / c.sine_mode;
-}
-
-SteadySliding make_sliding(const SimulationConfig& config) {
-  SteadySliding s;
-  s.material = config.material;
-  s.strip_height = config.geometry.height;
-  s.friction = config.friction;
-  s.normal_stress = config.loading.normal_stress;
-  s.driving_velocity = config.loading.driving_velocity;
-  return s;
 }
 
 // History of Fourier mode c.sine_mode of one simulation, stopped at max_duration or just before the
@@ -261,7 +252,7 @@ struct GrowthMeasurement {
 // record (the first half contains the transient of the other roots).
 GrowthMeasurement measure_unstable(const Case& c, double max_duration) {
   const SimulationConfig config = make_config(c);
-  const auto theory = growth_rates(make_sliding(config), {wavelength(c)}).at(0);
+  const auto theory = growth_rates(steady_sliding_of(config), {wavelength(c)}).at(0);
   const ModeRecord r = simulate_mode(c, max_duration);
   const std::size_t last = r.slip_rate.size();
   const std::size_t first = last / 2;
@@ -322,7 +313,7 @@ TEST_CASE("stable wavelength H=0.1 L=0.5: the simulated decay rates are the theo
   //    the theory's root finder in an extended box.
   const Case c{0.1, 0.5};
   const SimulationConfig config = make_config(c);
-  const SteadySliding sliding = make_sliding(config);
+  const SteadySliding sliding = steady_sliding_of(config);
   const auto reported = growth_rates(sliding, {c.length}).at(0);
   REQUIRE_FALSE(reported.unstable);
   const auto extended = characteristic_roots(sliding, c.length, SearchBox{-2.0e4, -1.0, 2.0e5});
@@ -356,7 +347,7 @@ TEST_CASE("stable wavelength H=0.1 L=0.5: the simulated decay rates are the theo
 }
 
 TEST_CASE("wavelengths 5% below / above Lc decay / grow (H = 0.05, 0.1, 0.2)") {
-  SteadySliding sliding = make_sliding(make_config({0.1, 1.0}));
+  SteadySliding sliding = steady_sliding_of(make_config({0.1, 1.0}));
   const std::vector<double> heights{0.05, 0.1, 0.2};
   const auto lc = critical_wavelength_vs_height(sliding, heights);
   for (std::size_t h = 0; h < heights.size(); ++h) {
@@ -413,7 +404,7 @@ TEST_CASE("uniform mode k = 0: grows at H = 0.2, decays at H = 0.1, at the theor
 
   Case decays{0.1, 0.8};
   decays.sine_mode = 0;
-  const SteadySliding sliding = make_sliding(make_config(decays));
+  const SteadySliding sliding = steady_sliding_of(make_config(decays));
   const auto theory = growth_rates(sliding, {wavelength(decays)}).at(0);
   REQUIRE_FALSE(theory.unstable);
   const std::complex<double> root{theory.growth_rate, theory.frequency};
@@ -436,7 +427,7 @@ TEST_CASE("uniform mode k = 0: grows at H = 0.2, decays at H = 0.1, at the theor
 TEST_CASE("aging and slip laws: same Lc in theory, same simulated growth rates") {
   // At steady state the two laws have the same linearisation up to
   // O((v*/v0)^2) = 2.5e-9, so Lc agrees to ~1e-8 (bisection tolerance 1e-10).
-  SteadySliding aging = make_sliding(make_config({0.1, 1.0}));
+  SteadySliding aging = steady_sliding_of(make_config({0.1, 1.0}));
   SteadySliding slip = aging;
   slip.friction.state_law = StateLaw::slip;
   const double lc_aging = critical_wavelength(aging, 0.4, 1.0);
