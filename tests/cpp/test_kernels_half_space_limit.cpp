@@ -11,33 +11,18 @@
 #include <vector>
 
 #include "kernels/history_convolution.hpp"
+#include "single_mode_drive.hpp"
 
 using namespace slipstrip;
 using cplx = std::complex<double>;
 
 namespace {
 
-double bump_rate(double t, double T) {
-  if (t <= 0 || t >= T) return 0;
-  const double pi = std::numbers::pi;
-  const double s = std::sin(pi * t / T), c = std::cos(pi * t / T);
-  return 4 * s * s * s * c * pi / T;
-}
-
 std::vector<double> stress_history(const ElasticMaterial& m, double height, double k, double dt,
                                    double rise, int steps) {
   const double length = 2 * std::numbers::pi / k;
   StripHistory history(m, height, length, 4, dt);
-  std::vector<cplx> spectrum(3, 0.0);
-  std::vector<double> stress(steps + 1);
-  for (int n = 0; n <= steps; ++n) {
-    const double v = bump_rate(n * dt, rise);
-    const cplx h = n == 0 ? cplx(0) : history.history()[1];
-    stress[n] = (-history.radiation_damping() * v - h).real();
-    spectrum[1] = v;
-    history.push(spectrum);
-  }
-  return stress;
+  return testing::single_mode_stress(history, rise, steps);
 }
 
 }  // namespace

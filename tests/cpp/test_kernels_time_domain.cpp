@@ -16,6 +16,7 @@
 
 #include "kernels/history_convolution.hpp"
 #include "kernels/strip_response.hpp"
+#include "single_mode_drive.hpp"
 
 using namespace slipstrip;
 using cplx = std::complex<double>;
@@ -23,13 +24,6 @@ constexpr double pi = std::numbers::pi;
 
 namespace {
 
-// Slip profile g(t) = sin^4(pi t / T) on [0, T] (C^3, so its Laplace
-// transform decays like s^-5 and the inversion converges fast).
-double bump_rate(double t, double T) {
-  if (t <= 0 || t >= T) return 0;
-  const double s = std::sin(pi * t / T), c = std::cos(pi * t / T);
-  return 4 * s * s * s * c * pi / T;
-}
 // sin^4 x = 3/8 - cos(2x)/2 + cos(4x)/8, and int_0^T e^{-st} cos(w t) dt =
 // s (1 - e^{-sT}) / (s^2 + w^2) when w T is a multiple of 2 pi.
 cplx bump_laplace(cplx s, double T) {
@@ -82,16 +76,7 @@ Comparison prescribed_slip_single_mode(PlaneCondition plane, double kH, int step
   const double rise = rise_round_trips * echo;
 
   StripHistory history(material, H, length, nodes, dt);
-  std::vector<cplx> spectrum(nodes / 2 + 1, 0.0);
-  std::vector<double> stress(steps + 1);
-  for (int n = 0; n <= steps; ++n) {
-    const double v = bump_rate(n * dt, rise);
-    // history() holds the history part at t_n built from v_0..v_{n-1}
-    const cplx h = n == 0 ? cplx(0) : history.history()[1];
-    stress[n] = (-history.radiation_damping() * v - h).real();
-    spectrum[1] = v;
-    history.push(spectrum);
-  }
+  const auto stress = testing::single_mode_stress(history, rise, steps);
   const auto reference = inverse_laplace(
       [&](cplx s) { return -strip_response(material, H, k, s) * bump_laplace(s, rise); }, dt,
       1 << 18, steps + 1);
