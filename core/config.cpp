@@ -814,7 +814,7 @@ std::string to_toml(const SimulationConfig& c) {
   number("snapshot_slip_increment", c.output.snapshot_slip_increment, "[m]; 0 = off");
   number("delta_th", c.output.delta_th, "[m] slip-sampling threshold; 0 = off");
   number("flush_interval", c.output.flush_interval, "[s of wall time]");
-  name("kernel_cache", c.output.kernel_cache, "HDF5 file caching the strip kernels; \"\" = off");
+  name("kernel_cache", c.output.kernel_cache, "directory caching the strip kernels (HDF5, one file per key); \"\" = off");
   return out.str();
 }
 

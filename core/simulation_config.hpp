@@ -75,9 +75,9 @@ struct OutputConfig {
   double snapshot_slip_increment = 0.0;  // [output] snapshot_slip_increment [m] (mean slip); 0 = off
   double delta_th = 1e-8;            // [output] delta_th [m], slip-sampling threshold; 0 = off
   double flush_interval = 5.0;       // [output] flush_interval [s of wall time]
-  // [output] kernel_cache: HDF5 file where the strip kernels (normal-mode
-  // phases and weights per Fourier mode) are cached, keyed by everything they
-  // depend on, so a scan computes them once; "" = no cache.
+  // [output] kernel_cache: directory where the strip kernels (normal-mode
+  // phases and weights per Fourier mode) are cached, one HDF5 file per set of
+  // inputs they depend on, so a scan computes them once; "" = no cache.
   std::string kernel_cache;
 };
 

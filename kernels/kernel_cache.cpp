@@ -1,6 +1,7 @@
 #include "kernels/kernel_cache.hpp"
 
 #include <hdf5.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -93,68 +94,66 @@ std::string strip_kernel_key(const ElasticMaterial& m, double strip_height, doub
          "; nodes=" + std::to_string(nodes) + "; time_step=" + full_precision(time_step);
 }
 
-StripKernels load_or_compute_strip_kernels(const std::string& cache_path,
+StripKernels load_or_compute_strip_kernels(const std::string& cache_dir,
                                            const ElasticMaterial& material, double strip_height,
                                            double length, int nodes, double time_step,
                                            KernelSource* source) {
+  namespace fs = std::filesystem;
   const std::string key = strip_kernel_key(material, strip_height, length, nodes, time_step);
-  const std::string group_name = "/kernels_" + fnv1a_hex(key);
-  // Silence HDF5's own error printing: every failure is turned into an
-  // exception with a message below.
+  const fs::path entry = fs::path(cache_dir) / ("strip_kernels_" + fnv1a_hex(key) + ".h5");
+  // Every failure below becomes an exception with a message (or a silent
+  // recompute): keep HDF5 from printing its own error stack.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const bool exists = std::filesystem::exists(cache_path);
-  if (exists) {
-    if (H5Fis_hdf5(cache_path.c_str()) <= 0)
-      throw std::invalid_argument("kernel cache '" + cache_path + "' exists but is not an HDF5 file");
-    // Another process of a scan may hold the file (HDF5 file locks) while it
-    // writes an entry: then compute, and leave the caching to that process.
-    const hid_t file_id = H5Fopen(cache_path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (file_id < 0) {
-      if (source) *source = KernelSource::computed;
-      return compute_strip_kernels(material, strip_height, length, nodes, time_step);
+
+  if (fs::exists(entry)) {
+    // Entries appear atomically (rename), so an existing file is complete.
+    if (H5Fis_hdf5(entry.c_str()) <= 0)
+      throw std::invalid_argument("kernel cache entry '" + entry.string() + "' is not an HDF5 file");
+    hdf5::Handle file(H5Fopen(entry.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
+                      "open kernel cache entry " + entry.string());
+    if (read_string_attribute(file, "key") == key) {
+      StripKernels k;
+      k.time_step = time_step;
+      const auto echo = read_vector<unsigned long long>(file, "echo_steps", H5T_NATIVE_ULLONG);
+      const auto first = read_vector<unsigned long long>(file, "first_oscillator", H5T_NATIVE_ULLONG);
+      if (echo.size() != 1)
+        throw std::runtime_error("kernel cache entry " + entry.string() + " is malformed");
+      k.echo_steps = echo[0];
+      k.first_oscillator.assign(first.begin(), first.end());
+      k.phase = read_vector<double>(file, "phase", H5T_NATIVE_DOUBLE);
+      k.weight = read_vector<double>(file, "weight", H5T_NATIVE_DOUBLE);
+      if (source) *source = KernelSource::cache;
+      return k;
     }
-    hdf5::Handle file(file_id, "open kernel cache " + cache_path);
-    if (H5Lexists(file, group_name.c_str() + 1, H5P_DEFAULT) > 0) {
-      hdf5::Handle group(H5Gopen2(file, group_name.c_str(), H5P_DEFAULT), "open " + group_name);
-      if (read_string_attribute(group, "key") == key) {
-        StripKernels k;
-        k.time_step = time_step;
-        const auto echo = read_vector<unsigned long long>(group, "echo_steps", H5T_NATIVE_ULLONG);
-        const auto first = read_vector<unsigned long long>(group, "first_oscillator", H5T_NATIVE_ULLONG);
-        if (echo.size() != 1) throw std::runtime_error("kernel cache " + cache_path + ": bad entry " + group_name);
-        k.echo_steps = echo[0];
-        k.first_oscillator.assign(first.begin(), first.end());
-        k.phase = read_vector<double>(group, "phase", H5T_NATIVE_DOUBLE);
-        k.weight = read_vector<double>(group, "weight", H5T_NATIVE_DOUBLE);
-        if (source) *source = KernelSource::cache;
-        return k;
-      }
-      // Same hash, different inputs: never reuse; recompute without caching.
-      if (source) *source = KernelSource::computed;
-      return compute_strip_kernels(material, strip_height, length, nodes, time_step);
-    }
+    // Same hash, other inputs: never reuse, and leave the entry alone.
+    if (source) *source = KernelSource::computed;
+    return compute_strip_kernels(material, strip_height, length, nodes, time_step);
   }
+
   StripKernels k = compute_strip_kernels(material, strip_height, length, nodes, time_step);
   if (source) *source = KernelSource::computed;
-  if (const auto dir = std::filesystem::path(cache_path).parent_path(); !dir.empty())
-    std::filesystem::create_directories(dir);
-  // Writing is best effort: if another process holds the file or created the
-  // entry first, these kernels are still right -- they just are not stored.
-  const hid_t file_id = exists ? H5Fopen(cache_path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)
-                               : H5Fcreate(cache_path.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
-  if (file_id < 0) return k;
-  hdf5::Handle file(file_id, "open kernel cache " + cache_path + " for writing");
-  const hid_t group_id = H5Gcreate2(file, group_name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  if (group_id < 0) return k;
-  hdf5::Handle group(group_id, "create " + group_name);
-  write_string_attribute(group, "key", key);
-  write_string_attribute(group, "units", "phase: rad (omega dt); weight: Pa/m");
-  const std::vector<unsigned long long> echo{k.echo_steps};
-  const std::vector<unsigned long long> first(k.first_oscillator.begin(), k.first_oscillator.end());
-  write_vector(group, "echo_steps", echo, H5T_NATIVE_ULLONG);
-  write_vector(group, "first_oscillator", first, H5T_NATIVE_ULLONG);
-  write_vector(group, "phase", k.phase, H5T_NATIVE_DOUBLE);
-  write_vector(group, "weight", k.weight, H5T_NATIVE_DOUBLE);
+  std::error_code ec;
+  fs::create_directories(cache_dir, ec);
+  if (ec)
+    throw std::invalid_argument("output.kernel_cache = '" + cache_dir +
+                                "': cannot create the directory (" + ec.message() + ")");
+  // Write under a private name, then rename: concurrent runs of a scan never
+  // see a partial entry, and two writers of the same entry write the same data.
+  const fs::path partial = entry.string() + ".partial." + std::to_string(getpid());
+  {
+    hdf5::Handle file(H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                      "create kernel cache entry " + partial.string());
+    write_string_attribute(file, "key", key);
+    write_string_attribute(file, "units", "phase: rad (omega dt); weight: Pa/m");
+    const std::vector<unsigned long long> echo{k.echo_steps};
+    const std::vector<unsigned long long> first(k.first_oscillator.begin(), k.first_oscillator.end());
+    write_vector(file, "echo_steps", echo, H5T_NATIVE_ULLONG);
+    write_vector(file, "first_oscillator", first, H5T_NATIVE_ULLONG);
+    write_vector(file, "phase", k.phase, H5T_NATIVE_DOUBLE);
+    write_vector(file, "weight", k.weight, H5T_NATIVE_DOUBLE);
+  }
+  fs::rename(partial, entry, ec);
+  if (ec) fs::remove(partial, ec);  // best effort: the kernels are right either way
   return k;
 }
 

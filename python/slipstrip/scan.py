@@ -376,7 +376,7 @@ def _kernel_cache_override(overrides, directory) -> list[str]:
     computed once.  A scan file that sets output.kernel_cache itself wins."""
     if any(o.split("=", 1)[0].strip() == "output.kernel_cache" for o in overrides):
         return []
-    return ["--set", f'output.kernel_cache="{Path(directory).resolve() / "kernel_cache.h5"}"']
+    return ["--set", f'output.kernel_cache="{Path(directory).resolve() / "kernel_cache"}"']
 
 
 def task_payload(task: RunTask, base_config: Path, binary: str, simulate: bool = True,
