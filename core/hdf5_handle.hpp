@@ -87,4 +87,26 @@ inline void write_attribute(hid_t object, const std::string& name, double value)
   check(H5Awrite(attr, H5T_NATIVE_DOUBLE, &value), "H5Awrite(" + name + ")");
 }
 
+// A scalar string attribute, fixed- or variable-length.
+inline std::string read_string_attribute(hid_t object, const std::string& name) {
+  Handle attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), "H5Aopen(" + name + ")");
+  Handle type(H5Aget_type(attr), "H5Aget_type(" + name + ")");
+  std::string value;
+  if (H5Tis_variable_str(type) > 0) {
+    char* text = nullptr;
+    Handle memory(H5Tcopy(H5T_C_S1), "H5Tcopy");
+    check(H5Tset_size(memory, H5T_VARIABLE), "H5Tset_size");
+    // HDF5 does not convert between ASCII and UTF-8: read in the stored set.
+    check(H5Tset_cset(memory, H5Tget_cset(type)), "H5Tset_cset");
+    check(H5Aread(attr, memory, &text), "H5Aread(" + name + ")");
+    value = text ? text : "";
+    H5free_memory(text);
+  } else {
+    value.resize(H5Tget_size(type));
+    check(H5Aread(attr, type, value.data()), "H5Aread(" + name + ")");
+    while (!value.empty() && value.back() == '\0') value.pop_back();
+  }
+  return value;
+}
+
 }  // namespace slipstrip::hdf5

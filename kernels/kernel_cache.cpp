@@ -54,34 +54,6 @@ std::vector<T> read_vector(hid_t group, const char* name, hid_t type) {
   return v;
 }
 
-std::string read_string_attribute(hid_t object, const char* name) {
-  hdf5::Handle attr(H5Aopen(object, name, H5P_DEFAULT), std::string("open attribute ") + name);
-  hdf5::Handle type(H5Aget_type(attr), "attribute type");
-  std::string value;
-  if (H5Tis_variable_str(type) > 0) {
-    char* text = nullptr;
-    hdf5::Handle mem(H5Tcopy(H5T_C_S1), "string type");
-    H5Tset_size(mem, H5T_VARIABLE);
-    hdf5::check(H5Aread(attr, mem, &text), name);
-    value = text ? text : "";
-    H5free_memory(text);
-  } else {
-    value.resize(H5Tget_size(type));
-    hdf5::check(H5Aread(attr, type, value.data()), name);
-    while (!value.empty() && value.back() == '\0') value.pop_back();
-  }
-  return value;
-}
-
-void write_string_attribute(hid_t object, const char* name, const std::string& value) {
-  hdf5::Handle type(H5Tcopy(H5T_C_S1), "string type");
-  H5Tset_size(type, value.size() + 1);
-  hdf5::Handle space(H5Screate(H5S_SCALAR), "scalar space");
-  hdf5::Handle attr(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT),
-                    std::string("create attribute ") + name);
-  hdf5::check(H5Awrite(attr, type, value.c_str()), name);
-}
-
 }  // namespace
 
 std::string strip_kernel_key(const ElasticMaterial& m, double strip_height, double length,
@@ -111,7 +83,7 @@ StripKernels load_or_compute_strip_kernels(const std::string& cache_dir,
       throw std::invalid_argument("kernel cache entry '" + entry.string() + "' is not an HDF5 file");
     hdf5::Handle file(H5Fopen(entry.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
                       "open kernel cache entry " + entry.string());
-    if (read_string_attribute(file, "key") == key) {
+    if (hdf5::read_string_attribute(file, "key") == key) {
       StripKernels k;
       k.time_step = time_step;
       const auto echo = read_vector<unsigned long long>(file, "echo_steps", H5T_NATIVE_ULLONG);
@@ -143,8 +115,8 @@ StripKernels load_or_compute_strip_kernels(const std::string& cache_dir,
   {
     hdf5::Handle file(H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
                       "create kernel cache entry " + partial.string());
-    write_string_attribute(file, "key", key);
-    write_string_attribute(file, "units", "phase: rad (omega dt); weight: Pa/m");
+    hdf5::write_attribute(file, "key", key);
+    hdf5::write_attribute(file, "units", "phase: rad (omega dt); weight: Pa/m");
     const std::vector<unsigned long long> echo{k.echo_steps};
     const std::vector<unsigned long long> first(k.first_oscillator.begin(), k.first_oscillator.end());
     write_vector(file, "echo_steps", echo, H5T_NATIVE_ULLONG);

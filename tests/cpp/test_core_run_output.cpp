@@ -60,18 +60,6 @@ Array read_array(hid_t file, const std::string& name) {
   return a;
 }
 
-std::string read_string_attribute(hid_t object, const std::string& name) {
-  Handle attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), "open attribute " + name);
-  Handle type(H5Tcopy(H5T_C_S1), "type");
-  H5Tset_size(type, H5T_VARIABLE);
-  H5Tset_cset(type, H5T_CSET_UTF8);
-  char* text = nullptr;
-  slipstrip::hdf5::check(H5Aread(attr, type, &text), "read attribute " + name);
-  std::string value = text ? text : "";
-  H5free_memory(text);
-  return value;
-}
-
 double read_double_attribute(hid_t object, const std::string& name) {
   Handle attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), "open attribute " + name);
   double value = 0.0;
