@@ -597,6 +597,14 @@ void read_time(const toml::table& root, const SimulationConfig& c, TimeConfig& t
                      "0 < beta <= " + format_number(std::floor(beta_max * 1e4) / 1e4) +
                          " for this material (1/(pi (1 - c_s^2/c_d^2)), the limit of a passive "
                          "discrete strip operator; docs/theory.md)");
+    // Half-space: the passivity correction of the sampled kernel exists up to
+    // c_s k dt ~ 1.11 at the Nyquist mode (plane strain, nu = 0.33), i.e.
+    // beta ~ 0.355 (kernels/passivity.hpp, docs/theory.md section 9).
+    if (is_half_space(c.geometry.height) && *v > 0.35)
+      s.out_of_range("beta", format_number(*v),
+                     "0 < beta <= 0.35 for a half-space (geometry.height = \"inf\"): above it "
+                     "the sampled half-space kernel cannot be made passive at the shortest "
+                     "wavelength; docs/theory.md");
     t.beta = *v;
   }
   if (auto v = s.number("duration")) {

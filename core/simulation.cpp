@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "friction/friction_law.hpp"
+#include "kernels/half_space_history.hpp"
 #include "kernels/kernel_cache.hpp"
 
 namespace slipstrip {
@@ -19,25 +20,21 @@ Simulation::Simulation(const SimulationConfig& config)
     : config_(config), nodes_(config.geometry.nodes) {
   const auto& g = config_.geometry;
   dx_ = g.length / nodes_;
-  operator_height_ = g.height;
-  if (is_half_space(g.height)) {
-    // Half-space: a strip so tall that its first reflection (a P wave, after
-    // 2H/c_d) arrives only after the run ends, so the response is exactly the
-    // half-space one for the whole run.  Unlike a finite strip, its cost grows
-    // with the run's duration (docs/theory.md, "half-space").
-    const double dt_max = config_.time.beta * dx_ / config_.material.shear_wave_speed();
-    operator_height_ =
-        0.5 * config_.material.dilatational_wave_speed() * (config_.time.duration + 4.0 * dt_max);
-  }
-  dt_ = strip_time_step(config_.material, operator_height_, dx_, config_.time.beta);
+  dt_ = strip_time_step(config_.material, g.height, dx_, config_.time.beta);
   eta_ = config_.material.shear_modulus / (2.0 * config_.material.shear_wave_speed());
   fft_ = std::make_unique<RealFft>(nodes_);
-  const auto kernels =
-      config_.output.kernel_cache.empty()
-          ? compute_strip_kernels(config_.material, operator_height_, g.length, nodes_, dt_)
-          : load_or_compute_strip_kernels(config_.output.kernel_cache, config_.material,
-                                          operator_height_, g.length, nodes_, dt_);
-  history_ = std::make_unique<StripHistory>(config_.material, kernels);
+  if (is_half_space(g.height)) {
+    // Sampled exact half-space kernel, made passive, with bounded memory
+    // (kernels/half_space_history.hpp, docs/theory.md "bounded-memory half-space").
+    history_ = std::make_unique<HalfSpaceHistory>(config_.material, g.length, nodes_, dt_);
+  } else {
+    const auto kernels =
+        config_.output.kernel_cache.empty()
+            ? compute_strip_kernels(config_.material, g.height, g.length, nodes_, dt_)
+            : load_or_compute_strip_kernels(config_.output.kernel_cache, config_.material,
+                                            g.height, g.length, nodes_, dt_);
+    history_ = std::make_unique<StripHistory>(config_.material, kernels);
+  }
 
   const auto n = static_cast<std::size_t>(nodes_);
   x_.resize(n);

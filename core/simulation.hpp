@@ -34,10 +34,7 @@ class Simulation {
   double time_step() const { return dt_; }
   double dx() const { return dx_; }
   double radiation_damping() const { return eta_; }  // mu / (2 c_s) [Pa s/m]
-  const StripHistory& history_operator() const { return *history_; }
-  // Height used by the history operator: H, or for a half-space a virtual
-  // height whose first reflection arrives after the end of the run.
-  double operator_height() const { return operator_height_; }
+  const HistoryOperator& history_operator() const { return *history_; }
 
   std::span<const double> x() const { return x_; }
   std::span<const double> slip() const { return slip_; }                // [m]
@@ -64,7 +61,6 @@ class Simulation {
   SimulationConfig config_;
   int nodes_;
   double dx_, dt_, eta_;
-  double operator_height_;
   double driving_velocity_;  // v0 used for the perturbation split (0 for verification laws)
   double reference_shear_stress_ = 0.0;
   double time_ = 0.0;
@@ -77,7 +73,7 @@ class Simulation {
   std::vector<std::complex<double>> spectrum_;
 
   std::unique_ptr<RealFft> fft_;
-  std::unique_ptr<StripHistory> history_;
+  std::unique_ptr<HistoryOperator> history_;
 };
 
 }  // namespace slipstrip

@@ -63,27 +63,42 @@ StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip
 
 struct ModeOperatorStats {
   std::size_t modes = 0;            // Fourier modes q = 0..N/2
-  std::size_t oscillators = 0;      // normal-mode recursions in total
-  std::size_t echo_steps = 0;       // T_s / dt
+  std::size_t oscillators = 0;      // recursions in total (normal modes, or exponentials)
+  std::size_t echo_steps = 0;       // T_s / dt (0 for the half-space)
+  std::size_t direct_lags = 0;      // explicitly stored kernel weights in total (half-space)
   std::size_t memory_bytes = 0;     // state + coefficients
 };
 
-class StripHistory {
+// The history part of the traction per Fourier mode, as the time loop sees it:
+// feed the slip-rate perturbation spectrum at t_n, read the history part at
+// t_{n+1}.  Two implementations: StripHistory (finite H, exact) and
+// HalfSpaceHistory (kernels/half_space_history.hpp).  One virtual call per
+// step; the per-mode work behind it is what costs.
+class HistoryOperator {
+ public:
+  virtual ~HistoryOperator() = default;
+  virtual double time_step() const = 0;
+  virtual double radiation_damping() const = 0;  // eta = mu / (2 c_s)
+  virtual int modes() const = 0;
+  virtual ModeOperatorStats stats() const = 0;
+  // Feed v^_q(t_n); afterwards history() holds history_q(t_{n+1}).  No allocation.
+  virtual void push(std::span<const std::complex<double>> slip_rate_spectrum) = 0;
+  virtual std::span<const std::complex<double>> history() const = 0;
+};
+
+class StripHistory final : public HistoryOperator {
  public:
   StripHistory(const ElasticMaterial& material, double strip_height, double length, int nodes,
                double time_step);
   // From precomputed (or cached) kernels of this material and strip height.
   StripHistory(const ElasticMaterial& material, const StripKernels& kernels);
 
-  double time_step() const { return dt_; }
-  double radiation_damping() const { return eta_; }
-  int modes() const { return static_cast<int>(first_oscillator_.size()) - 1; }
-  ModeOperatorStats stats() const;
-
-  // Feed the slip-rate perturbation spectrum at the newest level t_n; afterwards
-  // history() holds history_q(t_{n+1}).  No allocation.
-  void push(std::span<const std::complex<double>> slip_rate_spectrum);
-  std::span<const std::complex<double>> history() const { return history_; }
+  double time_step() const override { return dt_; }
+  double radiation_damping() const override { return eta_; }
+  int modes() const override { return static_cast<int>(first_oscillator_.size()) - 1; }
+  ModeOperatorStats stats() const override;
+  void push(std::span<const std::complex<double>> slip_rate_spectrum) override;
+  std::span<const std::complex<double>> history() const override { return history_; }
 
 
  private:

@@ -166,8 +166,6 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("time_step", &Simulation::time_step, "dt [s]")
       .def_property_readonly("dx", &Simulation::dx, "[m]")
       .def_property_readonly("radiation_damping", &Simulation::radiation_damping, "mu / (2 c_s) [Pa s/m]")
-      .def_property_readonly("operator_height", &Simulation::operator_height,
-                             "H used by the history operator (virtual height for a half-space) [m]")
       .def_property_readonly("reference_shear_stress", &Simulation::reference_shear_stress, "tau_0 [Pa]")
       .def_property_readonly("max_slip_rate", &Simulation::max_slip_rate, "[m/s]")
       .def_property_readonly("mean_slip", &Simulation::mean_slip, "[m]")

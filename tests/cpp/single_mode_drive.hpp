@@ -21,7 +21,7 @@ inline double bump_rate(double t, double T) {
 
 // tau^_1(t_n) = -eta v_n - history_1(t_n), n = 0..steps, for v_n = bump_rate(n dt, rise)
 // on mode q = 1 of `history` (which must have at least 2 modes).
-inline std::vector<double> single_mode_stress(StripHistory& history, double rise, int steps) {
+inline std::vector<double> single_mode_stress(HistoryOperator& history, double rise, int steps) {
   const double dt = history.time_step();
   std::vector<std::complex<double>> spectrum(history.modes() + 1, 0.0);
   std::vector<double> stress(steps + 1);

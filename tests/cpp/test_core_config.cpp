@@ -252,6 +252,10 @@ TEST_CASE("out-of-range values name the key, the value and the allowed range") {
   CHECK(contains(error_of("[material]\npoisson_ratio = 0.45\n[time]\nbeta = 0.38\n"),
                  "expected 0 < beta <= 0.3501 for this material"));
   CHECK(load_config_string("[material]\npoisson_ratio = 0.45\n[time]\nbeta = 0.35\n").time.beta == 0.35);
+  // Half-space: the passivity correction of the sampled kernel needs beta <= 0.35.
+  CHECK(contains(error_of("[geometry]\nheight = \"inf\"\n[time]\nbeta = 0.38\n"),
+                 "time.beta = 0.38 is out of range: expected 0 < beta <= 0.35 for a half-space"));
+  CHECK(load_config_string("[geometry]\nheight = \"inf\"\n[time]\nbeta = 0.35\n").time.beta == 0.35);
   CHECK(load_config_string("[geometry]\nnodes = 8\n").geometry.nodes == 8);
   CHECK(load_config_string("[geometry]\nnodes = 1000\n").geometry.nodes == 1000);  // not 2^k
   CHECK(load_config_string("[output]\ndelta_th = 0\n").output.delta_th == 0.0);

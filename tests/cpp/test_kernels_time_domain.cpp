@@ -7,7 +7,6 @@
 // S(k, s; H) -- itself verified against a direct 4x4 boundary-value solve in
 // test_kernels_transfer_function.cpp.
 #include <doctest/doctest.h>
-#include <fftw3.h>
 
 #include <cmath>
 #include <complex>
@@ -16,6 +15,7 @@
 
 #include "kernels/history_convolution.hpp"
 #include "kernels/strip_response.hpp"
+#include "inverse_laplace.hpp"
 #include "single_mode_drive.hpp"
 
 using namespace slipstrip;
@@ -32,29 +32,7 @@ cplx bump_laplace(cplx s, double T) {
          (3.0 / (8.0 * s) - s / (2.0 * (s * s + w1 * w1)) + s / (8.0 * (s * s + w2 * w2)));
 }
 
-// f(t_j), t_j = j dt, j < count, from its Laplace transform F by Durbin's
-// formula with period 2 T_p = K dt:
-//   f(t) = e^{sigma t}/T_p [ -F(sigma)/2 + Re sum_{k<K} F(sigma + i k pi/T_p) e^{i k pi t/T_p} ].
-// The aliasing error is ~ e^{-2 sigma T_p} |f|max; sigma T_p = 12 gives ~4e-11... times
-// the growth-free amplitude of f, far below the tolerance checked below.
-template <class F>
-std::vector<double> inverse_laplace(F&& transform, double dt, int K, int count) {
-  const double Tp = 0.5 * K * dt;
-  const double sigma = 12.0 / Tp;
-  std::vector<fftw_complex> buf(K);
-  for (int k = 0; k < K; ++k) {
-    const cplx v = transform(cplx(sigma, k * pi / Tp));
-    buf[k][0] = v.real();
-    buf[k][1] = v.imag();
-  }
-  const double f0 = transform(cplx(sigma, 0)).real();
-  fftw_plan plan = fftw_plan_dft_1d(K, buf.data(), buf.data(), FFTW_BACKWARD, FFTW_ESTIMATE);
-  fftw_execute(plan);
-  fftw_destroy_plan(plan);
-  std::vector<double> f(count);
-  for (int j = 0; j < count; ++j) f[j] = std::exp(sigma * j * dt) / Tp * (buf[j][0] - 0.5 * f0);
-  return f;
-}
+using testing::inverse_laplace;
 
 struct Comparison {
   double relative_l2;

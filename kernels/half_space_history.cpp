@@ -1,0 +1,184 @@
+#include "kernels/half_space_history.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "kernels/half_space_kernel.hpp"
+#include "kernels/passivity.hpp"
+
+namespace slipstrip {
+
+HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
+                                   double time_step, const HalfSpaceOperatorDesign& design)
+    : dt_(time_step), lags_(design.corrected_lags) {
+  if (!(length > 0) || nodes < 2 || !(time_step > 0))
+    throw std::invalid_argument("HalfSpaceHistory: need length > 0, nodes >= 2, time_step > 0");
+  const double mu = material.shear_modulus, cs = material.shear_wave_speed();
+  const double r2 = 1.0 / material.wave_speed_ratio_squared();
+  eta_ = mu / (2.0 * cs);
+  const int n_modes = nodes / 2 + 1;
+
+  wavenumber_.assign(n_modes, 0.0);
+  h_.assign(n_modes, 0.0);
+  std::vector<int> window(n_modes, 0);
+  for (int q = 1; q < n_modes; ++q) {
+    wavenumber_[q] = 2.0 * std::numbers::pi * q / length;
+    h_[q] = cs * wavenumber_[q] * dt_;
+    window[q] = std::max(lags_, static_cast<int>(std::ceil(design.near_field_tau / h_[q] - 1e-12)));
+  }
+  // Stored lags reach tau = W h <= near_field_tau + lags h_max; the far field
+  // starts at tau = W h >= near_field_tau.
+  double tau_near_max = 0.0;
+  for (int q = 1; q < n_modes; ++q) tau_near_max = std::max(tau_near_max, window[q] * h_[q]);
+  const ExponentialSum near =
+      n_modes > 1 ? half_space_exponential_sum(r2, h_[1], 2.0 * tau_near_max + 1.0, 10)
+                  : ExponentialSum{};
+  const ExponentialSum far =
+      half_space_exponential_sum(r2, design.near_field_tau, design.horizon_tau, 8);
+
+  // Per-mode coefficients (independent across modes: computed in parallel into
+  // per-mode vectors, then flattened).
+  std::vector<std::vector<double>> lag_weight(n_modes), correction(n_modes);
+  std::vector<std::vector<std::complex<double>>> poles(n_modes), pole_weights(n_modes);
+  std::string failure;
+  static_weight_.assign(n_modes, 0.0);
+#pragma omp parallel for schedule(dynamic)
+  for (int q = 1; q < n_modes; ++q) {
+    try {
+      const double h = h_[q];
+      const double scale = mu / cs * h;  // dt mu |k|
+      static_weight_[q] = scale * (1.0 - r2);
+      const auto e = half_space_passivity_correction(r2, h, lags_, design.passivity_margin);
+      correction[q] = e;
+      auto& w = lag_weight[q];
+      w.resize(window[q]);
+      for (int j = 1; j <= window[q]; ++j) {
+        w[j - 1] = scale * (evaluate(near, j * h) - (1.0 - r2));
+        if (j <= lags_) w[j - 1] += mu / cs * e[j - 1];
+      }
+      const double shift_tau = window[q] * h;
+      for (std::size_t m = 0; m < far.rate.size(); ++m) {
+        const std::complex<double> shifted = far.amplitude[m] * std::exp(far.rate[m] * shift_tau);
+        // Negligible for every lag >= W + 1 (the kernel is O(1)).
+        if (std::abs(shifted) < 1e-17) continue;
+        poles[q].push_back(std::exp(far.rate[m] * h));
+        pole_weights[q].push_back(scale * shifted);
+      }
+    } catch (const std::exception& ex) {
+#pragma omp critical(slipstrip_half_space_setup)
+      if (failure.empty()) failure = ex.what();
+    }
+  }
+  if (!failure.empty()) {
+    std::ostringstream msg;
+    msg << "half-space history operator (dt = " << dt_ << " s, c_s k_max dt = " << h_.back()
+        << "): " << failure;
+    throw std::invalid_argument(msg.str());
+  }
+
+  first_lag_.assign(1, 0);
+  first_pole_.assign(1, 0);
+  correction_.assign(static_cast<std::size_t>(n_modes) * lags_, 0.0);
+  for (int q = 0; q < n_modes; ++q) {
+    lag_weight_.insert(lag_weight_.end(), lag_weight[q].begin(), lag_weight[q].end());
+    first_lag_.push_back(lag_weight_.size());
+    for (std::size_t i = 0; i < correction[q].size(); ++i) correction_[q * lags_ + i] = correction[q][i];
+    for (std::size_t m = 0; m < poles[q].size(); ++m) {
+      pole_cos_.push_back(poles[q][m].real());
+      pole_sin_.push_back(poles[q][m].imag());
+      // 2 Re(w z^i) = 2 Re w Re z^i - 2 Im w Im z^i, with C = sum Re z^i u, S = sum Im z^i u.
+      weight_cos_.push_back(2.0 * pole_weights[q][m].real());
+      weight_sin_.push_back(-2.0 * pole_weights[q][m].imag());
+    }
+    first_pole_.push_back(pole_cos_.size());
+  }
+  ring_.assign(lag_weight_.size(), 0.0);
+  c_re_.assign(pole_cos_.size(), 0.0);
+  c_im_.assign(pole_cos_.size(), 0.0);
+  s_re_.assign(pole_cos_.size(), 0.0);
+  s_im_.assign(pole_cos_.size(), 0.0);
+  running_sum_.assign(n_modes, 0.0);
+  history_.assign(n_modes, 0.0);
+}
+
+ModeOperatorStats HalfSpaceHistory::stats() const {
+  ModeOperatorStats s;
+  s.modes = history_.size();
+  s.oscillators = pole_cos_.size();
+  s.direct_lags = lag_weight_.size();
+  s.memory_bytes = sizeof(double) * (8 * pole_cos_.size() + lag_weight_.size() + correction_.size() +
+                                     3 * history_.size()) +
+                   sizeof(std::complex<double>) *
+                       (ring_.size() + running_sum_.size() + history_.size()) +
+                   sizeof(std::size_t) * (first_lag_.size() + first_pole_.size());
+  return s;
+}
+
+HalfSpaceModeKernel HalfSpaceHistory::mode_kernel(int q) const {
+  if (q < 1 || q >= modes()) throw std::out_of_range("HalfSpaceHistory::mode_kernel: q out of range");
+  HalfSpaceModeKernel k;
+  k.wavenumber = wavenumber_[q];
+  k.h = h_[q];
+  k.static_weight = static_weight_[q];
+  k.lag_weight.assign(lag_weight_.begin() + first_lag_[q], lag_weight_.begin() + first_lag_[q + 1]);
+  k.correction.assign(correction_.begin() + q * lags_, correction_.begin() + (q + 1) * lags_);
+  for (std::size_t m = first_pole_[q]; m < first_pole_[q + 1]; ++m) {
+    k.pole.emplace_back(pole_cos_[m], pole_sin_[m]);
+    k.pole_weight.emplace_back(0.5 * weight_cos_[m], -0.5 * weight_sin_[m]);
+  }
+  return k;
+}
+
+void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {
+  const int n_modes = static_cast<int>(history_.size());
+  history_[0] = 0.0;  // uniform mode: radiation damping only
+#pragma omp parallel for schedule(static)
+  for (int q = 1; q < n_modes; ++q) {
+    const std::complex<double> v = slip_rate_spectrum[q];
+    // Ring buffer of the last W slip rates: slot n mod W holds v_{n-W} (leaving
+    // for the far field) and receives v_n.
+    const std::size_t base = first_lag_[q];
+    const std::size_t W = first_lag_[q + 1] - base;
+    const std::size_t slot = static_cast<std::size_t>(step_ % static_cast<long long>(W));
+    std::complex<double>* ring = ring_.data() + base;
+    const std::complex<double> delayed = ring[slot];
+    ring[slot] = v;
+    // Stored lags: K_j v_{n+1-j}, j = 1..W; v_{n+1-j} sits in slot (n+1-j) mod W.
+    const double* w = lag_weight_.data() + base;
+    double near_r = 0.0, near_i = 0.0;
+    std::size_t j = 0;
+    for (std::size_t s = slot + 1; s-- > 0; ++j) {
+      near_r += w[j] * ring[s].real();
+      near_i += w[j] * ring[s].imag();
+    }
+    for (std::size_t s = W; s-- > slot + 1; ++j) {
+      near_r += w[j] * ring[s].real();
+      near_i += w[j] * ring[s].imag();
+    }
+    // Far field: damped rotations fed with v_{n-W}.
+    const double ur = delayed.real(), ui = delayed.imag();
+    double far_r = 0.0, far_i = 0.0;
+    for (std::size_t m = first_pole_[q]; m < first_pole_[q + 1]; ++m) {
+      const double c = pole_cos_[m], s = pole_sin_[m];
+      const double xr = c_re_[m] + ur, xi = c_im_[m] + ui;
+      const double sr = s_re_[m], si = s_im_[m];
+      const double new_cr = c * xr - s * sr, new_ci = c * xi - s * si;
+      const double new_sr = s * xr + c * sr, new_si = s * xi + c * si;
+      c_re_[m] = new_cr;
+      c_im_[m] = new_ci;
+      s_re_[m] = new_sr;
+      s_im_[m] = new_si;
+      far_r += weight_cos_[m] * new_cr + weight_sin_[m] * new_sr;
+      far_i += weight_cos_[m] * new_ci + weight_sin_[m] * new_si;
+    }
+    running_sum_[q] += v;
+    history_[q] = static_weight_[q] * running_sum_[q] + std::complex<double>(near_r + far_r, near_i + far_i);
+  }
+  ++step_;
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,86 @@
+#pragma once
+// Bounded-memory history operator of two half-spaces (docs/theory.md,
+// "bounded-memory half-space").  Per Fourier mode q >= 1, with h = c_s |k| dt,
+// the discrete kernel is
+//
+//   K_j = (mu/c_s) h g(j h) + (mu/c_s) e_j          (e_j = 0 for j > lags),
+//
+// i.e. the exact half-space kernel sampled at every lag (trapezoidal rule,
+// g(0) = 0) plus the smallest correction of the first `lags` weights that
+// makes the operator passive (kernels/passivity.hpp).  It is applied as
+//   - a running sum with the static weight dt mu |k| (1 - r^2)  (exact static stiffness);
+//   - the weights K_j - static of lags 1..W (W h >= 1) from a ring buffer;
+//   - lags > W by damped rotations, one per exponential of g (half_space_kernel.hpp),
+//     fed with the slip rate delayed by W steps.
+// Memory and cost per step are fixed at construction, whatever the run length;
+// the kernel is accurate to ~1e-9 (absolute, in units of mu |k|) for
+// c_s |k| t up to 1e10.  The uniform mode q = 0 of a half-space has no
+// history (only radiation damping).
+#include <complex>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "kernels/elastic_material.hpp"
+#include "kernels/history_convolution.hpp"
+
+namespace slipstrip {
+
+// Design constants, fixed so that results do not depend on hidden knobs.
+struct HalfSpaceOperatorDesign {
+  int corrected_lags = 8;          // lags of the passivity correction
+  double near_field_tau = 1.0;     // lags with c_s |k| t <= this are stored weights
+  double horizon_tau = 1e10;       // c_s |k| t up to which the exponentials are accurate
+  double passivity_margin = 1e-9;  // Re Z_d / (mu/c_s) >= margin on the check grid
+};
+
+// The operator's coefficients for one mode (a plain value, for tests and
+// diagnostics).  Units: weights in Pa s/m (so that weight * slip rate = Pa).
+struct HalfSpaceModeKernel {
+  double wavenumber = 0.0;   // |k| [1/m]
+  double h = 0.0;            // c_s |k| dt
+  double static_weight = 0.0;
+  std::vector<double> lag_weight;   // K_j - static_weight, j = 1..W
+  std::vector<double> correction;   // e_j (mu/c_s) already included in lag_weight, j = 1..lags
+  std::vector<std::complex<double>> pole;        // e^{rate h} per exponential (|pole| < 1)
+  std::vector<std::complex<double>> pole_weight; // kernel at lag W + i is 2 Re sum pole_weight pole^i
+};
+
+// Largest h = c_s |k| dt for which the correction exists with the design's
+// lags is ~1.11 (plane strain, nu = 0.33), i.e. time.beta <= 0.35 at the
+// Nyquist mode; the constructor below throws with a clear message otherwise.
+class HalfSpaceHistory final : public HistoryOperator {
+ public:
+  HalfSpaceHistory(const ElasticMaterial& material, double length, int nodes, double time_step,
+                   const HalfSpaceOperatorDesign& design = {});
+
+  double time_step() const override { return dt_; }
+  double radiation_damping() const override { return eta_; }
+  int modes() const override { return static_cast<int>(history_.size()); }
+  ModeOperatorStats stats() const override;
+  void push(std::span<const std::complex<double>> slip_rate_spectrum) override;
+  std::span<const std::complex<double>> history() const override { return history_; }
+
+  // Coefficients of mode q >= 1, as used by push().
+  HalfSpaceModeKernel mode_kernel(int q) const;
+
+ private:
+  double dt_, eta_;
+  long long step_ = 0;
+  std::vector<double> wavenumber_, h_;
+  std::vector<double> static_weight_;          // per q
+  std::vector<std::size_t> first_lag_;         // size modes+1
+  std::vector<double> lag_weight_;             // flat; K_j - static for j = 1..W_q
+  std::vector<double> correction_;             // flat, `lags` per mode q >= 1 (diagnostics)
+  int lags_;
+  std::vector<std::size_t> first_pole_;        // size modes+1
+  std::vector<double> pole_cos_, pole_sin_;    // rho cos(phi), rho sin(phi)
+  std::vector<double> weight_cos_, weight_sin_;
+  // State.
+  std::vector<std::complex<double>> ring_;     // flat; last W_q slip rates of mode q
+  std::vector<double> c_re_, c_im_, s_re_, s_im_;
+  std::vector<std::complex<double>> running_sum_;
+  std::vector<std::complex<double>> history_;
+};
+
+}  // namespace slipstrip

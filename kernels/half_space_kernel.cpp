@@ -1,0 +1,136 @@
+#include "kernels/half_space_kernel.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace slipstrip {
+namespace {
+
+using complex = std::complex<double>;
+constexpr double pi = std::numbers::pi;
+
+struct GaussRule {
+  std::vector<double> node, weight;  // on [-1, 1]
+};
+
+// Gauss-Legendre rule by Newton iteration on P_n (n is small: <= 32).
+GaussRule gauss_legendre(int n) {
+  GaussRule rule;
+  rule.node.resize(n);
+  rule.weight.resize(n);
+  for (int i = 0; i < n; ++i) {
+    double x = std::cos(pi * (i + 0.75) / (n + 0.5));
+    double derivative = 1.0;
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      double p0 = 1.0, p1 = x;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      if (n == 1) p0 = 1.0;
+      derivative = n * (x * p1 - p0) / (x * x - 1.0);
+      const double step = p1 / derivative;
+      x -= step;
+      if (std::abs(step) < 1e-16) break;
+    }
+    // recompute the derivative at the converged node
+    double p0 = 1.0, p1 = x;
+    for (int k = 2; k <= n; ++k) {
+      const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+      p0 = p1;
+      p1 = p2;
+    }
+    derivative = n * (x * p1 - p0) / (x * x - 1.0);
+    rule.node[i] = x;
+    rule.weight[i] = 2.0 / ((1.0 - x * x) * derivative * derivative);
+  }
+  return rule;
+}
+
+// G on one side of a branch cut.  zeta = i b - x lies on the cut that leaves
+// the branch point i b horizontally to the left; the factor sqrt(zeta - i b)
+// of the root that branches there is +i sqrt(x) on the upper side (side = +1)
+// and -i sqrt(x) on the lower side.  Every other square-root factor is the
+// principal one, whose own cut (pointing left from its branch point) is not
+// crossed here; this is the continuation of G from Re p > 0 with all four cuts
+// turned horizontal.
+complex relaxation_on_cut(double r2, bool shear_branch, double x, int side) {
+  const double r = std::sqrt(r2);
+  const double b = shear_branch ? 1.0 : 1.0 / r;
+  const complex zeta(-x, b);
+  const complex on_cut(0.0, side * std::sqrt(x));
+  const complex i(0.0, 1.0);
+  const complex alpha_s =
+      shear_branch ? on_cut * std::sqrt(zeta + i) : std::sqrt(zeta - i) * std::sqrt(zeta + i);
+  const complex alpha_d = shear_branch ? r * std::sqrt(zeta - i / r) * std::sqrt(zeta + i / r)
+                                       : r * on_cut * std::sqrt(zeta + i / r);
+  return 2.0 * (1.0 - r2) / (zeta * (alpha_s + alpha_d)) + zeta / (2.0 * alpha_s) - 0.5;
+}
+
+}  // namespace
+
+complex half_space_relaxation_transform(double r2, complex p) {
+  // Principal roots: for Re p > 0, 1 + c p^2 never lies on the negative real
+  // axis, and on the imaginary axis the signed zero of Im(p^2) picks the
+  // limit from Re p > 0 (as in strip_response).
+  const complex alpha_s = std::sqrt(1.0 + p * p);
+  const complex alpha_d = std::sqrt(1.0 + r2 * (p * p));
+  return 2.0 * (1.0 - r2) / (p * (alpha_s + alpha_d)) + p / (2.0 * alpha_s) - 0.5;
+}
+
+double half_space_initial_slope(double r2) { return 1.75 - 2.0 * std::sqrt(r2); }
+
+ExponentialSum half_space_exponential_sum(double r2, double tau_min, double tau_max,
+                                          int nodes_per_panel) {
+  if (!(r2 > 0.0 && r2 < 1.0))
+    throw std::invalid_argument("half_space_exponential_sum: c_s^2/c_d^2 = " + std::to_string(r2) +
+                                " must lie in (0, 1)");
+  if (!(tau_min > 0.0 && tau_max > tau_min))
+    throw std::invalid_argument("half_space_exponential_sum: need 0 < tau_min < tau_max");
+  if (nodes_per_panel < 2 || nodes_per_panel > 32)
+    throw std::invalid_argument("half_space_exponential_sum: nodes_per_panel must be in [2, 32]");
+  // g(tau) = (1 - r^2) + sum over the four cuts of
+  //   -1/(2 pi i) int_0^inf [G_+(ib - x) - G_-(ib - x)] e^{(ib - x) tau} dx
+  // (the lower cuts give the complex conjugates).  With x = u^2 the integrand
+  // is smooth at u = 0 and carries the factor e^{-u^2 tau}: for tau >= tau_min
+  // it is below e^{-36} beyond u_max = sqrt(36 / tau_min); below
+  // u_min = tau_max^{-1/2} it is nearly constant for tau <= tau_max.  Panels
+  // [0, u_min], then doubling up to u_max, resolve e^{-u^2 tau} uniformly.
+  const double u_min = 1.0 / std::sqrt(tau_max);
+  const double u_max = std::sqrt(36.0 / tau_min);
+  std::vector<double> edges{0.0, u_min};
+  while (edges.back() < u_max) edges.push_back(2.0 * edges.back());
+  const auto rule = gauss_legendre(nodes_per_panel);
+
+  ExponentialSum sum;
+  sum.static_value = 1.0 - r2;
+  const double b_values[2] = {1.0, 1.0 / std::sqrt(r2)};
+  for (int branch = 0; branch < 2; ++branch) {
+    const bool shear = branch == 0;
+    for (std::size_t p = 0; p + 1 < edges.size(); ++p) {
+      const double a = edges[p], c = edges[p + 1];
+      for (int j = 0; j < nodes_per_panel; ++j) {
+        const double u = 0.5 * (c - a) * rule.node[j] + 0.5 * (c + a);
+        const double w = 0.5 * (c - a) * rule.weight[j];
+        const double x = u * u;
+        const complex jump =
+            relaxation_on_cut(r2, shear, x, +1) - relaxation_on_cut(r2, shear, x, -1);
+        const complex density = -jump / complex(0.0, 2.0 * pi);
+        sum.rate.emplace_back(-x, b_values[branch]);
+        sum.amplitude.push_back(w * 2.0 * u * density);
+      }
+    }
+  }
+  return sum;
+}
+
+double evaluate(const ExponentialSum& sum, double tau) {
+  complex acc = 0.0;
+  for (std::size_t j = 0; j < sum.rate.size(); ++j) acc += sum.amplitude[j] * std::exp(sum.rate[j] * tau);
+  return sum.static_value + 2.0 * acc.real();
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,53 @@
+#pragma once
+// The half-space (H -> infinity) relaxation kernel in dimensionless form, and
+// its representation as a sum of decaying exponentials (docs/theory.md,
+// "bounded-memory half-space").
+//
+// For Fourier mode k the history part of the traction is
+//     tau^_k(t) = - eta v^_k(t) - int_0^t g_k(t') v^_k(t - t') dt',   eta = mu / (2 c_s),
+// and for a half-space  g_k(t) = mu |k| g(c_s |k| t)  with one universal
+// function g(tau) of tau = c_s |k| t that depends on the material only through
+// r^2 = c_s^2 / c_d^2.  Its Laplace transform in p = s / (c_s |k|) is
+//     G(p) = 2 (1 - r^2) / (p (a_s + a_d)) + p / (2 a_s) - 1/2,
+//     a_s = sqrt(1 + p^2),  a_d = sqrt(1 + r^2 p^2),
+// i.e. G = S_inf / (s mu / c_s) - 1/2 with S_inf the half-space response.
+// g(0) = 0, g'(0) = 7/4 - 2 r and g(inf) = 1 - r^2 (the static stiffness
+// mu |k| (1 - r^2)).  The approach to g(inf) is an oscillating tau^(-1/2) tail
+// (branch points of a_s, a_d at p = +-i, +-i/r), so no finite recursion
+// reproduces g exactly; a sum of exponentials does, to a chosen accuracy, on
+// any interval [tau_min, tau_max].
+#include <complex>
+#include <vector>
+
+#include "kernels/elastic_material.hpp"
+
+namespace slipstrip {
+
+// G(p) above, for Re p >= 0 (on the imaginary axis: the limit from Re p > 0).
+std::complex<double> half_space_relaxation_transform(double speed_ratio_squared,
+                                                     std::complex<double> p);
+
+// g(tau) ~= static_value + 2 Re sum_j amplitude_j exp(rate_j tau)  for
+// tau in [tau_min, tau_max].  Obtained by deforming the Bromwich contour onto
+// branch cuts that leave p = i and p = i/r horizontally into Re p < 0 and
+// integrating the jump across each cut with Gauss-Legendre panels in u =
+// sqrt(distance from the branch point) (which removes the inverse square-root
+// singularity).  Every rate has Re < 0.
+struct ExponentialSum {
+  double static_value = 0.0;  // 1 - r^2 (the residue of G at p = 0)
+  std::vector<std::complex<double>> rate;
+  std::vector<std::complex<double>> amplitude;
+};
+
+// nodes_per_panel = 10 gives |error| < ~1e-11 for tau in [tau_min, tau_max]
+// (tests/cpp/test_kernels_half_space_kernel.cpp measures it).
+ExponentialSum half_space_exponential_sum(double speed_ratio_squared, double tau_min,
+                                          double tau_max, int nodes_per_panel = 10);
+
+double evaluate(const ExponentialSum& sum, double tau);
+
+// g'(0) = 7/4 - 2 r: the initial slope that makes the high-frequency tail of
+// G(i w) ~ -g'(0) / w^2 (the source of aliasing when g is sampled).
+double half_space_initial_slope(double speed_ratio_squared);
+
+}  // namespace slipstrip
