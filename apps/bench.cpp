@@ -106,7 +106,7 @@ int run_bench(const BenchOptions& options) {
                 options.threads, options.steps);
   std::fflush(stdout);
   for (int n : options.nodes) {
-    for (double height : {0.1, 1.0, std::numeric_limits<double>::infinity()}) {
+    for (double height : options.heights) {
       // Thick strips cost O(N H/dx): estimate the operator (7 doubles per
       // recursion, (N/2)(M/2)(1 + c_s/c_d) recursions) before building it.
       if (!std::isinf(height)) {

@@ -1,4 +1,5 @@
 #pragma once
+#include <limits>
 #include <vector>
 
 namespace slipstrip {
@@ -8,6 +9,7 @@ struct BenchOptions {
   std::vector<int> nodes = {256, 512, 1024, 2048, 4096, 8192, 16384};
   int steps = 200;
   int threads = 1;
+  std::vector<double> heights = {0.1, 1.0, std::numeric_limits<double>::infinity()};  // [m]; inf = half-space
   double max_operator_gib = 6.0;  // cases whose estimated operator memory exceeds this are reported as skipped
 };
 

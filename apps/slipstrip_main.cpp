@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -261,6 +262,18 @@ int main(int argc, char** argv) {
   bench->add_option("--nodes", bench_options.nodes, "Node counts to time (comma-separated)")->delimiter(',');
   bench->add_option("--steps", bench_options.steps, "Time steps per measurement");
   bench->add_option("--threads", bench_options.threads, "OpenMP threads (default 1)");
+  bench->add_option_function<std::vector<std::string>>(
+          "--heights",
+          [&](const std::vector<std::string>& values) {
+            bench_options.heights.clear();
+            for (const auto& v : values) {
+              const double h = v == "inf" ? std::numeric_limits<double>::infinity() : std::stod(v);
+              if (!(h > 0)) throw CLI::ValidationError("--heights", "each height must be > 0 or inf, got " + v);
+              bench_options.heights.push_back(h);
+            }
+          },
+          "Strip heights H [m] to time, comma-separated; inf = half-space (default 0.1,1,inf)")
+      ->delimiter(',');
   bench->add_option("--max-gib", bench_options.max_operator_gib,
                     "Skip cases whose estimated history-operator memory exceeds this [GiB]");
 
