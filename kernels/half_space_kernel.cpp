@@ -4,6 +4,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace slipstrip {
 namespace {
@@ -15,37 +16,31 @@ struct GaussRule {
   std::vector<double> node, weight;  // on [-1, 1]
 };
 
+// P_n(x) and P_n'(x) by the three-term recurrence (|x| < 1).
+std::pair<double, double> legendre(int n, double x) {
+  double p0 = 1.0, p1 = x;
+  for (int k = 2; k <= n; ++k) {
+    const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+    p0 = p1;
+    p1 = p2;
+  }
+  return {p1, n * (x * p1 - p0) / (x * x - 1.0)};
+}
+
 // Gauss-Legendre rule by Newton iteration on P_n (n is small: <= 32).
 GaussRule gauss_legendre(int n) {
   GaussRule rule;
-  rule.node.resize(n);
-  rule.weight.resize(n);
   for (int i = 0; i < n; ++i) {
     double x = std::cos(pi * (i + 0.75) / (n + 0.5));
-    double derivative = 1.0;
     for (int iteration = 0; iteration < 100; ++iteration) {
-      double p0 = 1.0, p1 = x;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      if (n == 1) p0 = 1.0;
-      derivative = n * (x * p1 - p0) / (x * x - 1.0);
-      const double step = p1 / derivative;
+      const auto [p, dp] = legendre(n, x);
+      const double step = p / dp;
       x -= step;
       if (std::abs(step) < 1e-16) break;
     }
-    // recompute the derivative at the converged node
-    double p0 = 1.0, p1 = x;
-    for (int k = 2; k <= n; ++k) {
-      const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-      p0 = p1;
-      p1 = p2;
-    }
-    derivative = n * (x * p1 - p0) / (x * x - 1.0);
-    rule.node[i] = x;
-    rule.weight[i] = 2.0 / ((1.0 - x * x) * derivative * derivative);
+    const double dp = legendre(n, x).second;
+    rule.node.push_back(x);
+    rule.weight.push_back(2.0 / ((1.0 - x * x) * dp * dp));
   }
   return rule;
 }

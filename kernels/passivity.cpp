@@ -11,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "kernels/half_space_kernel.hpp"
 
@@ -128,6 +129,30 @@ AliasSums alias_sums(double theta) {
           (0.25 * csc2 * ct * ct + 0.125 * csc2 * csc2) / 6.0 - 1.0 / (t2 * t2)};
 }
 
+// (argument, value) of the minimum of f on [lo, hi], f unimodal there.
+template <class F>
+std::pair<double, double> golden_section_minimum(F&& f, double lo, double hi) {
+  const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - golden * (hi - lo), x2 = lo + golden * (hi - lo);
+  double f1 = f(x1), f2 = f(x2);
+  for (int it = 0; it < 50; ++it) {  // 0.618^50 ~ 4e-11 of the bracket
+    if (f1 < f2) {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - golden * (hi - lo);
+      f1 = f(x1);
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + golden * (hi - lo);
+      f2 = f(x2);
+    }
+  }
+  return f1 < f2 ? std::pair{x1, f1} : std::pair{x2, f2};
+}
+
 }  // namespace
 
 double sampled_half_space_real_part(double r2, double h, double theta) {
@@ -174,10 +199,15 @@ std::vector<double> half_space_passivity_correction(double r2, double h, int lag
         if (t > 0.0 && t < pi) theta.push_back(t);
       }
   }
-  std::sort(theta.begin(), theta.end());
-  std::vector<double> base(theta.size());
-  for (std::size_t i = 0; i < theta.size(); ++i)
-    base[i] = sampled_half_space_real_part(r2, h, theta[i]);
+  // Constraint points (theta, Re Z_d of the sampled kernel there), kept sorted.
+  struct Point {
+    double theta, base;
+  };
+  std::vector<Point> points;
+  points.reserve(theta.size());
+  for (double t : theta) points.push_back({t, sampled_half_space_real_part(r2, h, t)});
+  auto by_theta = [](const Point& x, const Point& y) { return x.theta < y.theta; };
+  std::sort(points.begin(), points.end(), by_theta);
 
   auto corrected = [&](const std::vector<double>& e, double t, double base_value) {
     double v = base_value;
@@ -195,11 +225,11 @@ std::vector<double> half_space_passivity_correction(double r2, double h, int lag
   // low local minimum (golden section) and add any point that still violates
   // the bound.  A few rounds suffice: the corrected Re Z_d is smooth there.
   for (int round = 0; round < 20; ++round) {
-    const int rows = static_cast<int>(theta.size());
+    const int rows = static_cast<int>(points.size());
     std::vector<double> C(static_cast<std::size_t>(rows) * lags), b(rows);
     for (int i = 0; i < rows; ++i) {
-      b[i] = margin - base[i];
-      for (int j = 0; j < lags; ++j) C[i * lags + j] = std::cos((j + 1) * theta[i]);
+      b[i] = margin - points[i].base;
+      for (int j = 0; j < lags; ++j) C[i * lags + j] = std::cos((j + 1) * points[i].theta);
     }
     std::vector<double> e;
     try {
@@ -208,53 +238,22 @@ std::vector<double> half_space_passivity_correction(double r2, double h, int lag
       throw fail();
     }
     std::vector<double> value(rows);
-    for (int i = 0; i < rows; ++i) value[i] = corrected(e, theta[i], base[i]);
+    for (int i = 0; i < rows; ++i) value[i] = corrected(e, points[i].theta, points[i].base);
     std::vector<double> added;
     for (int i = 0; i < rows; ++i) {
       const bool low = value[i] < margin + 1e-3;  // eta = 0.5: only near-zero minima matter
       const bool local_min = (i == 0 || value[i] <= value[i - 1]) && (i + 1 == rows || value[i] <= value[i + 1]);
       if (!low || !local_min) continue;
-      double lo = i == 0 ? 0.5 * theta[0] : theta[i - 1];
-      double hi = i + 1 == rows ? 0.5 * (theta[i] + pi) : theta[i + 1];
-      const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
-      auto f = [&](double t) { return corrected(e, t, sampled_half_space_real_part(r2, h, t)); };
-      double x1 = hi - golden * (hi - lo), x2 = lo + golden * (hi - lo);
-      double f1 = f(x1), f2 = f(x2);
-      for (int it = 0; it < 50; ++it) {
-        if (f1 < f2) {
-          hi = x2;
-          x2 = x1;
-          f2 = f1;
-          x1 = hi - golden * (hi - lo);
-          f1 = f(x1);
-        } else {
-          lo = x1;
-          x1 = x2;
-          f1 = f2;
-          x2 = lo + golden * (hi - lo);
-          f2 = f(x2);
-        }
-      }
-      const double t_min = f1 < f2 ? x1 : x2;
+      const double lo = i == 0 ? 0.5 * points[0].theta : points[i - 1].theta;
+      const double hi = i + 1 == rows ? 0.5 * (points[i].theta + pi) : points[i + 1].theta;
+      const auto [t_min, f_min] = golden_section_minimum(
+          [&](double t) { return corrected(e, t, sampled_half_space_real_part(r2, h, t)); }, lo, hi);
       // (the QP meets its constraints to ~1e-13, so only a clear miss counts)
-      if (std::min(f1, f2) < 0.5 * margin) added.push_back(t_min);
+      if (f_min < 0.5 * margin) added.push_back(t_min);
     }
     if (added.empty()) return e;
-    for (double t : added) {
-      theta.push_back(t);
-      base.push_back(sampled_half_space_real_part(r2, h, t));
-    }
-    // keep the grid sorted (with its base values)
-    std::vector<std::size_t> order(theta.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return theta[x] < theta[y]; });
-    std::vector<double> t_sorted, b_sorted;
-    for (std::size_t i : order) {
-      t_sorted.push_back(theta[i]);
-      b_sorted.push_back(base[i]);
-    }
-    theta.swap(t_sorted);
-    base.swap(b_sorted);
+    for (double t : added) points.push_back({t, sampled_half_space_real_part(r2, h, t)});
+    std::sort(points.begin(), points.end(), by_theta);
   }
   throw fail();
 }

@@ -19,6 +19,28 @@ inline double bump_rate(double t, double T) {
   return 4 * s * s * s * c * pi / T;
 }
 
+// Laplace transform of that slip profile: sin^4 x = 3/8 - cos(2x)/2 + cos(4x)/8,
+// and int_0^T e^{-st} cos(w t) dt = s (1 - e^{-sT}) / (s^2 + w^2) when w T is a
+// multiple of 2 pi.
+inline std::complex<double> bump_laplace(std::complex<double> s, double T) {
+  const double pi = std::numbers::pi;
+  const double w1 = 2 * pi / T, w2 = 4 * pi / T;
+  return (1.0 - std::exp(-s * T)) *
+         (3.0 / (8.0 * s) - s / (2.0 * (s * s + w1 * w1)) + s / (8.0 * (s * s + w2 * w2)));
+}
+
+// |a - b|_2 / |b|_2 over the first `count` samples (all of them if count < 0).
+inline double relative_l2_difference(const std::vector<double>& a, const std::vector<double>& b,
+                                      long count = -1) {
+  const std::size_t n = count < 0 ? b.size() : static_cast<std::size_t>(count);
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    num += (a[i] - b[i]) * (a[i] - b[i]);
+    den += b[i] * b[i];
+  }
+  return std::sqrt(num / den);
+}
+
 // tau^_1(t_n) = -eta v_n - history_1(t_n), n = 0..steps, for v_n = bump_rate(n dt, rise)
 // on mode q = 1 of `history` (which must have at least 2 modes).
 inline std::vector<double> single_mode_stress(HistoryOperator& history, double rise, int steps) {

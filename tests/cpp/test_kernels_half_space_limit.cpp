@@ -33,12 +33,7 @@ double relative_difference(const ElasticMaterial& m, double H, double kH, int st
   HalfSpaceHistory half(m, length, 4, dt);
   const auto a = testing::single_mode_stress(strip, rise, window - 1);
   const auto b = testing::single_mode_stress(half, rise, window - 1);
-  double num = 0, den = 0;
-  for (int n = 0; n < window; ++n) {
-    num += (a[n] - b[n]) * (a[n] - b[n]);
-    den += b[n] * b[n];
-  }
-  return std::sqrt(num / den);
+  return testing::relative_l2_difference(a, b, window);
 }
 
 }  // namespace

@@ -237,13 +237,6 @@ TEST_CASE("half-space operator: free ringing after a pulse never grows") {
 
 namespace {
 
-// sin^4 slip bump of duration T: Laplace transform (as in test_kernels_time_domain).
-cplx bump_laplace(cplx s, double T) {
-  const double w1 = 2 * pi / T, w2 = 4 * pi / T;
-  return (1.0 - std::exp(-s * T)) *
-         (3.0 / (8.0 * s) - s / (2.0 * (s * s + w1 * w1)) + s / (8.0 * (s * s + w2 * w2)));
-}
-
 double prescribed_slip_error(PlaneCondition plane, double k, int steps_per_unit, double tau_end) {
   const auto m = table_s1(plane);
   const double cs = m.shear_wave_speed();
@@ -253,14 +246,9 @@ double prescribed_slip_error(PlaneCondition plane, double k, int steps_per_unit,
   HalfSpaceHistory op(m, 2 * pi / k, 4, dt);
   const auto stress = testing::single_mode_stress(op, rise, steps);
   const auto reference = testing::inverse_laplace(
-      [&](cplx s) { return -half_space_response(m, k, s) * bump_laplace(s, rise); }, dt, 1 << 20,
+      [&](cplx s) { return -half_space_response(m, k, s) * testing::bump_laplace(s, rise); }, dt, 1 << 20,
       steps + 1);
-  double num = 0, den = 0;
-  for (int n = 0; n <= steps; ++n) {
-    num += (stress[n] - reference[n]) * (stress[n] - reference[n]);
-    den += reference[n] * reference[n];
-  }
-  return std::sqrt(num / den);
+  return testing::relative_l2_difference(stress, reference);
 }
 
 }  // namespace

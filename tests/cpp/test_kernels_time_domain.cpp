@@ -24,14 +24,7 @@ constexpr double pi = std::numbers::pi;
 
 namespace {
 
-// sin^4 x = 3/8 - cos(2x)/2 + cos(4x)/8, and int_0^T e^{-st} cos(w t) dt =
-// s (1 - e^{-sT}) / (s^2 + w^2) when w T is a multiple of 2 pi.
-cplx bump_laplace(cplx s, double T) {
-  const double w1 = 2 * pi / T, w2 = 4 * pi / T;
-  return (1.0 - std::exp(-s * T)) *
-         (3.0 / (8.0 * s) - s / (2.0 * (s * s + w1 * w1)) + s / (8.0 * (s * s + w2 * w2)));
-}
-
+using testing::bump_laplace;
 using testing::inverse_laplace;
 
 struct Comparison {
@@ -58,12 +51,7 @@ Comparison prescribed_slip_single_mode(PlaneCondition plane, double kH, int step
   const auto reference = inverse_laplace(
       [&](cplx s) { return -strip_response(material, H, k, s) * bump_laplace(s, rise); }, dt,
       1 << 18, steps + 1);
-  double num = 0, den = 0;
-  for (int n = 0; n <= steps; ++n) {
-    num += (stress[n] - reference[n]) * (stress[n] - reference[n]);
-    den += reference[n] * reference[n];
-  }
-  return {std::sqrt(num / den), steps};
+  return {testing::relative_l2_difference(stress, reference), steps};
 }
 
 }  // namespace
