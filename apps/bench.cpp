@@ -6,12 +6,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <string>
 
 #include "core/simulation.hpp"
+#include "kernels/block_strip_history.hpp"
 #include "kernels/elastic_material.hpp"
 #include "friction/friction_law.hpp"
 #include "kernels/fft.hpp"
@@ -37,23 +39,27 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
   SimulationConfig config;
   config.geometry = {4.0, c.height, c.nodes};
   config.time.beta = 0.25;
+  config.time.history = options.history;
   config.initial.noise_amplitude = 1e-3;
-  // The half-space operator is sized to the run: time exactly what is run.
-  // (The run is (steps + 20) steps of at most beta dx / c_s; sizing the probe
-  // with the default duration would build a far larger operator and inflate
-  // the peak RSS reported below.)
-  config.time.duration = (options.steps + 20) * config.time.beta * (config.geometry.length / c.nodes) /
-                         config.material.shear_wave_speed();
-  Simulation probe_dt(config);
-  config.time.duration = (options.steps + 20) * probe_dt.time_step();
+  const double dt = strip_time_step(config.material, c.height, config.geometry.length / c.nodes,
+                                    config.time.beta);
+  // A typical statistics run (100 L/c_s), in case an operator is sized by the
+  // run's horizon; the timed steps are far fewer.
+  config.time.duration = 100.0 * config.geometry.length / config.material.shear_wave_speed();
   const auto t_setup = clock::now();
   Simulation sim(config);  // includes the kernel precompute (closed-form modes)
   const double setup_ms = std::chrono::duration<double, std::milli>(clock::now() - t_setup).count();
   for (int i = 0; i < 10; ++i) sim.step();
+  // The block operator does its far-field work once per block of B steps and
+  // its level convolutions on a pattern that repeats every B steps: time a
+  // whole number of blocks so the average is the true one.
+  int steps = options.steps;
+  if (const auto* block = dynamic_cast<const BlockStripHistory*>(&sim.history_operator()))
+    steps = ((std::max(steps, block->block()) + block->block() - 1) / block->block()) * block->block();
   const auto t0 = clock::now();
-  for (int i = 0; i < options.steps; ++i) sim.step();
+  for (int i = 0; i < steps; ++i) sim.step();
   const double us_per_step =
-      std::chrono::duration<double, std::micro>(clock::now() - t0).count() / options.steps;
+      std::chrono::duration<double, std::micro>(clock::now() - t0).count() / steps;
 
   // Floor: the work every spectral BIM step must do whatever its kernels --
   // one forward and one inverse FFT and the local interface solve (predictor
@@ -63,7 +69,7 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
   std::vector<double> field(c.nodes);
   std::vector<std::complex<double>> spectrum(c.nodes / 2 + 1);
   const auto& f = config.friction;
-  const double sigma0 = config.loading.normal_stress, eta = sim.radiation_damping(), dt = sim.time_step();
+  const double sigma0 = config.loading.normal_stress, eta = sim.radiation_damping();
   const double load = sim.reference_shear_stress() + eta * config.loading.driving_velocity;
   const auto t1 = clock::now();
   for (int s = 0; s < options.steps; ++s) {
@@ -82,17 +88,20 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
   const double rss = peak_rss_mib();
   const auto stats = sim.history_operator().stats();
   const std::string height = std::isinf(c.height) ? "null" : std::to_string(c.height);
+  const char* algorithm = dynamic_cast<const BlockStripHistory*>(&sim.history_operator())
+                              ? "block"
+                              : (std::isinf(c.height) ? "half_space" : "modal");
   if (options.json) {
     std::printf(
         "{\"N\": %d, \"height\": %s, \"length\": 4.0, \"us_per_step\": %.3f, \"floor_us_per_step\": %.3f, "
         "\"ratio_to_floor\": %.3f, \"rss_mib\": %.2f, \"oscillators\": %zu, \"operator_mib\": %.2f, "
-        "\"dt\": %.6g, \"threads\": %d, \"steps\": %d, \"setup_ms\": %.2f}\n",
+        "\"dt\": %.6g, \"threads\": %d, \"steps\": %d, \"setup_ms\": %.2f, \"history\": \"%s\"}\n",
         c.nodes, height.c_str(), us_per_step, floor_us, us_per_step / floor_us, rss, stats.oscillators,
-        stats.memory_bytes / 1048576.0, dt, options.threads, options.steps, setup_ms);
+        stats.memory_bytes / 1048576.0, dt, options.threads, steps, setup_ms, algorithm);
   } else {
-    std::printf("%6d  %-8s  %12.1f  %12.1f  %8.2f  %9.1f  %12zu  %10.1f\n", c.nodes,
+    std::printf("%6d  %-8s  %12.1f  %12.1f  %8.2f  %9.1f  %12zu  %10.1f  %s\n", c.nodes,
                 std::isinf(c.height) ? "inf" : std::to_string(c.height).substr(0, 5).c_str(), us_per_step,
-                floor_us, us_per_step / floor_us, rss, stats.oscillators, setup_ms);
+                floor_us, us_per_step / floor_us, rss, stats.oscillators, setup_ms, algorithm);
   }
   std::fflush(stdout);
 }
@@ -102,20 +111,24 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
 int run_bench(const BenchOptions& options) {
   if (!options.json)
     std::printf("# L = 4 m, beta = 0.25, Table S1 friction, %d thread(s), %d steps per case\n"
-                "#    N  H [m]     us/step     floor us/step  ratio  RSS [MiB]  oscillators  setup [ms]\n",
+                "#    N  H [m]     us/step     floor us/step  ratio  RSS [MiB]  oscillators  setup [ms]  history\n",
                 options.threads, options.steps);
   std::fflush(stdout);
   for (int n : options.nodes) {
     for (double height : options.heights) {
-      // Thick strips cost O(N H/dx): estimate the operator (7 doubles per
-      // recursion, (N/2)(M/2)(1 + c_s/c_d) recursions) before building it.
+      // Thick strips hold O(N H/dx) normal modes: estimate the operator's
+      // memory before building it.  P ~ (M/2)(1 + c_s/c_d) modes per Fourier
+      // mode; modal: 7 doubles per mode; block: ~64 P + 48 B bytes, B < 2P.
       if (!std::isinf(height)) {
         const ElasticMaterial material;
         const double dx = 4.0 / n;
         const double echo_steps = 2.0 * height / (0.25 * dx);
-        const double recursions = (n / 2.0) * (echo_steps / 2.0) *
-                                  (1.0 + material.shear_wave_speed() / material.dilatational_wave_speed());
-        const double gib = recursions * 7.0 * 8.0 / (1024.0 * 1024.0 * 1024.0);
+        const double per_mode = (echo_steps / 2.0) *
+                                (1.0 + material.shear_wave_speed() / material.dilatational_wave_speed());
+        const bool block = options.history == HistoryAlgorithm::block ||
+                           (options.history == HistoryAlgorithm::automatic && per_mode >= 128);
+        const double bytes_per_mode = block ? 64.0 * per_mode + 48.0 * 2.0 * per_mode : 56.0 * per_mode;
+        const double gib = (n / 2.0) * bytes_per_mode / (1024.0 * 1024.0 * 1024.0);
         if (gib > options.max_operator_gib) {
           if (options.json)
             std::printf("{\"N\": %d, \"height\": %g, \"length\": 4.0, \"us_per_step\": null, "

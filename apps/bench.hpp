@@ -2,6 +2,8 @@
 #include <limits>
 #include <vector>
 
+#include "core/simulation_config.hpp"
+
 namespace slipstrip {
 
 struct BenchOptions {
@@ -10,7 +12,8 @@ struct BenchOptions {
   int steps = 200;
   int threads = 1;
   std::vector<double> heights = {0.1, 1.0, std::numeric_limits<double>::infinity()};  // [m]; inf = half-space
-  double max_operator_gib = 6.0;  // cases whose estimated operator memory exceeds this are reported as skipped
+  double max_operator_gib = 6.0;
+  HistoryAlgorithm history = HistoryAlgorithm::automatic;  // strip history algorithm  // cases whose estimated operator memory exceeds this are reported as skipped
 };
 
 // Times the full time step (history operator + FFTs + local friction solve)

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -274,6 +275,14 @@ int main(int argc, char** argv) {
           },
           "Strip heights H [m] to time, comma-separated; inf = half-space (default 0.1,1,inf)")
       ->delimiter(',');
+  bench->add_option("--history", bench_options.history,
+                    "Strip history algorithm: auto, modal or block (same operator)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, slipstrip::HistoryAlgorithm>{
+              {"auto", slipstrip::HistoryAlgorithm::automatic},
+              {"modal", slipstrip::HistoryAlgorithm::modal},
+              {"block", slipstrip::HistoryAlgorithm::block}},
+          CLI::ignore_case));
   bench->add_option("--max-gib", bench_options.max_operator_gib,
                     "Skip cases whose estimated history-operator memory exceeds this [GiB]");
 

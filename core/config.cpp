@@ -38,7 +38,7 @@ constexpr std::string_view kInterfaceKeys[] = {"law",       "slip_amplitude",   
 constexpr std::string_view kInitialKeys[] = {"noise_amplitude", "noise_seed",      "sine_amplitude",
                                              "sine_mode",       "local_amplitude", "local_center",
                                              "local_width"};
-constexpr std::string_view kTimeKeys[] = {"beta", "duration", "duration_transits"};
+constexpr std::string_view kTimeKeys[] = {"beta", "duration", "duration_transits", "history"};
 constexpr std::string_view kOutputKeys[] = {"timeseries_interval", "snapshot_interval",
                                             "snapshot_slip_increment", "delta_th",
                                             "flush_interval", "kernel_cache"};
@@ -346,6 +346,7 @@ constexpr std::string_view kStrengthLawNames[] = {"paper", "dieterich_ruina", "r
 constexpr std::string_view kStateLawNames[] = {"aging", "slip"};
 constexpr std::string_view kInterfaceLawNames[] = {"rate_and_state", "prescribed_slip", "free"};
 constexpr std::string_view kProfileNames[] = {"ramp", "bump"};
+constexpr std::string_view kHistoryAlgorithmNames[] = {"auto", "modal", "block"};
 
 template <typename Enum, std::size_t N>
 Enum enum_from_name(const std::string& name, const std::string_view (&names)[N]) {
@@ -607,6 +608,8 @@ void read_time(const toml::table& root, const SimulationConfig& c, TimeConfig& t
                      "wavelength; docs/theory.md");
     t.beta = *v;
   }
+  if (auto v = s.choice("history", kHistoryAlgorithmNames))
+    t.history = enum_from_name<HistoryAlgorithm>(*v, kHistoryAlgorithmNames);
   if (auto v = s.number("duration")) {
     if (!(*v > 0.0)) s.out_of_range("duration", format_number(*v), "a time > 0 [s]");
     t.duration = *v;
@@ -815,6 +818,8 @@ std::string to_toml(const SimulationConfig& c) {
   out << "\n[time]\n";
   number("beta", c.time.beta, "dt = beta dx / c_s");
   number("duration", c.time.duration, "[s]");
+  name("history", enum_name(c.time.history, kHistoryAlgorithmNames),
+       "\"auto\" | \"modal\" | \"block\" (strip history algorithm; same operator)");
 
   out << "\n[output]\n";
   number("timeseries_interval", c.output.timeseries_interval, "[s]; 0 = every step");

@@ -8,12 +8,34 @@
 #include <sstream>
 
 #include "friction/friction_law.hpp"
+#include "kernels/block_strip_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/kernel_cache.hpp"
 
 namespace slipstrip {
 namespace {
 constexpr double pi = std::numbers::pi;
+
+// Both algorithms apply the same discrete operator (to ~1e-13,
+// tests/cpp/test_kernels_block_history.cpp); the block one wins once a
+// Fourier mode carries more than ~100 normal modes (bench_kernels_history:
+// 1.8x faster at 150 modes per Fourier mode, 55x at 6000) but needs ~2-3x the
+// memory, so below that the modal one is kept.
+constexpr std::size_t block_history_threshold = 128;
+
+std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& material,
+                                                    const StripKernels& kernels,
+                                                    HistoryAlgorithm algorithm) {
+  if (algorithm == HistoryAlgorithm::automatic) {
+    std::size_t most = 0;
+    for (std::size_t q = 0; q + 1 < kernels.first_oscillator.size(); ++q)
+      most = std::max(most, kernels.first_oscillator[q + 1] - kernels.first_oscillator[q]);
+    algorithm = most >= block_history_threshold ? HistoryAlgorithm::block : HistoryAlgorithm::modal;
+  }
+  if (algorithm == HistoryAlgorithm::block)
+    return std::make_unique<BlockStripHistory>(material, kernels);
+  return std::make_unique<StripHistory>(material, kernels);
+}
 }
 
 Simulation::Simulation(const SimulationConfig& config)
@@ -33,7 +55,7 @@ Simulation::Simulation(const SimulationConfig& config)
             ? compute_strip_kernels(config_.material, g.height, g.length, nodes_, dt_)
             : load_or_compute_strip_kernels(config_.output.kernel_cache, config_.material,
                                             g.height, g.length, nodes_, dt_);
-    history_ = std::make_unique<StripHistory>(config_.material, kernels);
+    history_ = make_strip_history(config_.material, kernels, config_.time.history);
   }
 
   const auto n = static_cast<std::size_t>(nodes_);

@@ -64,7 +64,16 @@ struct InitialConfig {
   double local_width = 0.0;          // [initial] local_width [m]
 };
 
+// How the strip's history operator is applied (both give the same discrete
+// operator, to ~1e-13; docs/performance.md):
+//   modal : one rotation per strip normal mode and step, O(H/dx) per Fourier mode
+//   block : FFT block convolutions + NUFFT-moved normal-mode states, O(log^2(H/dx))
+//   auto  : block when a Fourier mode has >= 128 normal modes, else modal
+// The half-space has its own operator and ignores this key.
+enum class HistoryAlgorithm { automatic, modal, block };
+
 struct TimeConfig {
+  HistoryAlgorithm history = HistoryAlgorithm::automatic;  // [time] history
   double beta = 0.25;       // [time] beta: dt <= beta dx / c_s (see docs: dt is adjusted so 2H/c_s is a whole number of steps)
   double duration = 1e-3;   // [time] duration [s] (or duration_transit in units of L/c_s, resolved here)
 };

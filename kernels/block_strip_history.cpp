@@ -1,0 +1,220 @@
+#include "kernels/block_strip_history.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace slipstrip {
+namespace {
+using cplx = std::complex<double>;
+
+bool is_power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+}  // namespace
+
+struct BlockStripHistory::Scratch {
+  FftwBuffer<fftw_complex> level;  // 2s <= B complex values
+  GaussianNufft::Scratch nufft;
+  std::vector<cplx> frequency;     // one value per theta_k of a mode
+  std::vector<cplx> series;        // B outputs
+};
+
+BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,
+                                     const BlockHistoryDesign& design)
+    : dt_(kernels.time_step), direct_block_(design.direct_block), echo_steps_(kernels.echo_steps) {
+  const double mu = material.shear_modulus;
+  const double cs = material.shear_wave_speed();
+  eta_ = mu / (2.0 * cs);
+  echo_weight_ = mu / cs;
+  const auto& first = kernels.first_oscillator;
+  if (first.size() < 2 || first.back() != kernels.weight.size() ||
+      kernels.phase.size() != kernels.weight.size() || echo_steps_ < 1)
+    throw std::invalid_argument("BlockStripHistory: inconsistent kernels");
+  if (!is_power_of_two(direct_block_))
+    throw std::invalid_argument("BlockStripHistory: direct_block = " + std::to_string(direct_block_) +
+                                " must be a power of two");
+  n_modes_ = static_cast<int>(first.size()) - 1;
+
+  std::size_t most = 0;
+  for (int q = 0; q < n_modes_; ++q) most = std::max(most, first[q + 1] - first[q]);
+  block_ = design.block;
+  if (block_ == 0) {
+    block_ = 2 * direct_block_;
+    while (static_cast<std::size_t>(block_) < most) block_ *= 2;
+  }
+  if (!is_power_of_two(block_) || block_ < 2 * direct_block_)
+    throw std::invalid_argument("BlockStripHistory: block = " + std::to_string(block_) +
+                                " must be a power of two >= 2 direct_block");
+  const std::size_t B = block_;
+
+  // Frequencies +-phi_m with half weights: sum_m w_m cos(phi_m j) = sum_k (w_k/2) e^{i theta_k j}.
+  first_frequency_.assign(1, 0);
+  c0_.assign(n_modes_, 0.0);
+  for (int q = 0; q < n_modes_; ++q) {
+    double weight_sum = 0.0;
+    for (std::size_t m = first[q]; m < first[q + 1]; ++m) {
+      for (double sign : {1.0, -1.0}) {
+        theta_.push_back(sign * kernels.phase[m]);
+        half_weight_.push_back(0.5 * kernels.weight[m]);
+      }
+      weight_sum += kernels.weight[m];
+    }
+    first_frequency_.push_back(theta_.size());
+    // q = 0 has no normal modes: its history is the delay line alone.
+    c0_[q] = q == 0 ? 0.0 : echo_weight_ + dt_ * weight_sum;
+  }
+  state_.assign(theta_.size(), 0.0);
+
+  nufft_ = std::make_unique<GaussianNufft>(block_, design.nufft_half_width);
+  const int threads = std::max(1, omp_get_max_threads());
+  for (int t = 0; t < threads; ++t)
+    scratch_.push_back({make_fftw_buffer<fftw_complex>(B), nufft_->make_scratch(),
+                        std::vector<cplx>(2 * most), std::vector<cplx>(B)});
+
+  // Levels s = direct_block .. B/2.
+  std::size_t spectrum_size = 0;
+  for (int s = direct_block_; s < block_; s *= 2) {
+    Level level{s, nullptr, nullptr, spectrum_size};
+    auto probe = make_fftw_buffer<fftw_complex>(2 * s);
+    level.forward = fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_FORWARD, FFTW_ESTIMATE);
+    level.backward = fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE);
+    if (!level.forward || !level.backward)
+      throw std::runtime_error("BlockStripHistory: FFTW planning failed");
+    levels_.push_back(level);
+    spectrum_size += static_cast<std::size_t>(n_modes_) * (s + 1);
+  }
+  spectrum_.assign(spectrum_size, 0.0);
+
+  // Per mode: the lag kernel O_j, j < B, by the adjoint NUFFT (O(P w + B log B)
+  // instead of O(P B) cosines); its first direct_block lags are kept for the
+  // direct sums, and each level keeps the spectrum of [0, O_1..O_{2s-1}].
+  lag_kernel_.assign(static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
+  auto& work = scratch_[0];
+  auto* buffer = reinterpret_cast<cplx*>(work.level.get());
+  for (int q = 1; q < n_modes_; ++q) {
+    const std::size_t f0 = first_frequency_[q], f1 = first_frequency_[q + 1];
+    for (std::size_t k = f0; k < f1; ++k) work.frequency[k - f0] = half_weight_[k];
+    nufft_->adjoint({theta_.data() + f0, f1 - f0}, {work.frequency.data(), f1 - f0}, work.series,
+                    work.nufft);
+    for (int j = 1; j < direct_block_; ++j) lag_kernel_[q * direct_block_ + j] = work.series[j].real();
+    for (const auto& level : levels_) {
+      const int s = level.size;
+      buffer[0] = 0.0;
+      for (int j = 1; j < 2 * s; ++j) buffer[j] = work.series[j].real();
+      fftw_execute_dft(level.forward, work.level.get(), work.level.get());
+      std::copy(buffer, buffer + s + 1, spectrum_.begin() + level.first_spectrum + q * (s + 1));
+    }
+  }
+
+  input_.assign(n_modes_ * B, 0.0);
+  accumulator_.assign(n_modes_ * B, 0.0);
+  running_sum_.assign(n_modes_, 0.0);
+  echo_line_.assign(echo_steps_, 0.0);
+  history_.assign(n_modes_, 0.0);
+}
+
+BlockStripHistory::~BlockStripHistory() {
+  for (auto& level : levels_) {
+    if (level.forward) fftw_destroy_plan(level.forward);
+    if (level.backward) fftw_destroy_plan(level.backward);
+  }
+}
+
+ModeOperatorStats BlockStripHistory::stats() const {
+  ModeOperatorStats s;
+  s.modes = n_modes_;
+  s.oscillators = theta_.size() / 2;
+  s.echo_steps = echo_steps_;
+  s.memory_bytes = sizeof(double) * (theta_.size() + half_weight_.size() + lag_kernel_.size() +
+                                     c0_.size()) +
+                   sizeof(cplx) * (state_.size() + spectrum_.size() + input_.size() +
+                                   accumulator_.size() + running_sum_.size() + echo_line_.size() +
+                                   history_.size()) +
+                   scratch_.size() * sizeof(cplx) *
+                       (3 * static_cast<std::size_t>(block_) + scratch_[0].frequency.size());
+  return s;
+}
+
+void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch& scratch) {
+  // Inputs start..start+s-1 (an even block of s) to outputs start+s..start+2s-1:
+  // lags 1..2s-1, no wrap-around in a circular convolution of length 2s.
+  const Level& level = levels_[l];
+  const int s = level.size;
+  const std::size_t B = block_;
+  auto* buffer = reinterpret_cast<cplx*>(scratch.level.get());
+  const cplx* in = input_.data() + q * B + start;
+  for (int j = 0; j < s; ++j) buffer[j] = in[j];
+  for (int j = s; j < 2 * s; ++j) buffer[j] = 0.0;
+  fftw_execute_dft(level.forward, scratch.level.get(), scratch.level.get());
+  // The kernel is real, so its spectrum is Hermitian: bins s+1..2s-1 are conjugates.
+  const cplx* kernel = spectrum_.data() + level.first_spectrum + q * (s + 1);
+  for (int j = 0; j <= s; ++j) buffer[j] *= kernel[j];
+  for (int j = s + 1; j < 2 * s; ++j) buffer[j] *= std::conj(kernel[2 * s - j]);
+  fftw_execute_dft(level.backward, scratch.level.get(), scratch.level.get());
+  cplx* out = accumulator_.data() + q * B + start + s;
+  const double scale = 1.0 / (2.0 * s);
+  for (int j = 0; j < s; ++j) out[j] += buffer[s + j] * scale;
+}
+
+void BlockStripHistory::advance_far_field(int q, Scratch& scratch) {
+  // A_k(n0 + B) = e^{i theta_k B} [A_k(n0) + sum_t e^{-i theta_k t} v_{n0+t}], then
+  // y_far(n0 + B + t) = sum_k (w_k/2) A_k(n0 + B) e^{i theta_k t}, t = 0..B-1.
+  const std::size_t B = block_;
+  const std::size_t f0 = first_frequency_[q], count = first_frequency_[q + 1] - f0;
+  if (count == 0) return;
+  std::span<const double> theta(theta_.data() + f0, count);
+  std::span<cplx> transformed(scratch.frequency.data(), count);
+  nufft_->forward({input_.data() + q * B, B}, theta, transformed, scratch.nufft);
+  cplx* state = state_.data() + f0;
+  const double* half_weight = half_weight_.data() + f0;
+  for (std::size_t k = 0; k < count; ++k) {
+    state[k] = std::polar(1.0, theta[k] * static_cast<double>(B)) * (state[k] + transformed[k]);
+    transformed[k] = half_weight[k] * state[k];
+  }
+  nufft_->adjoint(theta, transformed, scratch.series, scratch.nufft);
+  cplx* out = accumulator_.data() + q * B;
+  for (std::size_t t = 0; t < B; ++t) out[t] += scratch.series[t];
+}
+
+void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
+  {
+    // Uniform mode: exact shear echoes (as StripHistory).
+    const std::size_t slot = echo_cursor_;
+    const std::size_t next_slot = slot + 1 == echo_steps_ ? 0 : slot + 1;
+    echo_line_[slot] += slip_rate_spectrum[0];
+    history_[0] = echo_weight_ * echo_line_[next_slot];
+    echo_cursor_ = next_slot;
+  }
+  const int tau = position_;
+  const bool block_done = tau + 1 == block_;
+  const int p = block_done ? 0 : tau + 1;  // the output produced by this push
+  const std::size_t B = block_;
+  const int threads = static_cast<int>(scratch_.size());
+#pragma omp parallel num_threads(threads)
+  {
+    Scratch& scratch = scratch_[omp_get_thread_num()];
+#pragma omp for schedule(static)
+    for (int q = 1; q < n_modes_; ++q) {
+      cplx* in = input_.data() + q * B;
+      in[tau] = slip_rate_spectrum[q];
+      running_sum_[q] += slip_rate_spectrum[q];
+      for (std::size_t l = 0; l < levels_.size(); ++l) {
+        const int s = levels_[l].size;
+        if ((tau + 1) % (2 * s) == s) convolve_level(q, l, tau + 1 - s, scratch);
+      }
+      if (block_done) advance_far_field(q, scratch);
+      cplx* acc = accumulator_.data() + q * B;
+      cplx y = acc[p];
+      acc[p] = 0.0;
+      const double* kernel = lag_kernel_.data() + q * direct_block_;
+      const int recent = p % direct_block_;  // inputs of p's direct block before p
+      for (int j = 1; j <= recent; ++j) y += kernel[j] * in[p - j];
+      history_[q] = c0_[q] * running_sum_[q] - dt_ * y;
+    }
+  }
+  position_ = p;
+}
+
+}  // namespace slipstrip

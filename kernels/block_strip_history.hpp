@@ -1,0 +1,105 @@
+#pragma once
+// The strip's exact discrete history operator (the same one as StripHistory,
+// built from the same StripKernels), applied with a cost per step that grows
+// only like log^2 of the strip height instead of linearly
+// (docs/theory.md, "block algorithm"; docs/performance.md).
+//
+// Per Fourier mode q >= 1 the history part is
+//   history_q(t_n) = c0 R_n - dt y_n,   R_n = sum_{j>=1} v_{n-j},
+//   y_n = sum_{j>=1} O_j v_{n-j},       O_j = sum_m w_m cos(phi_m j),
+// with c0 = mu/c_s + dt sum_m w_m (comb identity plus static completion,
+// docs/theory.md 6.2).  StripHistory advances one rotation per normal mode
+// and step: O(P) per step with P ~ 0.75 * 2H/(c_s dt) modes.  Here the
+// convolution y is split by lag, exactly (every pair of input i and output t
+// is counted once):
+//   - i and t in the same aligned block of `direct_block` steps: direct sum;
+//   - i in the first and t in the second half of an aligned block of 2s steps
+//     (s = direct_block, 2 direct_block, ..., B/2): one FFT convolution of s
+//     inputs with the kernel prefix O_1..O_{2s-1} when the s inputs are
+//     complete (binary partition of the lag plane, like Gardner's
+//     non-uniformly partitioned convolution);
+//   - i in an earlier block of B steps: the normal-mode states
+//     A_k = sum_i exp(-i theta_k (i - n0)) v_i (theta_k = +-phi_m), moved
+//     across a whole block at once by a non-uniform FFT (kernels/nufft.hpp)
+//     and evaluated for the next B outputs by its adjoint.
+// Per step this costs O(log^2 B + P/B log) with B ~ P: the normal modes are
+// never rotated step by step.  The result equals StripHistory's to the NUFFT's
+// accuracy (~1e-12 relative; tests/cpp/test_kernels_block_history.cpp), so the
+// operator inherits its passivity and every verification of it.  Memory
+// (~64 P + 48 B bytes per mode) is fixed at construction.  The uniform mode
+// q = 0 keeps the exact shear delay line.
+#include <complex>
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "kernels/elastic_material.hpp"
+#include "kernels/fft.hpp"
+#include "kernels/history_convolution.hpp"
+#include "kernels/nufft.hpp"
+
+namespace slipstrip {
+
+struct BlockHistoryDesign {
+  int direct_block = 32;  // lags inside aligned blocks of this many steps are summed directly
+  int block = 0;          // B, a power of two; 0: the smallest power of two >= the most modes
+                          // of any Fourier mode (and >= 2 direct_block)
+  int nufft_half_width = 12;  // NUFFT accuracy ~5e-13 (kernels/nufft.hpp)
+};
+
+class BlockStripHistory final : public HistoryOperator {
+ public:
+  BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,
+                    const BlockHistoryDesign& design = {});
+  ~BlockStripHistory() override;
+  BlockStripHistory(const BlockStripHistory&) = delete;
+  BlockStripHistory& operator=(const BlockStripHistory&) = delete;
+
+  double time_step() const override { return dt_; }
+  double radiation_damping() const override { return eta_; }
+  int modes() const override { return n_modes_; }
+  ModeOperatorStats stats() const override;
+  void push(std::span<const std::complex<double>> slip_rate_spectrum) override;
+  std::span<const std::complex<double>> history() const override { return history_; }
+
+  int block() const { return block_; }
+
+ private:
+  struct Scratch;
+  void convolve_level(int q, std::size_t level, int start, Scratch& scratch);
+  void advance_far_field(int q, Scratch& scratch);
+
+  double dt_, eta_, echo_weight_;
+  int n_modes_, block_, direct_block_;
+  std::size_t echo_steps_, echo_cursor_ = 0;
+  int position_ = 0;  // index of the next input inside the current block
+
+  // Normal modes as frequencies theta = +phi and -phi, per mode q >= 1.
+  std::vector<std::size_t> first_frequency_;  // size n_modes + 1
+  std::vector<double> theta_;
+  std::vector<double> half_weight_;           // w_m / 2 for both +phi_m and -phi_m
+  std::vector<std::complex<double>> state_;   // A_k at the start of the current block
+  std::vector<double> c0_;                    // per q
+  std::vector<double> lag_kernel_;            // [q][j], O_j for j < direct_block (O_0 := 0)
+
+  struct Level {
+    int size;  // s: inputs per convolution; FFT length 2s
+    fftw_plan forward = nullptr, backward = nullptr;
+    std::size_t first_spectrum;  // into spectrum_, (s + 1) per mode q
+  };
+  std::vector<Level> levels_;
+  std::vector<std::complex<double>> spectrum_;  // FFT of [0, O_1, .., O_{2s-1}], bins 0..s
+
+  std::unique_ptr<GaussianNufft> nufft_;
+  std::vector<Scratch> scratch_;  // one per OpenMP thread
+
+  // State.
+  std::vector<std::complex<double>> input_;        // [q][B] inputs of the current block
+  std::vector<std::complex<double>> accumulator_;  // [q][B] outputs of the current block so far
+  std::vector<std::complex<double>> running_sum_;  // per q
+  std::vector<std::complex<double>> echo_line_;    // q = 0
+  std::vector<std::complex<double>> history_;
+};
+
+}  // namespace slipstrip

@@ -1,0 +1,135 @@
+#include "kernels/nufft.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace slipstrip {
+namespace {
+constexpr double pi = std::numbers::pi;
+using cplx = std::complex<double>;
+
+// Grid coordinate of a frequency: theta = (base + frac) dx, base integer.
+struct GridPosition {
+  long base;
+  double offset;  // theta - base dx, in [0, dx)
+};
+GridPosition locate(double theta, double dx) {
+  const double u = theta / dx;
+  const double base = std::floor(u);
+  return {static_cast<long>(base), theta - base * dx};
+}
+}  // namespace
+
+GaussianNufft::GaussianNufft(int samples, int half_width)
+    : samples_(samples), grid_(2 * samples), half_width_(half_width) {
+  if (samples < 2 || samples % 2 != 0)
+    throw std::invalid_argument("GaussianNufft: samples = " + std::to_string(samples) +
+                                " must be even and >= 2");
+  if (half_width < 2 || half_width > max_half_width || 2 * half_width > grid_)
+    throw std::invalid_argument("GaussianNufft: half_width = " + std::to_string(half_width) +
+                                " must be in [2, min(samples, " + std::to_string(max_half_width) +
+                                ")]");
+  const double B = samples_;
+  // Truncation error exp(-(w dx)^2 / 4T) = aliasing error exp(-T G (G - B))
+  // with G = 2B, dx = 2 pi / G  =>  T = w pi / (2 sqrt2 B^2).
+  variance_ = half_width_ * pi / (2.0 * std::numbers::sqrt2 * B * B);
+  deconvolution_.resize(samples_);
+  for (int t = 0; t < samples_; ++t) {
+    const double n = t - samples_ / 2;
+    const double ghat = std::sqrt(variance_ / pi) * std::exp(-n * n * variance_);
+    deconvolution_[t] = 1.0 / (grid_ * ghat);
+  }
+  const double dx = 2.0 * pi / grid_;
+  tail_.resize(half_width_ + 1);
+  for (int j = 0; j <= half_width_; ++j) tail_[j] = std::exp(-(j * dx) * (j * dx) / (4.0 * variance_));
+  auto probe = make_fftw_buffer<fftw_complex>(grid_);
+  forward_plan_ = fftw_plan_dft_1d(grid_, probe.get(), probe.get(), FFTW_FORWARD, FFTW_ESTIMATE);
+  backward_plan_ = fftw_plan_dft_1d(grid_, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE);
+  if (!forward_plan_ || !backward_plan_) throw std::runtime_error("GaussianNufft: FFTW planning failed");
+}
+
+GaussianNufft::~GaussianNufft() {
+  if (forward_plan_) fftw_destroy_plan(forward_plan_);
+  if (backward_plan_) fftw_destroy_plan(backward_plan_);
+}
+
+GaussianNufft::Scratch GaussianNufft::make_scratch() const {
+  // The grid is followed by a copy of its first 2w points, so that every
+  // frequency's window is one contiguous (vectorisable) run.
+  return {make_fftw_buffer<fftw_complex>(grid_ + 2 * half_width_)};
+}
+
+// Gaussian weights of the 2w grid points base-w+1 .. base+w around one
+// frequency, by fast Gaussian gridding: exp(-(d - j dx)^2/4T) =
+// exp(-d^2/4T) * exp(d dx/2T)^j * exp(-(j dx)^2/4T), two exponentials per frequency.
+void GaussianNufft::weights(double offset, double* out) const {
+  const double dx = 2.0 * pi / grid_;
+  const int w = half_width_;
+  const double e1 = std::exp(-offset * offset / (4.0 * variance_));
+  const double e2 = std::exp(offset * dx / (2.0 * variance_));
+  const double inv_e2 = 1.0 / e2;
+  double up = e1;
+  for (int j = 0; j <= w; ++j) {  // points base + j
+    out[w - 1 + j] = up * tail_[j];
+    up *= e2;
+  }
+  double down = e1;
+  for (int j = 1; j < w; ++j) {  // points base - j
+    down *= inv_e2;
+    out[w - 1 - j] = down * tail_[j];
+  }
+}
+
+void GaussianNufft::forward(std::span<const cplx> in, std::span<const double> theta,
+                            std::span<cplx> out, Scratch& scratch) const {
+  auto* grid = reinterpret_cast<cplx*>(scratch.grid.get());
+  const int G = grid_, B = samples_, half = samples_ / 2, w = half_width_;
+  for (int l = 0; l < G; ++l) grid[l] = 0.0;
+  // Deconvolve, centred on t' = t - B/2, so the Gaussian's spectrum is
+  // symmetric over the samples and the amplification is smallest.
+  for (int t = 0; t < B; ++t) {
+    const int shifted = t - half;
+    grid[shifted < 0 ? shifted + G : shifted] = in[t] * deconvolution_[t];
+  }
+  fftw_execute_dft(forward_plan_, scratch.grid.get(), scratch.grid.get());
+  for (int j = 0; j < 2 * w; ++j) grid[G + j] = grid[j];
+  const double dx = 2.0 * pi / G;
+  double weight[2 * max_half_width];
+  for (std::size_t k = 0; k < theta.size(); ++k) {
+    const auto [base, offset] = locate(theta[k], dx);
+    weights(offset, weight);
+    const cplx* window = grid + ((base - w + 1) % G + G) % G;
+    double re = 0.0, im = 0.0;
+    for (int j = 0; j < 2 * w; ++j) {
+      re += window[j].real() * weight[j];
+      im += window[j].imag() * weight[j];
+    }
+    out[k] = std::polar(1.0, -theta[k] * half) * cplx(re, im);
+  }
+}
+
+void GaussianNufft::adjoint(std::span<const double> theta, std::span<const cplx> c,
+                            std::span<cplx> out, Scratch& scratch) const {
+  auto* grid = reinterpret_cast<cplx*>(scratch.grid.get());
+  const int G = grid_, B = samples_, half = samples_ / 2, w = half_width_;
+  for (int l = 0; l < G + 2 * w; ++l) grid[l] = 0.0;
+  const double dx = 2.0 * pi / G;
+  double weight[2 * max_half_width];
+  for (std::size_t k = 0; k < theta.size(); ++k) {
+    const auto [base, offset] = locate(theta[k], dx);
+    weights(offset, weight);
+    const cplx ck = c[k] * std::polar(1.0, theta[k] * half);
+    cplx* window = grid + ((base - w + 1) % G + G) % G;
+    for (int j = 0; j < 2 * w; ++j) window[j] += ck * weight[j];
+  }
+  for (int j = 0; j < 2 * w; ++j) grid[j] += grid[G + j];  // fold the periodic copy back
+  fftw_execute_dft(backward_plan_, scratch.grid.get(), scratch.grid.get());
+  for (int t = 0; t < B; ++t) {
+    const int shifted = t - half;
+    out[t] = grid[shifted < 0 ? shifted + G : shifted] * deconvolution_[t];
+  }
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,64 @@
+#pragma once
+// One-dimensional non-uniform discrete Fourier transforms between B uniform
+// time samples and arbitrary frequencies theta_k in [-pi, pi], by Gaussian
+// gridding (Dutt & Rokhlin 1993; Greengard & Lee, SIAM Review 46, 2004):
+//
+//   forward (type 2):  out[k]   = sum_{t=0}^{B-1} in[t] exp(-i theta_k t)
+//   adjoint (type 1):  out[t]   = sum_k  c[k] exp(+i theta_k t),   t = 0..B-1
+//
+// Cost O(B log B + K w) instead of O(B K) (K frequencies, w = 2 * half_width
+// grid points per frequency).  Used by the block history operator
+// (kernels/block_strip_history.hpp) to move the normal-mode states of a strip
+// across a block of B time steps in one go.
+//
+// Accuracy: the Gaussian's width is chosen so that its truncation to
+// 2*half_width grid points and the aliasing of the 2x oversampled grid err
+// by the same amount, ~exp(-pi half_width / sqrt 2) relative to sum |c|
+// (half_width = 14: ~3e-14; measured in tests/cpp/test_kernels_nufft.cpp).
+// FFTW plans are made once, with FFTW_ESTIMATE so that results are identical
+// run after run; execution uses caller-owned scratch (one per thread).
+#include <fftw3.h>
+
+#include <complex>
+#include <span>
+#include <vector>
+
+#include "kernels/fft.hpp"
+
+namespace slipstrip {
+
+class GaussianNufft {
+ public:
+  // samples: B (even, >= 2).  half_width: grid points on each side of a frequency.
+  static constexpr int max_half_width = 32;
+  explicit GaussianNufft(int samples, int half_width = 12);
+  GaussianNufft(const GaussianNufft&) = delete;
+  GaussianNufft& operator=(const GaussianNufft&) = delete;
+  ~GaussianNufft();
+
+  int samples() const { return samples_; }
+  int grid_size() const { return grid_; }
+
+  // Working memory of one caller (one per thread): the oversampled grid.
+  struct Scratch {
+    FftwBuffer<fftw_complex> grid;
+  };
+  Scratch make_scratch() const;
+
+  void forward(std::span<const std::complex<double>> in, std::span<const double> theta,
+               std::span<std::complex<double>> out, Scratch& scratch) const;
+  void adjoint(std::span<const double> theta, std::span<const std::complex<double>> c,
+               std::span<std::complex<double>> out, Scratch& scratch) const;
+
+ private:
+  void weights(double offset, double* out) const;
+
+  int samples_, grid_, half_width_;
+  double variance_;                   // T in exp(-x^2 / (4 T))
+  std::vector<double> deconvolution_; // 1 / ghat(t - B/2), t = 0..B-1, divided by G
+  std::vector<double> tail_;          // exp(-(j dx)^2 / (4T)), j = 0..half_width
+  fftw_plan forward_plan_ = nullptr;  // grid -> grid, e^{-i}
+  fftw_plan backward_plan_ = nullptr; // grid -> grid, e^{+i}
+};
+
+}  // namespace slipstrip
