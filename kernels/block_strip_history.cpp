@@ -70,7 +70,7 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
   nufft_ = std::make_unique<GaussianNufft>(block_, design.nufft_half_width);
   const int threads = std::max(1, omp_get_max_threads());
   for (int t = 0; t < threads; ++t)
-    scratch_.push_back({make_fftw_buffer<fftw_complex>(B), nufft_->make_scratch(),
+    scratch_.push_back({make_fftw_buffer<fftw_complex>(B), nufft_->make_scratch(2 * most),
                         std::vector<cplx>(2 * most), std::vector<cplx>(B)});
 
   // Levels s = direct_block .. B/2.
@@ -150,8 +150,20 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
   fftw_execute_dft(level.forward, scratch.level.get(), scratch.level.get());
   // The kernel is real, so its spectrum is Hermitian: bins s+1..2s-1 are conjugates.
   const cplx* kernel = spectrum_.data() + level.first_spectrum + q * (s + 1);
-  for (int j = 0; j <= s; ++j) buffer[j] *= kernel[j];
-  for (int j = s + 1; j < 2 * s; ++j) buffer[j] *= std::conj(kernel[2 * s - j]);
+  // (Written out: std::complex's operator* checks for NaN/inf in a library call.)
+  auto* x = reinterpret_cast<double*>(buffer);
+  const auto* kv = reinterpret_cast<const double*>(kernel);
+  for (int j = 0; j <= s; ++j) {
+    const double xr = x[2 * j], xi = x[2 * j + 1], kr = kv[2 * j], ki = kv[2 * j + 1];
+    x[2 * j] = xr * kr - xi * ki;
+    x[2 * j + 1] = xr * ki + xi * kr;
+  }
+  for (int j = s + 1; j < 2 * s; ++j) {
+    const double xr = x[2 * j], xi = x[2 * j + 1];
+    const double kr = kv[2 * (2 * s - j)], ki = -kv[2 * (2 * s - j) + 1];
+    x[2 * j] = xr * kr - xi * ki;
+    x[2 * j + 1] = xr * ki + xi * kr;
+  }
   fftw_execute_dft(level.backward, scratch.level.get(), scratch.level.get());
   cplx* out = accumulator_.data() + q * B + start + s;
   const double scale = 1.0 / (2.0 * s);
@@ -161,19 +173,31 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
 void BlockStripHistory::advance_far_field(int q, Scratch& scratch) {
   // A_k(n0 + B) = e^{i theta_k B} [A_k(n0) + sum_t e^{-i theta_k t} v_{n0+t}], then
   // y_far(n0 + B + t) = sum_k (w_k/2) A_k(n0 + B) e^{i theta_k t}, t = 0..B-1.
+  // With p_k = e^{i theta_k B/2} and the NUFFT's centred time t - B/2:
+  //   sum_t e^{-i theta t} v_t = conj(p) F,   F = forward_centred(v),
+  //   A <- p^2 A + p F,   y_far = adjoint_centred(c p),  c = (w/2) A.
+  // One sincos per frequency and block, one set of Gaussian weights for both transforms.
   const std::size_t B = block_;
   const std::size_t f0 = first_frequency_[q], count = first_frequency_[q + 1] - f0;
   if (count == 0) return;
   std::span<const double> theta(theta_.data() + f0, count);
   std::span<cplx> transformed(scratch.frequency.data(), count);
-  nufft_->forward({input_.data() + q * B, B}, theta, transformed, scratch.nufft);
+  nufft_->locate(theta, scratch.nufft);
+  nufft_->forward_centred({input_.data() + q * B, B}, transformed, scratch.nufft);
   cplx* state = state_.data() + f0;
   const double* half_weight = half_weight_.data() + f0;
+  const double half_block = 0.5 * static_cast<double>(B);
   for (std::size_t k = 0; k < count; ++k) {
-    state[k] = std::polar(1.0, theta[k] * static_cast<double>(B)) * (state[k] + transformed[k]);
-    transformed[k] = half_weight[k] * state[k];
+    const double pr = std::cos(theta[k] * half_block), pi_ = std::sin(theta[k] * half_block);
+    const double ar = state[k].real(), ai = state[k].imag();
+    const double fr = transformed[k].real(), fi = transformed[k].imag();
+    // p A + F, then times p
+    const double ur = pr * ar - pi_ * ai + fr, ui = pr * ai + pi_ * ar + fi;
+    const double nr = pr * ur - pi_ * ui, ni = pr * ui + pi_ * ur;
+    state[k] = cplx(nr, ni);
+    transformed[k] = cplx(half_weight[k] * (pr * nr - pi_ * ni), half_weight[k] * (pr * ni + pi_ * nr));
   }
-  nufft_->adjoint(theta, transformed, scratch.series, scratch.nufft);
+  nufft_->adjoint_centred(transformed, scratch.series, scratch.nufft);
   cplx* out = accumulator_.data() + q * B;
   for (std::size_t t = 0; t < B; ++t) out[t] += scratch.series[t];
 }

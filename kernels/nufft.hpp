@@ -20,6 +20,7 @@
 #include <fftw3.h>
 
 #include <complex>
+#include <cstddef>
 #include <span>
 #include <vector>
 
@@ -39,20 +40,35 @@ class GaussianNufft {
   int samples() const { return samples_; }
   int grid_size() const { return grid_; }
 
-  // Working memory of one caller (one per thread): the oversampled grid.
+  // Working memory of one caller (one per thread): the oversampled grid and
+  // the Gaussian weights of up to `frequencies` frequencies.
   struct Scratch {
     FftwBuffer<fftw_complex> grid;
+    std::vector<long> window_start;  // first grid point of each frequency's window
+    std::vector<double> weight;      // 2w weights per frequency
+    std::vector<std::complex<double>> phased;  // used by the convenience adjoint() only
   };
-  Scratch make_scratch() const;
+  Scratch make_scratch(std::size_t frequencies) const;
 
+  // The transforms in two halves, for callers that transform the same
+  // frequencies both ways: locate() computes the Gaussian weights once, and
+  // the *_centred transforms use time measured from the block's centre,
+  // t' = t - B/2 (callers fold the phase e^{i theta B/2} into their own data):
+  //   forward_centred: out[k] = sum_t in[t] exp(-i theta_k (t - B/2))
+  //   adjoint_centred: out[t] = sum_k c[k] exp(+i theta_k (t - B/2))
+  void locate(std::span<const double> theta, Scratch& scratch) const;
+  void forward_centred(std::span<const std::complex<double>> in, std::span<std::complex<double>> out,
+                       Scratch& scratch) const;
+  void adjoint_centred(std::span<const std::complex<double>> c, std::span<std::complex<double>> out,
+                       Scratch& scratch) const;
+
+  // Convenience forms of the definitions at the top (locate + centred + phase).
   void forward(std::span<const std::complex<double>> in, std::span<const double> theta,
                std::span<std::complex<double>> out, Scratch& scratch) const;
   void adjoint(std::span<const double> theta, std::span<const std::complex<double>> c,
                std::span<std::complex<double>> out, Scratch& scratch) const;
 
  private:
-  void weights(double offset, double* out) const;
-
   int samples_, grid_, half_width_;
   double variance_;                   // T in exp(-x^2 / (4 T))
   std::vector<double> deconvolution_; // 1 / ghat(t - B/2), t = 0..B-1, divided by G

@@ -57,7 +57,7 @@ TEST_CASE("NUFFT forward and adjoint match the direct sums") {
     GaussianNufft nufft(samples, half_width);
     const double predicted = std::exp(-pi * half_width / std::numbers::sqrt2) *
                              std::exp(pi * half_width / (8 * std::numbers::sqrt2));
-    auto scratch = nufft.make_scratch();
+    auto scratch = nufft.make_scratch(frequencies);
 
     std::vector<cplx> out(frequencies);
     nufft.forward(p.samples, p.theta, out, scratch);
