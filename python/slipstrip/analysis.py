@@ -120,7 +120,7 @@ def read_catalog(path: str | os.PathLike) -> dict:
 # ---------------------------------------------------------------------------
 
 def find_slipstrip_binary() -> str | None:
-    """$SLIPSTRIP_BIN, else `slipstrip` on PATH, else /work/main/build/slipstrip."""
+    """$SLIPSTRIP_BIN, else `slipstrip` on PATH, else build/slipstrip of this checkout."""
     explicit = os.environ.get("SLIPSTRIP_BIN")
     if explicit:
         return explicit if os.access(explicit, os.X_OK) else None
@@ -128,9 +128,6 @@ def find_slipstrip_binary() -> str | None:
     if found:
         return found
     default = Path(__file__).resolve().parents[2] / "build" / "slipstrip"
-    if os.access(default, os.X_OK):
-        return str(default)
-    default = Path("/work/main/build/slipstrip")
     return str(default) if os.access(default, os.X_OK) else None
 
 
@@ -140,7 +137,7 @@ def run_event_detection(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPH
     binary = find_slipstrip_binary()
     if binary is None:
         raise FileNotFoundError("slipstrip binary not found (set SLIPSTRIP_BIN, put it on PATH, "
-                                "or build /work/main/build/slipstrip)")
+                                "or build build/slipstrip in this checkout)")
     cmd = [binary, "events", str(run_path), "--alpha", repr(float(alpha))]
     if out is not None:
         cmd += ["--out", str(out)]
