@@ -4,6 +4,7 @@
   plot-stability  TABLE.csv --out FIG.png   (the CSV of `slipstrip stability --out`)
   analyze  ...  (slipstrip.analysis.main)
   scan     ...  (slipstrip.scan.main)
+  report   RUNDIR [--out docs/reproduction.md] [--figures DIR] [--allow-missing]  (slipstrip.report.main)
 
 Each command parses its own arguments (`python3 -m slipstrip <command> -h`).
 """
@@ -76,6 +77,7 @@ COMMANDS = {
     "plot-stability": plot_stability_main,
     "analyze": lambda argv: _delegate("analysis", argv),
     "scan": lambda argv: _delegate("scan", argv),
+    "report": lambda argv: _delegate("report", argv),
 }
 
 

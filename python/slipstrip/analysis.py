@@ -46,7 +46,29 @@ PULSE_MIN_SPANNING_EVENTS = 3
 # cannot see it.  In the second half of the run the fastest node must always
 # slip faster than PULSE_MIN_RATE v0 and max slip rate must vary little.
 PULSE_MIN_RATE = 3.0
+# Periodic travelling pulse, space-time criterion (decisive when the run file has
+# enough snapshots; docs/analysis.md).  Over the late part of the record: a
+# localised slipping region (nodes above 0.1 of the current maximum slip rate
+# cover at most PULSE_MAX_WIDTH_FRACTION of the interface), always faster than
+# PULSE_MIN_RATE v0, keeping its shape between snapshots (median best-shift
+# correlation of log10 v >= PULSE_MIN_CORRELATION), moving one way (>=
+# PULSE_MIN_MOVING_FRACTION of the snapshot pairs shift it, in the majority
+# direction) and travelling at least PULSE_MIN_TRAVEL periods in total.
+PULSE_MAX_WIDTH_FRACTION = 0.5
+PULSE_MIN_CORRELATION = 0.8
+PULSE_MIN_MOVING_FRACTION = 0.9
+PULSE_MIN_TRAVEL = 0.5       # periods L travelled over the late part, in total
+PULSE_MIN_SNAPSHOTS = 10     # late snapshots needed for the space-time criterion to decide
+PULSE_LATE_FRACTION = 0.5    # the criterion looks at the last half of the record
 MIN_FIT_EVENTS = 10  # fewer than this in a subset: the fit returns NaN
+# Transient cut (docs/analysis.md, "Transient cut"): the run is split into
+# TRANSIENT_BATCHES equal time batches; MSER (White 1997) on the batch series
+# of event counts and of the mean log10(u/D) picks the truncation that
+# minimises the standard error of the mean of what is kept, within the first
+# TRANSIENT_MAX_FRACTION of the run; the cut is the later of the two.
+TRANSIENT_BATCHES = 40
+TRANSIENT_MAX_FRACTION = 0.5
+STATIONARITY_LEVEL = 0.05    # first-vs-last-fifth KS tests on what is kept pass at p >= 5 %
 CATALOG_FIELDS = ("t_start", "T", "x_start", "L_s", "u_mean", "M0", "max_slip_rate", "n_clusters")
 
 
@@ -70,7 +92,7 @@ class RunInfo:
 
 
 def read_run_info(path: str | os.PathLike) -> RunInfo:
-    with h5py.File(path, "r") as f:
+    with _open_h5(path) as f:
         config = tomllib.loads(_as_str(f.attrs["config"])) if "config" in f.attrs else {}
         ss = f["slip_sampling"].attrs if "slip_sampling" in f else {}
         geometry = config.get("geometry", {})
@@ -99,13 +121,27 @@ def read_run_info(path: str | os.PathLike) -> RunInfo:
                        delta_th=float(ss.get("delta_th", math.nan)), n_nodes=n, duration=duration)
 
 
+def _open_h5(path, attempts: int = 100, wait: float = 0.05) -> h5py.File:
+    """h5py.File(path, "r"), retried for a few seconds while a running solver
+    holds its write lock (it flushes for a few ms at a time)."""
+    import time
+    for i in range(attempts):
+        try:
+            return h5py.File(path, "r")
+        except OSError as err:
+            if "lock" not in str(err) or i == attempts - 1:
+                raise
+            time.sleep(wait)
+    raise AssertionError("unreachable")
+
+
 def _as_str(value) -> str:
     return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def read_catalog(path: str | os.PathLike) -> dict:
     """/events of `path` as {field: ndarray} plus 'attrs' (dict)."""
-    with h5py.File(path, "r") as f:
+    with _open_h5(path) as f:
         if "events" not in f:
             raise KeyError(f"{path}: no group /events (run `slipstrip events {path}` first)")
         g = f["events"]
@@ -152,7 +188,7 @@ def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
     """The catalog of `run_path` for `alpha`: /events of the run file if it was
     made with this alpha; else detection is run (into the run file when it has
     no /events, else into a catalog file in `workdir` or a temporary one)."""
-    with h5py.File(run_path, "r") as f:
+    with _open_h5(run_path) as f:
         stored_alpha = float(f["events"].attrs["alpha"]) if "events" in f else None
     if stored_alpha is not None and stored_alpha == float(alpha):
         return read_catalog(run_path)
@@ -411,15 +447,18 @@ def periodic_pulse_from_timeseries(time, max_slip_rate, v0: float) -> dict:
             "min_max_slip_rate_v0": vmin, "cv_max_slip_rate": cv}
 
 
-def stationarity(catalog: dict, info: RunInfo, t_total: float | None = None) -> dict:
+def stationarity(catalog: dict, info: RunInfo, t_total: float | None = None, t_begin: float = 0.0) -> dict:
     """Events with t_start < 0.2 t_s vs t_start > 0.8 t_s (Fig. S8), with a
     two-sample KS test per observable.  t_s is the run duration (default: the
-    time covered by the run file)."""
+    time covered by the run file).  With t_begin > 0 (after a transient cut)
+    the fifths are those of [t_begin, t_total] and earlier events are ignored."""
     t_total = info.duration if t_total is None else t_total
     t = np.asarray(catalog["t_start"], float)
-    first, last = t < 0.2 * t_total, t > 0.8 * t_total
+    span = t_total - t_begin
+    first = (t >= t_begin) & (t < t_begin + 0.2 * span)
+    last = t > t_begin + 0.8 * span
     obs = normalised_observables(catalog, info)
-    out = {"t_total": t_total, "n_first": int(first.sum()), "n_last": int(last.sum())}
+    out = {"t_total": t_total, "t_begin": t_begin, "n_first": int(first.sum()), "n_last": int(last.sum())}
     for name, x in obs.items():
         if first.sum() >= 2 and last.sum() >= 2:
             r = stats.ks_2samp(x[first], x[last])
@@ -427,6 +466,234 @@ def stationarity(catalog: dict, info: RunInfo, t_total: float | None = None) -> 
         else:
             out[name] = {"ks": math.nan, "pvalue": math.nan}
     return out
+
+
+# ---------------------------------------------------------------------------
+# Transient cut and stationarity of what is kept
+# ---------------------------------------------------------------------------
+
+def mser_truncation(series, max_fraction: float = TRANSIENT_MAX_FRACTION) -> int:
+    """Marginal Standard Error Rule (White 1997): the number d of leading
+    entries to drop, 0 <= d <= max_fraction * n, that minimises
+    sum((y - mean y)^2) / m^2 over the m finite entries y kept.  A leading
+    transient inflates the sum of squares of what is kept, so the rule drops
+    it; on stationary data the minimum is at (or near) d = 0, because the
+    standard error grows as entries are dropped.  NaN entries are skipped."""
+    x = np.asarray(series, float)
+    n = x.size
+    best, best_d = math.inf, 0
+    for d in range(0, int(math.floor(max_fraction * n)) + 1):
+        y = x[d:]
+        y = y[np.isfinite(y)]
+        if y.size < 2:
+            break
+        crit = float(np.sum((y - y.mean()) ** 2)) / y.size ** 2
+        if crit < best * (1.0 - 1e-12):
+            best, best_d = crit, d
+    return best_d
+
+
+def transient_cut(t_start, u_over_D, t_end: float, t_begin: float = 0.0,
+                  n_batches: int = TRANSIENT_BATCHES, max_fraction: float = TRANSIENT_MAX_FRACTION) -> dict:
+    """The automatic transient cut of a catalog (docs/analysis.md).
+
+    [t_begin, t_end] is split into n_batches equal batches.  Two batch series
+    are formed: the number of events (event rate) and the mean of
+    log10(u_mean/D) over the events of the batch (mean event slip; NaN for an
+    empty batch).  `mser_truncation` is applied to each, with at most
+    max_fraction of the batches dropped; the cut is the start of the first
+    kept batch of the later of the two.  Returns t_cut [s] and diagnostics."""
+    t = np.asarray(t_start, float)
+    u = np.asarray(u_over_D, float)
+    edges = np.linspace(t_begin, t_end, n_batches + 1)
+    idx = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, n_batches - 1)
+    inside = (t >= t_begin) & (t <= t_end)
+    counts = np.bincount(idx[inside], minlength=n_batches).astype(float)
+    logu = np.full(n_batches, math.nan)
+    ok = inside & np.isfinite(u) & (u > 0)
+    if ok.any():
+        sums = np.bincount(idx[ok], weights=np.log10(u[ok]), minlength=n_batches)
+        n_ok = np.bincount(idx[ok], minlength=n_batches)
+        logu = np.where(n_ok > 0, sums / np.maximum(n_ok, 1), math.nan)
+    d_rate = mser_truncation(counts, max_fraction) if counts.sum() > 0 else 0
+    d_slip = mser_truncation(logu, max_fraction) if np.isfinite(logu).sum() >= 2 else 0
+    d = max(d_rate, d_slip)
+    return {"t_cut": float(edges[d]), "batches_dropped": int(d), "batches_dropped_rate": int(d_rate),
+            "batches_dropped_slip": int(d_slip), "n_batches": int(n_batches),
+            "batch_duration": float((t_end - t_begin) / n_batches), "t_begin": float(t_begin),
+            "t_end": float(t_end), "rule": f"MSER on {n_batches} batches (event count, mean log10 u/D), "
+                                           f"cut <= {max_fraction:g} of the run"}
+
+
+def subset_catalog(catalog: dict, mask) -> dict:
+    """The events of `catalog` selected by a boolean mask (attrs kept)."""
+    m = np.asarray(mask, bool)
+    out = {k: np.asarray(v)[m] for k, v in catalog.items() if k != "attrs"}
+    out["attrs"] = dict(catalog.get("attrs", {}))
+    return out
+
+
+def stationary_part(catalog: dict, info: RunInfo, t_total: float | None = None) -> dict:
+    """Transient cut, then the first-vs-last-fifth KS tests on what is kept.
+
+    Returns {"cut": transient_cut(...), "catalog": the kept events (t_start >=
+    t_cut), "stationarity": stationarity(...) over [t_cut, t_total],
+    "stationary": all three KS p-values >= STATIONARITY_LEVEL}."""
+    t_total = info.duration if t_total is None else t_total
+    obs = normalised_observables(catalog, info)
+    cut = transient_cut(catalog["t_start"], obs["u"], t_total)
+    kept = subset_catalog(catalog, np.asarray(catalog["t_start"], float) >= cut["t_cut"])
+    st = stationarity(kept, info, t_total=t_total, t_begin=cut["t_cut"])
+    ps = [st[k]["pvalue"] for k in ("u", "T", "M0")]
+    return {"cut": cut, "catalog": kept, "stationarity": st,
+            "stationary": bool(all(np.isfinite(p) and p >= STATIONARITY_LEVEL for p in ps))}
+
+
+# ---------------------------------------------------------------------------
+# Periodic travelling pulse from the space-time field
+# ---------------------------------------------------------------------------
+
+def _best_shift(a: np.ndarray, b: np.ndarray) -> tuple[int, float, float]:
+    """Circular shift s (nodes, signed, |s| <= N/2) that best maps profile a
+    onto b (b[n] ~ a[n - s]), the normalised correlation at that shift, and
+    the shift refined to a fraction of a node."""
+    a = a - a.mean()
+    b = b - b.mean()
+    na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
+    if na == 0 or nb == 0:
+        return 0, math.nan, 0.0
+    c = np.fft.irfft(np.conj(np.fft.rfft(a)) * np.fft.rfft(b), n=a.size)
+    s = int(np.argmax(c))
+    r = float(c[s] / (na * nb))
+    # Sub-node position of the peak (parabola through the three samples), for speeds.
+    cm, cp = c[s - 1], c[(s + 1) % a.size]
+    den = cm - 2 * c[s] + cp
+    frac = float(0.5 * (cm - cp) / den) if den < 0 else 0.0
+    if s > a.size // 2:
+        s -= a.size
+    return s, r, s + max(-0.5, min(0.5, frac))
+
+
+def periodic_pulse_from_spacetime(time, slip_rate, v0: float, dx: float,
+                                  late_fraction: float = PULSE_LATE_FRACTION) -> dict:
+    """Space-time criterion of the Fig. 5 regime: a single pulse travelling
+    steadily through the periodic boundaries (docs/analysis.md).
+
+    slip_rate is [n_snapshots, N] (rows at `time`).  Over the last
+    `late_fraction` of the record: (a) the largest slip rate of every
+    snapshot exceeds PULSE_MIN_RATE v0 (never stuck everywhere); (b) the
+    nodes slipping faster than 0.1 of it cover at most
+    PULSE_MAX_WIDTH_FRACTION of the interface (median; a localised pulse,
+    not the uniform k = 0 mode); (c) successive snapshots (lag chosen so that
+    the median shift is >= 3 nodes, for slow pulses) are the same profile of
+    log10 v shifted: median correlation at the best circular shift >=
+    PULSE_MIN_CORRELATION; (d) at least PULSE_MIN_MOVING_FRACTION of the
+    pairs shift it, in the majority direction; (e) the total displacement is
+    at least one period L.  Speed changes are allowed.  With fewer than
+    PULSE_MIN_SNAPSHOTS late snapshots the criterion does not decide
+    (`determined` False).  `onset_time` (pulses only) is the earliest snapshot
+    time from which every window of PULSE_MIN_SNAPSHOTS successive pairs has
+    at least 90 % of its pairs meeting (a)-(d): the end of the coarsening.
+    Speeds (m/s if dx is in m and time in s) use the sub-node shift."""
+    t = np.asarray(time, float)
+    v = np.abs(np.asarray(slip_rate, float))
+    out = {"flag": False, "determined": False, "n_late": 0, "min_max_slip_rate_v0": math.nan,
+           "median_width_fraction": math.nan, "median_correlation": math.nan, "moving_fraction": math.nan,
+           "travelled_periods": math.nan, "speed_median": math.nan, "speed_min": math.nan,
+           "speed_max": math.nan, "lag": 0, "onset_time": math.nan}
+    if t.size < 2 or v.ndim != 2:
+        return out
+    n_nodes = v.shape[1]
+    late = np.nonzero(t >= t[0] + (1.0 - late_fraction) * (t[-1] - t[0]))[0]
+    out["n_late"] = int(late.size)
+    if late.size < PULSE_MIN_SNAPSHOTS:
+        return out
+    out["determined"] = True
+    vmax = v.max(axis=1)
+    width = np.mean(v >= 0.1 * vmax[:, None], axis=1)
+    z = np.log10(np.maximum(v, 1e-3 * v0) / v0)
+
+    def pairs(indices, lag):
+        res = [(i, j) + _best_shift(z[i], z[j]) for i, j in zip(indices[:-lag], indices[lag:])]
+        return res
+
+    lag = 1
+    pr = pairs(late, lag)
+    while np.median(np.abs([p[2] for p in pr])) < 3 and 2 * lag <= late.size // 4:
+        lag *= 2
+        pr = pairs(late, lag)
+    shifts = np.array([p[2] for p in pr], float)
+    corr = np.array([p[3] for p in pr], float)
+    fine = np.array([p[4] for p in pr], float)
+    dts = np.array([t[p[1]] - t[p[0]] for p in pr], float)
+    moving = shifts != 0
+    direction = np.sign(np.sum(np.sign(shifts))) or 1.0
+    same_way = moving & (np.sign(shifts) == direction)
+    speeds = fine[moving] * dx / dts[moving]
+    L = n_nodes * dx
+    # Non-overlapping pairs of the lag chain add up to the displacement over the late part.
+    travelled = float(np.sum(np.abs(fine[::lag])) * dx / L)
+    a = float(vmax[late].min() / v0)
+    b = float(np.median(width[late]))
+    c = float(np.nanmedian(corr)) if np.isfinite(corr).any() else math.nan
+    d = float(np.mean(same_way))
+    out.update(min_max_slip_rate_v0=a, median_width_fraction=b, median_correlation=c, moving_fraction=d,
+               travelled_periods=travelled, lag=int(lag), direction=int(direction),
+               speed_median=float(np.median(np.abs(speeds))) if speeds.size else math.nan,
+               speed_min=float(np.min(np.abs(speeds))) if speeds.size else math.nan,
+               speed_max=float(np.max(np.abs(speeds))) if speeds.size else math.nan)
+    out["flag"] = bool(a > PULSE_MIN_RATE and b <= PULSE_MAX_WIDTH_FRACTION and c >= PULSE_MIN_CORRELATION
+                       and d >= PULSE_MIN_MOVING_FRACTION and travelled >= PULSE_MIN_TRAVEL)
+    if out["flag"]:
+        # Onset: the same per-pair test over the whole record (same lag); every
+        # window of PULSE_MIN_SNAPSHOTS pairs from the onset on is >= 90 % good.
+        allpr = pairs(np.arange(t.size), lag)
+        good = np.array([vmax[i] > PULSE_MIN_RATE * v0 and vmax[j] > PULSE_MIN_RATE * v0
+                         and width[i] <= PULSE_MAX_WIDTH_FRACTION and np.isfinite(r)
+                         and r >= PULSE_MIN_CORRELATION and np.sign(sh) == direction
+                         for i, j, sh, r, _ in allpr], float)
+        w = min(PULSE_MIN_SNAPSHOTS, good.size)
+        frac = np.convolve(good, np.ones(w) / w, mode="valid")
+        bad = np.nonzero(frac < PULSE_MIN_MOVING_FRACTION - 1e-12)[0]
+        start = int(bad[-1] + 1) if bad.size else 0
+        while start < good.size and not good[start]:
+            start += 1
+        out["onset_time"] = float(t[allpr[start][0]]) if start < len(allpr) else math.nan
+    return out
+
+
+def read_spacetime(path, max_rows: int | None = None):
+    """(time, x, slip_rate) of /snapshots; None without enough snapshots.
+    max_rows > 0 strides the rows evenly."""
+    with _open_h5(path) as f:
+        if "snapshots" not in f or f["snapshots/time"].shape[0] < 2:
+            return None
+        t = f["snapshots/time"][:]
+        step = 1 if not max_rows else _stride(t.size, max_rows)
+        return t[::step], f["snapshots/x"][:], f["snapshots/slip_rate"][::step]
+
+
+def periodic_pulse_decision(by_events: dict, by_timeseries: dict, by_spacetime: dict | None) -> tuple[bool, str]:
+    """The `periodic_pulse` flag: the space-time criterion when it can decide
+    (enough snapshots), else the event OR time-series criteria."""
+    if by_spacetime is not None and by_spacetime.get("determined"):
+        return bool(by_spacetime["flag"]), "spacetime"
+    return bool(by_events.get("flag") or by_timeseries.get("flag")), "events_or_timeseries"
+
+
+def periodic_pulse_of_run(path, catalog: dict, info: RunInfo) -> dict:
+    """All three periodic-pulse criteria of one run file and the decision."""
+    by_events = periodic_pulse_from_catalog(catalog, info)
+    with _open_h5(path) as f:
+        by_ts = (periodic_pulse_from_timeseries(f["timeseries/time"][:], f["timeseries/max_slip_rate"][:], info.v0)
+                 if "timeseries" in f else {"flag": False})
+    st = read_spacetime(path)
+    by_st = None
+    if st is not None:
+        by_st = periodic_pulse_from_spacetime(st[0], st[2], info.v0, info.L / st[2].shape[1])
+    flag, basis = periodic_pulse_decision(by_events, by_ts, by_st)
+    return {"periodic_pulse": flag, "periodic_pulse_basis": basis, "periodic_pulse_events": by_events,
+            "periodic_pulse_timeseries": by_ts, "periodic_pulse_spacetime": by_st or {"determined": False}}
 
 
 # ---------------------------------------------------------------------------
@@ -485,21 +752,14 @@ def summarize_run(path: str | os.PathLike, alpha: float = DEFAULT_ALPHA) -> dict
     Keys: n_events, n_events_small, n_events_large, small_exponent_u,
     small_exponent_u_err, lognormal_mu, lognormal_sigma, lognormal_ks_pvalue
     (log-normal of T v0/D of the large events), slip_fraction_small,
-    slip_fraction_spanning, periodic_pulse (bool), plus diagnostics.  Fits
+    slip_fraction_spanning, periodic_pulse (bool; `periodic_pulse_of_run`),
+    plus diagnostics.  Fits
     with too few events are NaN.  Runs detection through the CLI if needed.
     """
     info = read_run_info(path)
     catalog = catalog_for(path, alpha)
     res = _public(catalog_statistics(catalog, info, n_bootstrap=0))
-    by_events = periodic_pulse_from_catalog(catalog, info)
-    with h5py.File(path, "r") as f:
-        if "timeseries" in f:
-            by_ts = periodic_pulse_from_timeseries(f["timeseries/time"][:], f["timeseries/max_slip_rate"][:], info.v0)
-        else:
-            by_ts = {"flag": False}
-    res["periodic_pulse"] = bool(by_events["flag"] or by_ts["flag"])
-    res["periodic_pulse_events"] = by_events
-    res["periodic_pulse_timeseries"] = by_ts
+    res.update(periodic_pulse_of_run(path, catalog, info))
     res["alpha"] = float(alpha)
     return res
 
@@ -580,7 +840,7 @@ def _stride(n: int, target: int) -> int:
 def plot_space_time(path, info: RunInfo, out_dir: Path, pdf: bool = False, max_rows: int = 2000) -> list[str]:
     """log10(|v|/v0) in the x/L -- t c_s/L plane from /snapshots (Figs. 2a, S3a)."""
     plt = _plt()
-    with h5py.File(path, "r") as f:
+    with _open_h5(path) as f:
         t = f["snapshots/time"][:]
         step = _stride(t.size, max_rows)
         v = f["snapshots/slip_rate"][::step]
@@ -597,7 +857,7 @@ def plot_space_time(path, info: RunInfo, out_dir: Path, pdf: bool = False, max_r
 
 
 def _read_crossing_time(path):
-    with h5py.File(path, "r") as f:
+    with _open_h5(path) as f:
         g = f["slip_sampling"]
         ct = g["crossing_time"][:]
         x = g["x"][:] if "x" in g else np.arange(ct.shape[1]) * float(g.attrs["dx"])
@@ -721,7 +981,7 @@ def plot_event_fields(path, catalog: dict, index: int, info: RunInfo, out_dir: P
     plt = _plt()
     t0 = float(catalog["t_start"][index])
     t1 = t0 + float(catalog["T"][index])
-    with h5py.File(path, "r") as f:
+    with _open_h5(path) as f:
         ts = f["snapshots/time"][:]
         before = np.nonzero(ts <= t0)[0]
         after = np.nonzero(ts >= t1)[0]
@@ -780,17 +1040,14 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
     summary["catalog_counts"] = {k: catalog["attrs"].get(k) for k in (
         "n_nodal_slips", "n_events_detected", "n_events_excluded_first_last", "n_events_below_thresholds",
         "n_events")}
-    by_events = periodic_pulse_from_catalog(catalog, info)
-    with h5py.File(path, "r") as f:
-        has_ts = "timeseries" in f
+    with _open_h5(path) as f:
         has_snap = "snapshots" in f and f["snapshots/time"].shape[0] > 0
         has_ss = "slip_sampling" in f
-        by_ts = (periodic_pulse_from_timeseries(f["timeseries/time"][:], f["timeseries/max_slip_rate"][:], info.v0)
-                 if has_ts else {"flag": False})
-    summary["periodic_pulse"] = bool(by_events["flag"] or by_ts["flag"])
-    summary["periodic_pulse_events"] = by_events
-    summary["periodic_pulse_timeseries"] = by_ts
+    summary.update(periodic_pulse_of_run(path, catalog, info))
     summary["stationarity"] = stationarity(catalog, info)
+    kept = stationary_part(catalog, info)
+    summary["transient_cut"] = kept["cut"]
+    summary["stationarity_after_cut"] = dict(kept["stationarity"], stationary=kept["stationary"])
 
     sens = {}
     catalogs_by_alpha = {}

@@ -1,0 +1,328 @@
+"""Tests of the reproduction report (python/slipstrip/report.py) and of the two
+rules it relies on in analysis.py: the automatic transient cut and the
+space-time periodic-pulse criterion.
+
+Synthetic catalogs and space-time fields test the rules; tiny real runs
+(N = 64, a few L/c_s) test that every table row is computed from the run
+files, and the missing-file behaviour.  Needs the CLI binary for the real
+runs (skipped without it).
+
+Run: /usr/bin/python3 -m pytest tests/python/test_report.py
+"""
+import math
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "python"))
+from slipstrip import analysis  # noqa: E402
+from slipstrip import report  # noqa: E402
+
+# ---------------------------------------------------------------------------
+# Transient cut on synthetic catalogs
+# ---------------------------------------------------------------------------
+
+
+def synthetic_catalog(seed, t_end=1.0, rate=2000.0, t_transient=0.0, transient_rate=6000.0, slip_shift=0.5):
+    """Poisson events with power-law-like slips u/D (log10 u = -1.7 + Exp(0.35));
+    during [0, t_transient] extra events at rate transient_rate - rate with
+    slips larger by 10**slip_shift."""
+    rng = np.random.default_rng(seed)
+    n = rng.poisson(rate * t_end)
+    t = rng.uniform(0, t_end, n)
+    logu = -1.7 + rng.exponential(0.35, n)
+    if t_transient > 0:
+        m = rng.poisson((transient_rate - rate) * t_transient)
+        t = np.concatenate([t, rng.uniform(0, t_transient, m)])
+        logu = np.concatenate([logu, -1.7 + slip_shift + rng.exponential(0.35, m)])
+    o = np.argsort(t)
+    return t[o], 10 ** logu[o]
+
+
+def test_transient_cut_finds_a_transient():
+    cuts = [analysis.transient_cut(*synthetic_catalog(seed, t_transient=0.3), t_end=1.0)["t_cut"]
+            for seed in range(10)]
+    # The batches are 1/40 of the run: the rule cuts at the end of the transient or a little later.
+    assert all(0.275 <= c <= 0.5 for c in cuts), cuts
+    assert abs(np.median(cuts) - 0.3) <= 0.05, cuts
+
+
+def test_transient_cut_of_a_weak_transient():
+    cuts = [analysis.transient_cut(*synthetic_catalog(seed, t_transient=0.2, transient_rate=3000.0,
+                                                       slip_shift=0.2), t_end=1.0)["t_cut"] for seed in range(10)]
+    assert abs(np.median(cuts) - 0.2) <= 0.05, cuts
+    assert all(c >= 0.15 for c in cuts), cuts
+
+
+def test_transient_cut_of_a_stationary_catalog_is_small():
+    cuts = [analysis.transient_cut(*synthetic_catalog(seed), t_end=1.0)["t_cut"] for seed in range(10)]
+    assert np.median(cuts) <= 0.05, cuts
+    assert max(cuts) <= 0.25, cuts  # MSER's rare spurious cut only drops data, it does not bias
+
+
+def test_mser_truncation_basics():
+    assert analysis.mser_truncation(np.r_[np.full(10, 5.0), np.zeros(30)] + 0.01 * np.arange(40) % 0.03) == 10
+    assert analysis.mser_truncation(np.ones(20)) == 0
+    # Never more than half of the series.
+    assert analysis.mser_truncation(np.r_[np.full(30, 5.0), np.zeros(10)]) <= 20
+
+
+def _info(duration=1.0):
+    return analysis.RunInfo(D=1.0, L=1.0, H=0.1, v0=1.0, mu=1.0, c_s=1.0, sigma0=1.0, delta_th=0.01,
+                            n_nodes=100, duration=duration)
+
+
+def test_stationary_part_cuts_then_passes_the_ks_tests():
+    t, u = synthetic_catalog(3, t_transient=0.3)
+    rng = np.random.default_rng(4)
+    cat = {"t_start": t, "u_mean": u, "T": u * rng.lognormal(0, 0.3, u.size), "L_s": np.full(u.size, 0.1),
+           "M0": u * 0.1, "attrs": {}}
+    whole = analysis.stationarity(cat, _info())
+    assert min(whole[k]["pvalue"] for k in ("u", "T", "M0")) < 0.05  # the transient is visible
+    part = analysis.stationary_part(cat, _info())
+    assert 0.275 <= part["cut"]["t_cut"] <= 0.5
+    assert part["stationary"], part["stationarity"]
+    assert np.all(part["catalog"]["t_start"] >= part["cut"]["t_cut"])
+    st = part["stationarity"]
+    assert st["t_begin"] == part["cut"]["t_cut"] and st["n_first"] > 100 and st["n_last"] > 100
+
+
+# ---------------------------------------------------------------------------
+# Periodic travelling pulse on synthetic space-time fields
+# ---------------------------------------------------------------------------
+
+N, LEN, V0 = 256, 1.0, 1e-3
+X = np.arange(N) * LEN / N
+TIME = np.linspace(0.0, 1.0, 200)
+
+
+def pulse_field(position, amplitude=50.0, width=0.03):
+    d = (X[None, :] - np.asarray(position)[:, None] + LEN / 2) % LEN - LEN / 2
+    return V0 * (0.01 + amplitude * np.exp(-d ** 2 / (2 * width ** 2)))
+
+
+def noisy(v, seed, sigma=0.2):
+    return v * np.random.default_rng(seed).lognormal(0.0, sigma, v.shape)
+
+
+def random_bursts(seed, n_bursts=150, floor=0.01):
+    rng = np.random.default_rng(seed)
+    v = np.full((TIME.size, N), floor * V0)
+    for _ in range(n_bursts):
+        i0, dur = rng.integers(0, TIME.size), rng.integers(1, 6)
+        d = (X - rng.uniform(0, LEN) + LEN / 2) % LEN - LEN / 2
+        v[i0:i0 + dur] += V0 * 10 ** rng.uniform(0.5, 2) * np.exp(-d ** 2 / (2 * rng.uniform(0.01, 0.2) ** 2))
+    return noisy(v, seed + 1)
+
+
+def pulse(v):
+    return analysis.periodic_pulse_from_spacetime(TIME, v, V0, LEN / N)
+
+
+def test_pulse_criterion_recognises_travelling_pulses():
+    steady = pulse(noisy(pulse_field(0.2 + 5.0 * TIME), 1))
+    assert steady["flag"] and steady["determined"]
+    assert steady["speed_median"] == pytest.approx(5.0, rel=0.03)  # sub-node shift: speed in L per unit time
+    assert steady["travelled_periods"] == pytest.approx(2.5, rel=0.05)
+    # Accelerating pulse (speed 3 -> 9): speed changes are allowed.
+    accel = pulse(noisy(pulse_field(0.2 + 3.0 * TIME + 3.0 * TIME ** 2), 2))
+    assert accel["flag"] and accel["speed_max"] > 1.3 * accel["speed_min"]
+    # Slow pulse (< 2 nodes per snapshot): a longer lag measures it.
+    slow = pulse(noisy(pulse_field(0.2 + 1.2 * TIME), 3))
+    assert slow["flag"] and slow["lag"] > 1 and slow["speed_median"] == pytest.approx(1.2, rel=0.1)
+    # Backwards travel is the same.
+    assert pulse(noisy(pulse_field(0.7 - 4.0 * TIME), 4))["flag"]
+
+
+def test_pulse_after_a_coarsening_transient_and_its_onset():
+    v = random_bursts(5)
+    late = TIME > 0.3
+    v[late] = noisy(pulse_field(0.1 + 5.0 * TIME[late]), 6)
+    r = pulse(v)
+    assert r["flag"]
+    assert abs(r["onset_time"] - 0.3) <= 0.03
+
+
+def test_pulse_criterion_rejects_complex_and_uniform_states():
+    bursts = pulse(random_bursts(7))
+    assert bursts["determined"] and not bursts["flag"]
+    # Bursts dense enough that something always slips fast: still no pulse (shape and direction).
+    dense = random_bursts(8, n_bursts=2000, floor=5.0)
+    r = pulse(dense)
+    assert r["min_max_slip_rate_v0"] > analysis.PULSE_MIN_RATE and not r["flag"]
+    assert r["moving_fraction"] < analysis.PULSE_MIN_MOVING_FRACTION
+    # Uniform stick-slip of the k = 0 mode (whole interface at once, every 0.1).
+    k0 = np.where((TIME * 10) % 1 < 0.1, 50.0, 0.01)
+    r = pulse(noisy(V0 * k0[:, None] * np.ones((1, N)), 9, 0.05))
+    assert not r["flag"] and r["median_width_fraction"] > 0.9
+    # Uniform fast sliding, and a standing localised oscillation: no pulse either.
+    assert not pulse(noisy(np.full((TIME.size, N), 20 * V0), 10, 0.05))["flag"]
+    standing = pulse(noisy(pulse_field(np.full(TIME.size, 0.5)) * (1.5 + np.sin(30 * TIME))[:, None], 11))
+    assert not standing["flag"] and standing["moving_fraction"] < 0.5
+    # The catalog criterion alone would take regular k = 0 stick-slip for a pulse;
+    # with snapshots the decision is the space-time one.
+    flag, basis = analysis.periodic_pulse_decision({"flag": True}, {"flag": False}, r)
+    assert basis == "spacetime" and flag is False
+    flag, basis = analysis.periodic_pulse_decision({"flag": True}, {"flag": False}, None)
+    assert basis == "events_or_timeseries" and flag is True
+
+
+def test_pulse_criterion_needs_enough_snapshots():
+    r = analysis.periodic_pulse_from_spacetime(TIME[:12], pulse_field(5.0 * TIME[:12]), V0, LEN / N)
+    assert not r["determined"] and not r["flag"]
+
+
+# ---------------------------------------------------------------------------
+# Fig. 3a/b measurement on a synthetic nucleation
+# ---------------------------------------------------------------------------
+
+def test_nucleation_event_measures_two_pulses():
+    # Bilateral rupture from x0 = 0.5 at speed c = 2, the centre stops at t = 0.1,
+    # then two pulses of width 0.05 run on to the antipode.
+    t = np.linspace(0, 0.3, 301)
+    c, w, x0 = 2.0, 0.05, 0.5
+    d = np.abs(X - x0)[None, :]
+    front = c * t[:, None]
+    inside = d <= front
+    centre_stopped = t[:, None] > 0.1
+    v = np.where(inside & ~(centre_stopped & (d < front - w)), 100 * V0, 0.01 * V0)
+    ev = report.nucleation_event(t, X, v, V0, x0, LEN, c_d=3.0)
+    assert ev["found"] and ev["end_reason"] == "traversal"
+    assert ev["front_speed"] == pytest.approx(c, rel=0.03)
+    assert ev["center_duration"] == pytest.approx(0.1, abs=2e-3)
+    assert ev["n_pulses"] == 2
+    assert ev["pulse_width"] == pytest.approx(w, abs=2 * LEN / N)
+    # Arrest instead: everything stops at t = 0.12.
+    v2 = np.where(inside & (t[:, None] <= 0.12), 100 * V0, 0.01 * V0)
+    ev2 = report.nucleation_event(t, X, v2, V0, x0, LEN, c_d=3.0)
+    assert ev2["end_reason"] == "arrest" and ev2["max_extent"] < 0.6 * LEN
+
+
+# ---------------------------------------------------------------------------
+# The report on tiny real runs
+# ---------------------------------------------------------------------------
+
+TINY = ["--set", "geometry.nodes=64", "--set", "output.snapshot_interval=2e-5", "--quiet"]
+
+
+@pytest.fixture(scope="module")
+def binary():
+    exe = os.environ.get("SLIPSTRIP_BIN")
+    if exe and os.access(exe, os.X_OK):
+        return exe
+    for cand in (shutil.which("slipstrip"), REPO / "build" / "slipstrip"):
+        if cand and os.access(cand, os.X_OK):
+            return str(cand)
+    pytest.skip("slipstrip binary not found (set SLIPSTRIP_BIN)")
+
+
+@pytest.fixture(scope="module")
+def tiny_rundir(binary, tmp_path_factory):
+    """One tiny run (N = 64, reference config, 3 L/c_s), with /events, copied to
+    every name of report.RUNS (the report only needs files of the right kind)."""
+    d = tmp_path_factory.mktemp("runs")
+    src = d / "source.h5"
+    subprocess.run([binary, "run", str(REPO / "configs" / "reference.toml"), *TINY,
+                    "--set", "time.duration_transits=3", "--out", str(src)], check=True, timeout=300)
+    subprocess.run([binary, "events", str(src)], check=True, capture_output=True, timeout=300)
+    for name in report.RUNS:
+        shutil.copy(src, d / f"{name}.h5")
+    src.unlink()
+    return d
+
+
+def _report(rundir, tmp_path, *extra, env_bin=None):
+    out = tmp_path / "doc" / "reproduction.md"
+    figs = tmp_path / "doc" / "figures"
+    env = dict(os.environ, PYTHONPATH=str(REPO / "python"), OMP_NUM_THREADS="1")
+    if env_bin:
+        env["SLIPSTRIP_BIN"] = env_bin
+    r = subprocess.run([sys.executable, "-m", "slipstrip", "report", str(rundir), "--out", str(out),
+                        "--figures", str(figs), "--bootstrap", "20", "--quiet", *extra],
+                       capture_output=True, text=True, env=env, timeout=600)
+    return r, out, figs
+
+
+def _row(text, claim_start):
+    rows = [line for line in text.splitlines() if line.startswith(f"| {claim_start}")]
+    assert rows, claim_start
+    return rows[0]
+
+
+def test_missing_run_fails_loudly(tiny_rundir, tmp_path, binary):
+    d = tmp_path / "runs"
+    shutil.copytree(tiny_rundir, d)
+    (d / "fig3c_H02.h5").unlink()
+    r, out, _ = _report(d, tmp_path, env_bin=binary)
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "RUNDIR/fig3c_H02.h5 missing" in lines[0], r.stderr
+    assert not out.exists()
+    # Unreadable is as loud.
+    (d / "fig3c_H02.h5").write_bytes(b"not an HDF5 file")
+    r, out, _ = _report(d, tmp_path, env_bin=binary)
+    assert r.returncode == 2 and "RUNDIR/fig3c_H02.h5 unreadable" in r.stderr and not out.exists()
+
+
+def test_report_rows_come_from_the_run_files(tiny_rundir, tmp_path, binary):
+    d = tmp_path / "runs"
+    shutil.copytree(tiny_rundir, d)
+    (d / "fig3c_H02.h5").unlink()
+    r, out, figs = _report(d, tmp_path, "--allow-missing", env_bin=binary)
+    assert r.returncode == 0, r.stderr
+    text = out.read_text()
+    # The missing run: "not run", no number, in its rows and in the run list.
+    row = _row(text, "peak of large-event p(T), Fig. 3c (H = 0.2 m)")
+    assert "not run (RUNDIR/fig3c_H02.h5 missing)" in row
+    assert "T_peak" not in row
+    assert "Incomplete report" in text
+    # Every section is there, with the paper constants and their places.
+    for claim in ("small-event (u < D) exponent of p(u/D)", "H = 0.1 m: slip at the nucleation site",
+                  "Fig. 5 friction (H = 0.1 m): periodic travelling pulse", "Lc(H = 0.1 m), Table S1 friction",
+                  "reference: statistics stationary after the transient cut", "number of clusters per event"):
+        _row(text, claim)
+    assert "Fig. 1c caption" in text and "paper-as-run (E = 9 GPa)" in text
+    assert str(tmp_path) not in text and str(REPO) not in text  # no machine paths in the doc
+    assert "| RUNDIR/reference.h5 |" in text and "Machine:" in text and "nproc" in text
+    # Lc from the bindings (only if they are importable in the subprocess).
+    lc_row = _row(text, "Lc(H = 0.1 m), Table S1 friction")
+    assert "0.382" in lc_row or "not computed" in lc_row
+
+    # Change one file: the run list reflects it (wall time from its own attributes).
+    with h5py.File(d / "fig3a.h5", "r+") as f:
+        f.attrs["start_time"] = "2026-01-01T00:00:00Z"
+        f.attrs["end_time"] = "2026-01-01T01:02:03Z"
+    # ... and a rescaled catalog changes the Fig. 1 number (u_mean and M0 doubled).
+    with h5py.File(d / "reference.h5", "r+") as f:
+        for k in ("u_mean", "M0"):
+            data = f["events"][k][:]
+            f["events"][k][...] = 2 * data
+    r2, out2, _ = _report(d, tmp_path, "--allow-missing", env_bin=binary)
+    assert r2.returncode == 0, r2.stderr
+    text2 = out2.read_text()
+    assert "1:02:03 (3723 s)" in _row(text2, "RUNDIR/fig3a.h5")
+    assert "1:02:03" not in _row(text, "RUNDIR/fig3a.h5")
+    before = _row(text, "large events (u ≥ D) log-normal: u/D")
+    after = _row(text2, "large events (u ≥ D) log-normal: u/D")
+    assert before != after
+    # The whole report is regenerated: a stale figure is removed.
+    stale = figs / "stale.png"
+    stale.write_bytes(b"x")
+    r3, _, _ = _report(d, tmp_path, "--allow-missing", env_bin=binary)
+    assert r3.returncode == 0 and not stale.exists()
+
+
+def test_incomplete_run_is_refused_unless_allowed(tiny_rundir, tmp_path, binary):
+    d = tmp_path / "runs"
+    shutil.copytree(tiny_rundir, d)
+    with h5py.File(d / "fig5.h5", "r+") as f:
+        f.attrs["status"] = "running"
+    r, out, _ = _report(d, tmp_path, env_bin=binary)
+    assert r.returncode == 2 and "RUNDIR/fig5.h5 incomplete" in r.stderr and not out.exists()
