@@ -1,0 +1,239 @@
+"""Order parameter of a run's long-time state, for the coarsening-to-complexity
+map (docs/transition.md).
+
+The paper's open question is where, between H << L and H >> L, the interface
+stops coarsening into one periodic travelling pulse and starts producing
+statistical complexity.  A run is classified from three independent records
+of the same window of time, so that a wrong verdict of one observable shows up
+as a disagreement (`agreement` below):
+
+* the space-time field (/snapshots): the travelling-pulse criterion of
+  analysis.periodic_pulse_from_spacetime, the median spatial coefficient of
+  variation of the slip rate while slipping (uniform k = 0 stick-slip is
+  ~uniform), and the number of separate slipping patches (the coarsening
+  length scale is L / patches);
+* the global time series (/timeseries max_slip_rate): the fraction of time
+  above PULSE_MIN_RATE v0 and the regularity of log v_max (its coefficient of
+  variation and the height of its autocorrelation's first peak);
+* the event catalog (/events): the spread of event sizes (standard deviation
+  of log10 M0, in decades) and the fraction of slip in system-spanning events.
+
+States (`classify_window`):
+  steady              v_max < STEADY_MAX_RATE v0 throughout: no events;
+  periodic_pulse      the travelling-pulse criterion holds;
+  uniform_stick_slip  while slipping the slip rate is nearly uniform in x
+                      (median spatial CV < UNIFORM_MAX_CV) and >= 80 % of the
+                      slip is in system-spanning events;
+  complex             a broad population of events (log10 M0 spread >=
+                      COMPLEX_MIN_SIZE_SPREAD decades) with < 80 % of the slip
+                      in system-spanning events;
+  other               none of these (e.g. quasi-periodic large events).
+
+A run is `converged` when its last two thirds give the same state (the
+classification is unchanged over the last third).  All thresholds are module
+constants, documented in docs/transition.md and tested on synthetic fields in
+tests/python/test_transition.py.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import analysis
+
+STEADY_MAX_RATE = 3.0          # [v0] below this everywhere and always: steady sliding
+UNIFORM_MAX_CV = 0.3           # spatial CV of v while slipping, uniform k = 0 stick-slip
+SPANNING_COHERENT = 0.8        # fraction of slip in spanning events of a coherent state
+COMPLEX_MIN_SIZE_SPREAD = 0.5  # [decades] std of log10 M0 of a complex population
+PATCH_RATE = 10.0              # [v0] a node slips "fast" above this (patch counting)
+MIN_EVENTS = 5                 # fewer events in a window: the catalog does not vote
+
+STATES = ("steady", "periodic_pulse", "uniform_stick_slip", "complex", "other")
+
+
+@dataclass
+class WindowRecord:
+    """What one window of a run holds (SI units)."""
+    v0: float
+    L: float
+    dx: float
+    snapshot_time: np.ndarray          # [n]
+    slip_rate: np.ndarray              # [n, N]
+    series_time: np.ndarray            # [m]
+    max_slip_rate: np.ndarray          # [m]
+    catalog: dict = field(default_factory=dict)  # analysis catalog fields (may be empty)
+
+
+def patch_count(slip_rate_row: np.ndarray, threshold: float) -> int:
+    """Separate (periodic) runs of nodes slipping faster than `threshold`."""
+    fast = np.asarray(slip_rate_row) > threshold
+    if not fast.any():
+        return 0
+    if fast.all():
+        return 1
+    # rising edges on the periodic ring
+    return int(np.count_nonzero(fast & ~np.roll(fast, 1)))
+
+
+def autocorrelation_peak(series: np.ndarray) -> float:
+    """Height of the first maximum of the normalised autocorrelation after
+    its first zero crossing (1 for a periodic signal, ~0 for noise; NaN if
+    there is no zero crossing, e.g. for a trend)."""
+    x = np.asarray(series, float)
+    x = x - x.mean()
+    if x.size < 8 or not np.any(x):
+        return math.nan
+    n = x.size
+    spectrum = np.fft.rfft(x, 2 * n)
+    ac = np.fft.irfft(spectrum * np.conj(spectrum))[:n]
+    ac /= ac[0]
+    crossing = np.nonzero(ac < 0)[0]
+    if crossing.size == 0:
+        return math.nan
+    rest = ac[crossing[0]:n // 2]
+    return float(rest.max()) if rest.size else math.nan
+
+
+def window_observables(w: WindowRecord) -> dict:
+    v0 = w.v0
+    v = np.abs(np.asarray(w.slip_rate, float))
+    vmax_series = np.asarray(w.max_slip_rate, float)
+    obs: dict = {}
+    obs["max_rate_v0"] = float(max(vmax_series.max(initial=0.0), v.max(initial=0.0)) / v0)
+    obs["active_time_fraction"] = float(np.mean(vmax_series > analysis.PULSE_MIN_RATE * v0)) \
+        if vmax_series.size else math.nan
+    logv = np.log10(np.maximum(vmax_series, 1e-3 * v0) / v0)
+    obs["cv_max_slip_rate"] = float(vmax_series.std() / vmax_series.mean()) if vmax_series.size else math.nan
+    obs["autocorrelation_peak"] = autocorrelation_peak(logv)
+    # space-time
+    if v.ndim == 2 and v.shape[0] >= 2:
+        pulse = analysis.periodic_pulse_from_spacetime(w.snapshot_time, v, v0, w.dx, late_fraction=1.0)
+        obs["pulse"] = pulse
+        rows = v[v.max(axis=1) > analysis.PULSE_MIN_RATE * v0]
+        if rows.shape[0]:
+            cv = rows.std(axis=1) / rows.mean(axis=1)
+            obs["spatial_cv_slipping"] = float(np.median(cv))
+            patches = [patch_count(r, PATCH_RATE * v0) for r in rows]
+            obs["median_patches"] = float(np.median(patches))
+        else:
+            obs["spatial_cv_slipping"] = math.nan
+            obs["median_patches"] = 0.0
+    else:
+        obs["pulse"] = {"flag": False, "determined": False}
+        obs["spatial_cv_slipping"] = math.nan
+        obs["median_patches"] = math.nan
+    # catalog
+    cat = w.catalog or {}
+    m0 = np.asarray(cat.get("M0", []), float)
+    m0 = m0[m0 > 0]
+    obs["n_events"] = int(m0.size)
+    if m0.size >= MIN_EVENTS:
+        obs["size_spread_decades"] = float(np.log10(m0).std(ddof=1))
+        obs["spanning_slip_fraction"] = analysis.slip_fractions(
+            cat["u_mean"], cat["L_s"], D=1.0, L=w.L)["spanning"]
+    else:
+        obs["size_spread_decades"] = math.nan
+        obs["spanning_slip_fraction"] = math.nan
+    return obs
+
+
+def votes(obs: dict) -> dict:
+    """What each independent record says on its own: 'coherent' (one pulse or
+    uniform stick-slip), 'complex', 'steady', or None (cannot tell)."""
+    out = {}
+    if obs["max_rate_v0"] < STEADY_MAX_RATE:
+        return {"spacetime": "steady", "timeseries": "steady", "catalog": "steady"}
+    p = obs["pulse"]
+    if p.get("determined"):
+        coherent = p["flag"] or obs["spatial_cv_slipping"] < UNIFORM_MAX_CV
+        out["spacetime"] = "coherent" if coherent else "complex"
+    else:
+        out["spacetime"] = None
+    # A steady pulse keeps v_max nearly constant; periodic stick-slip repeats.
+    cv, ac = obs["cv_max_slip_rate"], obs["autocorrelation_peak"]
+    if cv < analysis.PULSE_MAX_CV or (not math.isnan(ac) and ac >= 0.7):
+        out["timeseries"] = "coherent"
+    elif not math.isnan(cv):
+        out["timeseries"] = "complex"
+    else:
+        out["timeseries"] = None
+    spread, spanning = obs["size_spread_decades"], obs["spanning_slip_fraction"]
+    if math.isnan(spread):
+        out["catalog"] = None
+    elif spread >= COMPLEX_MIN_SIZE_SPREAD and spanning < SPANNING_COHERENT:
+        out["catalog"] = "complex"
+    else:
+        out["catalog"] = "coherent"
+    return out
+
+
+def classify_window(w: WindowRecord) -> dict:
+    obs = window_observables(w)
+    vote = votes(obs)
+    if obs["max_rate_v0"] < STEADY_MAX_RATE:
+        state = "steady"
+    elif obs["pulse"].get("flag"):
+        state = "periodic_pulse"
+    elif (obs["spatial_cv_slipping"] < UNIFORM_MAX_CV
+          and (math.isnan(obs["spanning_slip_fraction"]) or obs["spanning_slip_fraction"] >= SPANNING_COHERENT)):
+        state = "uniform_stick_slip"
+    elif (not math.isnan(obs["size_spread_decades"]) and obs["size_spread_decades"] >= COMPLEX_MIN_SIZE_SPREAD
+          and obs["spanning_slip_fraction"] < SPANNING_COHERENT):
+        state = "complex"
+    elif vote.get("catalog") is None and vote.get("spacetime") == "complex" and vote.get("timeseries") == "complex":
+        state = "complex"  # too few events in the window to vote, both fields say complex
+    else:
+        state = "other"
+    expected = {"steady": "steady", "periodic_pulse": "coherent", "uniform_stick_slip": "coherent",
+                "complex": "complex", "other": None}[state]
+    cast = [v for v in vote.values() if v is not None]
+    agreement = (sum(v == expected for v in cast) / len(cast)) if (cast and expected) else math.nan
+    return {"state": state, "observables": obs, "votes": vote, "agreement": agreement}
+
+
+def _window(record: WindowRecord, t0: float, t1: float) -> WindowRecord:
+    s = (record.snapshot_time >= t0) & (record.snapshot_time <= t1)
+    r = (record.series_time >= t0) & (record.series_time <= t1)
+    cat = {}
+    if record.catalog:
+        keep = (np.asarray(record.catalog["t_start"]) >= t0) & (np.asarray(record.catalog["t_start"]) <= t1)
+        cat = {k: np.asarray(v)[keep] for k, v in record.catalog.items() if k != "attrs"}
+    return WindowRecord(record.v0, record.L, record.dx, record.snapshot_time[s], record.slip_rate[s],
+                        record.series_time[r], record.max_slip_rate[r], cat)
+
+
+def classify_record(record: WindowRecord) -> dict:
+    """State of each third of the record, the final state and convergence
+    (the last two thirds agree), and the coarsening length L / patches per third."""
+    t_all = np.concatenate([record.snapshot_time, record.series_time])
+    t0, t1 = float(t_all.min()), float(t_all.max())
+    edges = np.linspace(t0, t1, 4)
+    thirds = [classify_window(_window(record, edges[i], edges[i + 1])) for i in range(3)]
+    states = [t["state"] for t in thirds]
+    patches = [t["observables"]["median_patches"] for t in thirds]
+    return {"state": states[-1], "converged": states[1] == states[2], "states_by_third": states,
+            "coarsening_length_by_third": [record.L / p if p and p > 0 else math.nan for p in patches],
+            "agreement": thirds[-1]["agreement"], "votes": thirds[-1]["votes"],
+            "observables": thirds[-1]["observables"]}
+
+
+def read_record(path, max_rows: int = 4000) -> WindowRecord:
+    """The three records of a run file (the catalog if `slipstrip events` has run)."""
+    info = analysis.read_run_info(path)
+    st = analysis.read_spacetime(path, max_rows=max_rows)
+    with analysis._open_h5(path) as f:
+        ts_t = f["timeseries/time"][:] if "timeseries" in f else np.zeros(0)
+        ts_v = f["timeseries/max_slip_rate"][:] if "timeseries" in f else np.zeros(0)
+        has_events = "events" in f
+    catalog = analysis.read_catalog(path) if has_events else {}
+    if st is None:
+        t, x, v = np.zeros(0), np.zeros(info.n_nodes), np.zeros((0, info.n_nodes))
+    else:
+        t, x, v = st
+    return WindowRecord(info.v0, info.L, info.L / max(v.shape[1], 1), t, v, ts_t, ts_v, catalog)
+
+
+def classify_run(path) -> dict:
+    return classify_record(read_record(path))

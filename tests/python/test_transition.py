@@ -1,0 +1,124 @@
+"""The order parameter of docs/transition.md on synthetic records whose state
+is known by construction: a travelling pulse, random bursts of all sizes
+(complexity), uniform stick-slip of the k = 0 mode, steady sliding, and a
+coarsening record (complex first, a pulse later)."""
+import math
+
+import numpy as np
+import pytest
+
+from slipstrip import transition
+
+V0, L, N = 2e-3, 4.0, 256
+DX = L / N
+X = np.arange(N) * DX
+
+
+def _catalog(t_start, m0, spanning_fraction, rng):
+    n = len(t_start)
+    spanning = rng.random(n) < spanning_fraction
+    L_s = np.where(spanning, L, rng.uniform(0.05, 0.5, n) * L)
+    u = m0 / L_s
+    return {"t_start": np.asarray(t_start), "M0": np.asarray(m0), "u_mean": u, "L_s": L_s,
+            "T": np.full(n, 1e-4)}
+
+
+def pulse(t, speed=1500.0, width=0.05, amplitude=50.0, seed=0):
+    rng = np.random.default_rng(seed)
+    d = np.mod(X[None, :] - speed * t[:, None], L) - L / 2
+    v = V0 * (0.05 + amplitude * np.exp(-0.5 * (d / width) ** 2)) * (1 + 0.02 * rng.standard_normal((t.size, N)))
+    return v
+
+
+def bursts(t, seed=1):
+    rng = np.random.default_rng(seed)
+    v = V0 * 0.05 * np.ones((t.size, N))
+    for _ in range(3 * t.size):
+        i = rng.integers(t.size)
+        centre, width = rng.uniform(0, L), 10 ** rng.uniform(-2.5, -0.7)
+        d = np.mod(X - centre + L / 2, L) - L / 2
+        v[i] += V0 * 10 ** rng.uniform(0.7, 2.5) * np.exp(-0.5 * (d / width) ** 2)
+    return v
+
+
+def record(t, v, catalog):
+    vmax = v.max(axis=1)
+    return transition.WindowRecord(V0, L, DX, t, v, t, vmax, catalog)
+
+
+def test_travelling_pulse_is_a_periodic_pulse():
+    rng = np.random.default_rng(0)
+    t = np.linspace(0, 0.02, 600)
+    starts = np.arange(0, 0.02, L / 1500.0)
+    rec = record(t, pulse(t), _catalog(starts, np.full(starts.size, 1e-3) * (1 + 0.05 * rng.random(starts.size)), 1.0, rng))
+    out = transition.classify_record(rec)
+    assert out["state"] == "periodic_pulse" and out["converged"]
+    assert out["agreement"] == 1.0
+
+
+def test_random_bursts_of_all_sizes_are_complex():
+    rng = np.random.default_rng(2)
+    t = np.linspace(0, 0.02, 600)
+    starts = np.sort(rng.uniform(0, 0.02, 300))
+    m0 = 10 ** rng.uniform(-6, -2, starts.size)
+    out = transition.classify_record(record(t, bursts(t), _catalog(starts, m0, 0.05, rng)))
+    assert out["state"] == "complex" and out["converged"]
+    assert out["agreement"] == 1.0
+
+
+def test_uniform_stick_slip_is_recognised():
+    rng = np.random.default_rng(3)
+    t = np.linspace(0, 0.02, 600)
+    phase = np.mod(t / 2e-3, 1.0)
+    rate = V0 * (0.05 + 80 * np.exp(-0.5 * ((phase - 0.5) / 0.03) ** 2))
+    v = rate[:, None] * (1 + 0.03 * rng.standard_normal((t.size, N)))
+    starts = np.arange(0.001, 0.02, 2e-3)
+    out = transition.classify_record(record(t, v, _catalog(starts, np.full(starts.size, 1e-3), 1.0, rng)))
+    assert out["state"] == "uniform_stick_slip" and out["converged"]
+    assert out["observables"]["spatial_cv_slipping"] < transition.UNIFORM_MAX_CV
+
+
+def test_steady_sliding():
+    rng = np.random.default_rng(4)
+    t = np.linspace(0, 0.02, 300)
+    v = V0 * (1 + 0.01 * rng.standard_normal((t.size, N)))
+    out = transition.classify_record(record(t, v, {}))
+    assert out["state"] == "steady" and out["converged"]
+
+
+def test_coarsening_record_ends_as_a_pulse_and_is_converged_only_when_the_last_thirds_agree():
+    rng = np.random.default_rng(5)
+    t = np.linspace(0, 0.03, 900)
+    v = np.where((t < 0.01)[:, None], bursts(t, seed=6), pulse(t, seed=7))
+    early = np.sort(rng.uniform(0, 0.01, 150))
+    late = np.arange(0.01, 0.03, L / 1500.0)
+    cat = _catalog(np.concatenate([early, late]),
+                   np.concatenate([10 ** rng.uniform(-6, -2, early.size), np.full(late.size, 1e-3)]),
+                   0.0, rng)
+    cat["L_s"][early.size:] = L
+    cat["u_mean"][early.size:] = 1e-3 / L
+    out = transition.classify_record(record(t, v, cat))
+    assert out["states_by_third"][0] == "complex"
+    assert out["states_by_third"][1:] == ["periodic_pulse", "periodic_pulse"]
+    assert out["converged"] and out["state"] == "periodic_pulse"
+    # Cut the record where the pulse has just formed: the last two thirds disagree.
+    keep = t < 0.016
+    cat_cut = {k: v_[np.asarray(cat["t_start"]) < 0.016] for k, v_ in cat.items()}
+    out = transition.classify_record(record(t[keep], v[keep], cat_cut))
+    assert not out["converged"]
+
+
+def test_patch_count_on_a_ring():
+    row = np.zeros(20)
+    row[[0, 1, 19]] = 1.0  # one patch across the periodic boundary
+    row[[5, 6]] = 1.0
+    row[[10]] = 1.0
+    assert transition.patch_count(row, 0.5) == 3
+    assert transition.patch_count(np.ones(5), 0.5) == 1
+    assert transition.patch_count(np.zeros(5), 0.5) == 0
+
+
+def test_autocorrelation_peak_periodic_vs_noise():
+    t = np.arange(2000)
+    assert transition.autocorrelation_peak(np.sin(2 * np.pi * t / 50)) > 0.9
+    assert transition.autocorrelation_peak(np.random.default_rng(8).standard_normal(2000)) < 0.2
