@@ -5,6 +5,7 @@
   analyze  ...  (slipstrip.analysis.main)
   scan     ...  (slipstrip.scan.main)
   report   RUNDIR [--out docs/reproduction.md] [--figures DIR] [--allow-missing]  (slipstrip.report.main)
+  transition  RUNS... [--csv F] [--plot PNG]  (slipstrip.transition.main: long-time state of each run)
 
 Each command parses its own arguments (`python3 -m slipstrip <command> -h`).
 """
@@ -78,6 +79,7 @@ COMMANDS = {
     "analyze": lambda argv: _delegate("analysis", argv),
     "scan": lambda argv: _delegate("scan", argv),
     "report": lambda argv: _delegate("report", argv),
+    "transition": lambda argv: _delegate("transition", argv),
 }
 
 

@@ -237,3 +237,112 @@ def read_record(path, max_rows: int = 4000) -> WindowRecord:
 
 def classify_run(path) -> dict:
     return classify_record(read_record(path))
+
+
+# ---------------------------------------------------------------------------
+# The map: classify every run file of one or more directories
+# ---------------------------------------------------------------------------
+
+def _run_parameters(path) -> dict:
+    import tomllib
+    with analysis._open_h5(path) as f:
+        config = tomllib.loads(analysis._as_str(f.attrs["config"]))
+        status = analysis._as_str(f.attrs.get("status", ""))
+    g, fr = config["geometry"], config["friction"]
+    H = g["height"]
+    H = math.inf if isinstance(H, str) else float(H)
+    slope = fr["a"] - fr["f0"] * fr["b"]  # d f_ss / d ln v of the paper law for v >> v*
+    return {"file": str(path), "status": status, "length": float(g["length"]), "height": H,
+            "nodes": int(g["nodes"]), "f0": fr["f0"], "a": fr["a"], "b": fr["b"],
+            "rate_weakening": -slope}
+
+
+def classify_directory(paths) -> list[dict]:
+    """One row per run file: parameters, state, convergence, agreement."""
+    rows = []
+    for path in paths:
+        row = _run_parameters(path)
+        try:
+            result = classify_run(path)
+        except (OSError, KeyError, ValueError) as err:
+            row.update(state="unreadable", converged=False, agreement=math.nan, error=str(err))
+        else:
+            row.update(state=result["state"], converged=result["converged"], agreement=result["agreement"],
+                       states_by_third="/".join(result["states_by_third"]),
+                       coarsening_length_last=result["coarsening_length_by_third"][-1])
+        rows.append(row)
+    return rows
+
+
+MARKERS = {"steady": ("s", "0.6"), "periodic_pulse": ("o", "tab:blue"), "uniform_stick_slip": ("^", "tab:green"),
+           "complex": ("*", "tab:red"), "other": ("D", "tab:purple"), "unreadable": ("x", "k")}
+
+
+def plot_map(rows: list[dict], out_png, critical_length=None) -> None:
+    """The two planes of the issue: (H/L, Lc(H)/H) and (H/L, |df_ss/d ln v|);
+    open symbols: not converged.  Half-spaces are drawn at H/L = 2x the largest finite value."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    finite = [r["height"] / r["length"] for r in rows if math.isfinite(r["height"])]
+    inf_at = 2 * max(finite) if finite else 1.0
+    fig, axes = plt.subplots(1, 2 if critical_length else 1, figsize=(10 if critical_length else 5, 4),
+                             squeeze=False)
+    ax = axes[0, 0]
+    for r in rows:
+        h = r["height"] / r["length"] if math.isfinite(r["height"]) else inf_at
+        marker, colour = MARKERS[r["state"]]
+        ax.scatter(h, r["rate_weakening"], marker=marker, s=60,
+                   facecolors=colour if r["converged"] else "none", edgecolors=colour)
+    ax.set(xscale="log", xlabel="H / L (half-space at the right end)", ylabel="|d f_ss / d ln v|")
+    if critical_length:
+        ax = axes[0, 1]
+        for r in rows:
+            lc = critical_length(r)
+            if not (lc and math.isfinite(r["height"])):
+                continue
+            marker, colour = MARKERS[r["state"]]
+            ax.scatter(r["height"] / r["length"], lc / r["height"], marker=marker, s=60,
+                       facecolors=colour if r["converged"] else "none", edgecolors=colour)
+        ax.set(xscale="log", yscale="log", xlabel="H / L", ylabel="Lc(H) / H")
+    handles = [plt.Line2D([], [], marker=m, color=c, linestyle="", label=s) for s, (m, c) in MARKERS.items()]
+    axes[0, -1].legend(handles=handles, fontsize=7, loc="best")
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=110)
+    plt.close(fig)
+
+
+def main(argv: list[str]) -> int:
+    import argparse
+    import csv
+    import sys
+    from pathlib import Path
+    p = argparse.ArgumentParser(prog="python3 -m slipstrip transition",
+                                description="Classify the long-time state of run files (docs/transition.md).")
+    p.add_argument("paths", nargs="+", help="run files or directories holding them")
+    p.add_argument("--csv", help="write one row per run")
+    p.add_argument("--plot", help="write the state map (PNG)")
+    args = p.parse_args(argv)
+    files = []
+    for entry in map(Path, args.paths):
+        if entry.is_dir():
+            files += sorted(entry.rglob("*.h5"))
+        elif entry.is_file():
+            files.append(entry)
+        else:
+            print(f"error: {entry}: no such file or directory", file=sys.stderr)
+            return 2
+    rows = classify_directory(files)
+    for r in rows:
+        print(f"{Path(r['file']).name:40s} H/L = {r['height'] / r['length']:<8.4g} "
+              f"|df/dlnv| = {r['rate_weakening']:.4f}  {r['state']:18s} "
+              f"{'converged' if r['converged'] else 'NOT converged'}  agreement {r['agreement']:.2f}")
+    if args.csv:
+        keys = sorted({k for r in rows for k in r})
+        with open(args.csv, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=keys)
+            w.writeheader()
+            w.writerows(rows)
+    if args.plot:
+        plot_map(rows, args.plot)
+    return 0

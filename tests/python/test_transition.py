@@ -122,3 +122,32 @@ def test_autocorrelation_peak_periodic_vs_noise():
     t = np.arange(2000)
     assert transition.autocorrelation_peak(np.sin(2 * np.pi * t / 50)) > 0.9
     assert transition.autocorrelation_peak(np.random.default_rng(8).standard_normal(2000)) < 0.2
+
+
+def test_pipeline_end_to_end_on_tiny_runs(cli, repo, tmp_path):
+    """CI's tiny version of the map: two very short runs from the transition
+    scan's base (a thin strip and a half-space), events, then the classifier
+    writes its CSV and the map."""
+    import csv
+    import subprocess
+    files = []
+    for height in ("0.05", "inf"):
+        out = tmp_path / f"H{height}.h5"
+        cmd = [str(cli), "run", str(repo / "configs/reference.toml"), "--quiet", "--out", str(out),
+               "--set", "geometry.nodes=64", "--set", "geometry.length=0.8", "--set", f"geometry.height={height}",
+               "--set", "time.duration_transits=3", "--set", "output.snapshot_interval=2e-5",
+               "--set", "initial.noise_amplitude=1e-2"]
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+        assert r.returncode == 0, r.stderr
+        r = subprocess.run([str(cli), "events", str(out)], capture_output=True, text=True, timeout=60)
+        assert r.returncode == 0, r.stderr
+        files.append(out)
+    csv_path, png = tmp_path / "map.csv", tmp_path / "map.png"
+    assert transition.main([str(tmp_path), "--csv", str(csv_path), "--plot", str(png)]) == 0
+    rows = list(csv.DictReader(csv_path.open()))
+    assert {row["file"] for row in rows} == {str(f) for f in files}
+    for row in rows:
+        assert row["state"] in transition.STATES
+        assert row["status"] == "completed"
+    assert sorted(float(row["height"]) for row in rows) == [0.05, math.inf]
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
