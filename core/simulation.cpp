@@ -147,7 +147,10 @@ void Simulation::solve_rate_and_state(bool initial) {
   const LocalSolveParameters params{config_.friction, config_.loading.normal_stress, eta_};
   const double load = reference_shear_stress_ + eta_ * driving_velocity_;
   const double t_load = initial ? time_ : time_ + dt_;  // the level being solved for
-#pragma omp parallel for schedule(static)
+  // The loads: a few flops per node unless a load pulse is imposed (an exp
+  // per node); only then is it worth a parallel region of its own.
+  const bool pulse = config_.interface.load_pulse_amplitude != 0.0;
+#pragma omp parallel for schedule(static) if (pulse)
   for (int i = 0; i < nodes_; ++i)
     tau_history_[i] = load - history_stress_[i] + imposed_stress(x_[i], t_load);
   try {

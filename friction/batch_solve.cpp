@@ -38,8 +38,9 @@ constexpr double kFloorFactor = 8.0;   // round-off floor |g| <= 8 eps * scale
 // Lanes still iterating after this many residual evaluations are handed to the
 // scalar solve (with its bisection safeguards) from their original guess.
 constexpr int kMaxVectorEvaluations = 12;
-// Nodes per parallel work item (a multiple of W).
-constexpr std::size_t kChunk = 256;
+// Nodes per parallel work item (a multiple of W): small enough that two
+// threads share even a 256-node interface, large enough to amortise the call.
+constexpr std::size_t kChunk = 64;
 
 struct alignas(64) Lanes {
   double v[W];
@@ -105,66 +106,34 @@ B evolve_lanes(const FrictionParameters& p, const B& state, const B& v, double d
   return xsimd::select(u == B(0.0), state, evolved);
 }
 
-// --- local solve, paper law -----------------------------------------------------
+// --- local solve ----------------------------------------------------------------
 //
 // With u = |v| and w = ln u the residual is
-//   g = excess - eta u - A ln(1 + u/v*),   excess = |tau| - strength(0, phi),
-//   dg/dw = -(eta u + A u / (u + v*)),
-// concave and decreasing in w (docs/friction.md), so plain Newton in w from any
-// start converges: from the left it lands right of the root, from the right it
-// is monotone.  The iterate is carried as u (u <- u e^dw), so one iteration
-// costs one exp and one log1p.  Acceptance is the scalar solve's: |dw| <= 1e-6
-// (result u (1 + dw), relative error <= 1e-12) or the round-off floor.  The
-// scalar solve's bracket and bisection only guard against round-off and slow
-// starts far right of the root; here any lane that is not accepted within
+//   paper:            g = excess - eta u - A ln(1 + u/v*),  excess = |tau| - strength(0, phi),
+//                     dg/dw = -(eta u + A u / (u + v*));
+//   dieterich_ruina:  g = c - eta u - A w,  c = |tau| - sigma psi(phi) + A ln v*,
+//                     dg/dw = -(eta u + A);
+//   regularized:      g = |tau| - eta u - A asinh(e^(w - ln u_c(phi))),
+// all concave and decreasing in w (docs/friction.md), so plain Newton in w
+// from any start converges: from the left it lands right of the root, from the
+// right it is monotone.  The iterate is carried as u (u <- u e^dw; DR also
+// and regularized also carry w <- w + dw), so one evaluation costs one exp
+// and, for the paper law, one log1p (regularized: another exp, a sqrt, a log1p).  Start and acceptance are the scalar solve's: the guess capped at
+// its upper bound, its lower bound for a zero or non-finite guess; accept when
+// |dw| <= 1e-6 (result u (1 + dw), relative error <= 1e-12) or at the round-off
+// floor.  The scalar solve's bracket and bisection only guard against round-off
+// and slow starts far from the root; here any lane that is not accepted within
 // kMaxVectorEvaluations, or meets a non-finite value, goes to the scalar solve.
-
-struct PaperConstants {
-  double sigma, f0, b, phi_star, v_star, A, eta;
-  double hi_factor;  // u_hi = excess * hi_factor: the scalar solve's cap ln(excess/eta) + margin
-  double lo_factor;  // u_lo = excess * lo_factor: its cold start ln(excess) - ln(eta + A/v*) - margin
-  double tie_factor; // see prepare()
-};
-
-std::optional<PaperConstants> paper_constants(const LocalSolveParameters& params) {
-  const auto& p = params.friction;
-  const double sigma = params.normal_stress, eta = params.eta;
-  if (p.strength_law != StrengthLaw::paper) return std::nullopt;
-  if (!(std::isfinite(sigma) && sigma > 0.0 && std::isfinite(eta) && eta > 0.0)) return std::nullopt;
-  if (!(p.a > 0.0 && std::isfinite(p.a) && std::isfinite(p.b) && std::isfinite(p.f0) &&
-        p.v_star >= 1e-150 && p.v_star <= 1e150 && std::isfinite(p.phi_star) && p.phi_star > 0.0))
-    return std::nullopt;  // a = 0 (closed form) and odd values: scalar solve
-  const double A = sigma * p.a;
-  PaperConstants c{sigma, p.f0, p.b, p.phi_star, p.v_star, A, eta,
-                   std::exp(kMargin) / eta, std::exp(-kMargin) / (eta + A / p.v_star),
-                   32.0 * kEps * sigma * std::fabs(p.f0)};
-  if (!(std::isfinite(c.hi_factor) && std::isfinite(c.lo_factor) && c.lo_factor > 0.0))
-    return std::nullopt;
-  return c;
-}
+// For the paper and DR laws the state enters g only through `excess` (c),
+// which the corrector's start uses (predictor_corrector_batch).
 
 struct Prepared {
-  B excess;  // |tau| - strength(0, phi)
+  B excess;  // paper: |tau| - strength(0, phi);  DR: c;  regularized: |tau|
+  B scale;   // magnitude of the terms summed into excess (round-off floor)
+  B T;       // |tau|
   M stuck;   // |tau| <= strength(0, phi): v = 0 exactly
+  B shift;   // regularized: ln u_c(phi);  otherwise unused
 };
-
-// Strength at rest and the sticking decision.  The scalar solve compares
-// |tau| with sigma (f0 (1 + b ln(phi/phi*))) evaluated with libm's log; our
-// log may differ from it by an ulp or two, which moves s0 by at most
-// sigma |f0| b 4 eps |ln| plus a few roundings of s0.  Lanes whose |tau| lies
-// within 32 eps sigma |f0| (1 + b |ln|) of s0 (8x that bound) are ties: they go
-// to the scalar solve, so the decision is always the scalar solve's, bit for bit.
-Prepared prepare(const PaperConstants& c, const B& T, const B& state, M& to_scalar) {
-  const B L = xsimd::log(state / B(c.phi_star));
-  const B s0 = B(c.sigma) * (B(c.f0) * (B(1.0) + B(c.b) * L));
-  const B band = B(c.tie_factor) * (B(1.0) + B(c.b) * xsimd::abs(L));
-  const M tie = xsimd::abs(T - s0) <= band;
-  const M stuck = (T <= s0) & !tie;
-  // Zero load with a negative strength at rest: no slip direction; the scalar
-  // solve throws.  Non-finite s0 (state not usable): scalar.
-  to_scalar = to_scalar | tie | ((T == B(0.0)) & !stuck) | !xsimd::isfinite(s0);
-  return {T - s0, stuck};
-}
 
 struct Solved {
   B magnitude;                    // |v|; 0 when stuck
@@ -172,29 +141,192 @@ struct Solved {
   M newton;                       // lanes settled by the Newton loop
 };
 
-// Start from `guess` (capped like the scalar solve's initial guess; lanes with
-// a guess that is not finite and > 0 start from the lower bound) and iterate.
-Solved iterate(const PaperConstants& c, const Prepared& pr, const B& guess, M& to_scalar,
-               B& evaluations) {
-  const B cap = pr.excess * B(c.hi_factor);
-  const M warm = (guess > B(0.0)) & xsimd::isfinite(guess);
-  B u = xsimd::select(warm, xsimd::min(guess, cap), pr.excess * B(c.lo_factor));
-  const B A(c.A), eta(c.eta), v_star(c.v_star);
+struct PaperLaw {
+  static constexpr bool carries_w = false;
+  double sigma, f0, b, phi_star, v_star, A, eta;
+  double hi_factor;   // u_hi = excess * hi_factor: the scalar solve's cap ln(excess/eta) + margin
+  double lo_factor;   // u_lo = excess * lo_factor: its cold start ln(excess) - ln(eta + A/v*) - margin
+  double tie_factor;  // see prepare()
+
+  static std::optional<PaperLaw> make(const LocalSolveParameters& params) {
+    const auto& p = params.friction;
+    const double sigma = params.normal_stress, eta = params.eta;
+    if (!(p.a > 0.0 && std::isfinite(p.a) && std::isfinite(p.b) && std::isfinite(p.f0) &&
+          p.v_star >= 1e-150 && p.v_star <= 1e150 && std::isfinite(p.phi_star) && p.phi_star > 0.0))
+      return std::nullopt;  // a = 0 (closed form) and odd values: scalar solve
+    const double A = sigma * p.a;
+    PaperLaw c{sigma, p.f0, p.b, p.phi_star, p.v_star, A, eta,
+               std::exp(kMargin) / eta, std::exp(-kMargin) / (eta + A / p.v_star),
+               32.0 * kEps * sigma * std::fabs(p.f0)};
+    if (!(std::isfinite(c.hi_factor) && std::isfinite(c.lo_factor) && c.lo_factor > 0.0))
+      return std::nullopt;
+    return c;
+  }
+
+  // Strength at rest and the sticking decision.  The scalar solve compares
+  // |tau| with sigma (f0 (1 + b ln(phi/phi*))) evaluated with libm's log; our
+  // log may differ from it by an ulp or two, which moves s0 by at most
+  // sigma |f0| b 4 eps |ln| plus a few roundings of s0.  Lanes whose |tau| lies
+  // within 32 eps sigma |f0| (1 + b |ln|) of s0 (8x that bound) are ties: they
+  // go to the scalar solve, so the decision is always the scalar solve's.
+  Prepared prepare(const B& T, const B& state, M& to_scalar) const {
+    const B L = xsimd::log(state / B(phi_star));
+    const B s0 = B(sigma) * (B(f0) * (B(1.0) + B(b) * L));
+    const B band = B(tie_factor) * (B(1.0) + B(b) * xsimd::abs(L));
+    const M tie = xsimd::abs(T - s0) <= band;
+    const M stuck = (T <= s0) & !tie;
+    // Zero load with a negative strength at rest: no slip direction; the
+    // scalar solve throws.  Non-finite s0 (state not usable): scalar.
+    to_scalar = to_scalar | tie | ((T == B(0.0)) & !stuck) | !xsimd::isfinite(s0);
+    const B excess = T - s0;
+    return {excess, excess, T, stuck, B(0.0)};
+  }
+
+  // Change of g at a fixed u when the state changes from `from` to `to`: exact.
+  B state_change(const Prepared& from, const Prepared& to, const Solved&) const {
+    return to.excess - from.excess;
+  }
+
+  void start(const Prepared& pr, const B& guess, B& u, B& /*w*/) const {
+    const M warm = (guess > B(0.0)) & xsimd::isfinite(guess);
+    u = xsimd::select(warm, xsimd::min(guess, pr.excess * B(hi_factor)), pr.excess * B(lo_factor));
+  }
+
+  // g, dg/dw and the rate term (for the round-off floor) at u.
+  void residual(const Prepared& pr, const B& u, const B& /*w*/, B& g, B& slope, B& scale) const {
+    const B rate_term = B(A) * xsimd::log1p(u / B(v_star));
+    const B radiation = B(eta) * u;
+    g = pr.excess - radiation - rate_term;
+    slope = -(radiation + B(A) * (u / (u + B(v_star))));
+    scale = pr.scale + radiation + rate_term;
+  }
+};
+
+struct DieterichRuinaLaw {
+  static constexpr bool carries_w = true;
+  double sigma, f0, b, v_star, D, A, eta, reference_part;
+
+  static std::optional<DieterichRuinaLaw> make(const LocalSolveParameters& params) {
+    const auto& p = params.friction;
+    const double sigma = params.normal_stress;
+    if (!(p.a > 0.0 && std::isfinite(p.a) && std::isfinite(p.b) && std::isfinite(p.f0) &&
+          std::isfinite(p.v_star) && p.v_star > 0.0 && std::isfinite(p.characteristic_slip) &&
+          p.characteristic_slip > 0.0))
+      return std::nullopt;  // a = 0 (closed form) and odd values: scalar solve
+    const double A = sigma * p.a;
+    return DieterichRuinaLaw{sigma, p.f0, p.b, p.v_star, p.characteristic_slip, A, params.eta,
+                             A * std::log(p.v_star)};
+  }
+
+  // Never sticks (strength -> -inf at rest); zero load has no slip direction
+  // and the scalar solve throws.
+  Prepared prepare(const B& T, const B& state, M& to_scalar) const {
+    const B state_part = B(sigma) * (B(f0) + B(b) * xsimd::log(B(v_star) * state / B(D)));
+    const B c = T - state_part + B(reference_part);
+    to_scalar = to_scalar | (T == B(0.0)) | !xsimd::isfinite(c);
+    return {c, T + xsimd::abs(state_part) + B(std::fabs(reference_part)), T, M(false), B(0.0)};
+  }
+
+  // Change of g at a fixed u when the state changes from `from` to `to`: exact.
+  B state_change(const Prepared& from, const Prepared& to, const Solved&) const {
+    return to.excess - from.excess;
+  }
+
+  // The scalar solve's bounds: at hi, g <= -A; at lo, g >= A.
+  void start(const Prepared& pr, const B& guess, B& u, B& w) const {
+    const M warm = (guess > B(0.0)) & xsimd::isfinite(guess);
+    const B hi = xsimd::max(xsimd::log(pr.T / B(eta)), (pr.excess - pr.T) / B(A) + B(1.0)) + B(kMargin);
+    const B lo = xsimd::min(xsimd::log(B(0.5) * pr.T / B(eta)), (pr.excess - B(0.5) * pr.T) / B(A) - B(1.0)) -
+                 B(kMargin);
+    w = xsimd::select(warm, xsimd::min(xsimd::log(guess), hi), lo);
+    u = xsimd::exp(w);
+  }
+
+  void residual(const Prepared& pr, const B& u, const B& w, B& g, B& slope, B& scale) const {
+    const B radiation = B(eta) * u;
+    const B rate_term = B(A) * w;
+    g = pr.excess - radiation - rate_term;
+    slope = -(radiation + B(A));
+    scale = pr.scale + radiation + xsimd::abs(rate_term);
+  }
+};
+
+struct RegularizedLaw {
+  static constexpr bool carries_w = true;
+  double f0, b, a, v_star, D, A, eta, log_two_v_star, log_eta, log_A;
+
+  static std::optional<RegularizedLaw> make(const LocalSolveParameters& params) {
+    const auto& p = params.friction;
+    if (!(p.a > 0.0 && std::isfinite(p.a) && std::isfinite(p.b) && std::isfinite(p.f0) &&
+          std::isfinite(p.v_star) && p.v_star > 0.0 && std::isfinite(p.characteristic_slip) &&
+          p.characteristic_slip > 0.0))
+      return std::nullopt;
+    const double A = params.normal_stress * p.a;
+    return RegularizedLaw{p.f0, p.b, p.a, p.v_star, p.characteristic_slip, A, params.eta,
+                          std::log(2.0 * p.v_star), std::log(params.eta), std::log(A)};
+  }
+
+  // strength(0) = 0: only zero load sticks.  ln u_c = ln(2 v*) - psi/a.
+  Prepared prepare(const B& T, const B& state, M& to_scalar) const {
+    const B psi = B(f0) + B(b) * xsimd::log(B(v_star) * state / B(D));
+    const B log_crossover = B(log_two_v_star) - psi / B(a);
+    to_scalar = to_scalar | !xsimd::isfinite(log_crossover);
+    return {T, T, T, T <= B(0.0), log_crossover};
+  }
+
+  // The scalar solve's bounds: hi from asinh >= 0, lo from asinh x < x.
+  void start(const Prepared& pr, const B& guess, B& u, B& w) const {
+    const M warm = (guess > B(0.0)) & xsimd::isfinite(guess);
+    const B hi = xsimd::log(pr.T / B(eta)) + B(kMargin);
+    const B log_b = B(log_A) - pr.shift;
+    const B log_sum = xsimd::max(B(log_eta), log_b) +
+                      xsimd::log1p(xsimd::exp(-xsimd::abs(B(log_eta) - log_b)));
+    const B lo = xsimd::log(pr.T) - log_sum - B(kMargin);
+    w = xsimd::select(warm, xsimd::min(xsimd::log(guess), hi), lo);
+    u = xsimd::exp(w);
+  }
+
+  // Rate term A asinh(e^y), y = w - ln u_c, from e = e^{-|y|} (never overflows):
+  //   y > 0:  asinh(e^y) = y + ln(1 + sqrt(1 + e^2)),  slope 1 / sqrt(1 + e^2);
+  //   y <= 0: asinh(e^y) = ln(1 + e + e^2 / (1 + sqrt(1 + e^2))),  slope e / sqrt(1 + e^2).
+  void residual(const Prepared& pr, const B& u, const B& w, B& g, B& slope, B& scale) const {
+    const B y = w - pr.shift;
+    const M right = y > B(0.0);
+    const B e = xsimd::exp(-xsimd::abs(y));
+    const B root = xsimd::sqrt(B(1.0) + e * e);
+    const B asinh_exp =
+        xsimd::select(right, y, B(0.0)) +
+        xsimd::log1p(xsimd::select(right, root, e + e * e / (B(1.0) + root)));
+    const B radiation = B(eta) * u;
+    const B rate_term = B(A) * asinh_exp;
+    g = pr.excess - radiation - rate_term;
+    slope = -(radiation + B(A) * xsimd::select(right, B(1.0), e) / root);
+    scale = pr.scale + radiation + rate_term;
+  }
+
+  // Change of g at a fixed u when ln u_c changes: to first order
+  // A asinh_exp'(y) d(ln u_c), with A asinh_exp'(y) = -slope - eta u.
+  B state_change(const Prepared& from, const Prepared& to, const Solved& s) const {
+    return (-s.slope_last - B(eta) * s.u_last) * (to.shift - from.shift);
+  }
+};
+
+template <class Law>
+Solved iterate(const Law& law, const Prepared& pr, const B& guess, M& to_scalar, B& evaluations) {
+  B u(0.0), w(0.0);
+  law.start(pr, guess, u, w);
   Solved s{B(0.0), u, B(0.0), B(-1.0), M(false)};
   M open = !(pr.stuck | to_scalar);
   for (int k = 0; k < kMaxVectorEvaluations && xsimd::any(open); ++k) {
-    const B rate_term = A * xsimd::log1p(u / v_star);
-    const B radiation = eta * u;
-    const B g = pr.excess - radiation - rate_term;
-    const B slope = -(radiation + A * (u / (u + v_star)));
+    B g(0.0), slope(0.0), scale(0.0);
+    law.residual(pr, u, w, g, slope, scale);
     const B step = -g / slope;
     evaluations += ones(open);
     const M usable = xsimd::isfinite(step) & (u > B(0.0)) & xsimd::isfinite(u);
     to_scalar = to_scalar | (open & !usable);
     open = open & usable;
     const M by_step = open & (xsimd::abs(step) <= B(kAcceptStep));
-    const M by_floor =
-        open & !by_step & (xsimd::abs(g) <= B(kFloorFactor * kEps) * (pr.excess + radiation + rate_term));
+    const M by_floor = open & !by_step & (xsimd::abs(g) <= B(kFloorFactor * kEps) * scale);
     s.magnitude = xsimd::select(by_step, u + u * step, s.magnitude);
     s.magnitude = xsimd::select(by_floor, u, s.magnitude);
     s.u_last = xsimd::select(open, u, s.u_last);
@@ -203,6 +335,7 @@ Solved iterate(const PaperConstants& c, const Prepared& pr, const B& guess, M& t
     s.newton = s.newton | by_step | by_floor;
     open = open & !(by_step | by_floor);
     u = xsimd::select(open, u * xsimd::exp(step), u);
+    if constexpr (Law::carries_w) w = xsimd::select(open, w + step, w);
   }
   to_scalar = to_scalar | open;  // not settled within the cap
   return s;
@@ -240,6 +373,39 @@ void check_sizes(std::size_t n, std::initializer_list<std::size_t> sizes) {
 
 std::size_t batch_width() { return W; }
 
+namespace {
+
+// Calls f(law) with the vector-path description of params' strength law, or
+// returns false when that law (or these parameter values) has no vector path.
+template <class F>
+bool with_vector_law(const LocalSolveParameters& params, F&& f) {
+  const double sigma = params.normal_stress, eta = params.eta;
+  if (!(std::isfinite(sigma) && sigma > 0.0 && std::isfinite(eta) && eta > 0.0)) return false;
+  switch (params.friction.strength_law) {
+    case StrengthLaw::paper:
+      if (const auto law = PaperLaw::make(params)) {
+        f(*law);
+        return true;
+      }
+      return false;
+    case StrengthLaw::dieterich_ruina:
+      if (const auto law = DieterichRuinaLaw::make(params)) {
+        f(*law);
+        return true;
+      }
+      return false;
+    case StrengthLaw::regularized:
+      if (const auto law = RegularizedLaw::make(params)) {
+        f(*law);
+        return true;
+      }
+      return false;
+  }
+  return false;
+}
+
+}  // namespace
+
 BatchCounts solve_slip_rate_batch(const LocalSolveParameters& params,
                                   std::span<const double> tau_history, std::span<const double> state,
                                   std::span<const double> initial_guess, std::span<double> slip_rate) {
@@ -255,29 +421,29 @@ BatchCounts solve_slip_rate_batch(const LocalSolveParameters& params,
       throw BatchFailure(i, e.what());
     }
   };
-  const auto c = paper_constants(params);
-  if (!c) {
+  B evaluations(0.0);
+  const bool vectorised = with_vector_law(params, [&](const auto& law) {
+    for (std::size_t begin = 0; begin < n; begin += W) {
+      const std::size_t count = std::min(W, n - begin);
+      const B tau = load(tau_history, begin, count);
+      const B phi = load(state, begin, count);
+      const B guess = xsimd::abs(load(initial_guess, begin, count));
+      M to_scalar = (!xsimd::isfinite(tau)) | (!(phi > B(0.0))) | (!xsimd::isfinite(phi));
+      const Prepared pr = law.prepare(xsimd::abs(tau), phi, to_scalar);
+      const Solved s = iterate(law, pr, guess, to_scalar, evaluations);
+      // Scalar nodes before the store: slip_rate may alias initial_guess.
+      Lanes result;
+      signed_rate(tau, s, pr).store_aligned(result.v);
+      for_each_lane(bits(to_scalar), count, [&](std::size_t i) {
+        result.v[i] = scalar_node(begin + i);
+        ++counts.scalar_nodes;
+      });
+      store(B::load_aligned(result.v), slip_rate, begin, count);
+    }
+  });
+  if (!vectorised) {
     for (std::size_t i = 0; i < n; ++i) slip_rate[i] = scalar_node(i);
     counts.scalar_nodes = static_cast<long long>(n);
-    return counts;
-  }
-  B evaluations(0.0);
-  for (std::size_t begin = 0; begin < n; begin += W) {
-    const std::size_t count = std::min(W, n - begin);
-    const B tau = load(tau_history, begin, count);
-    const B phi = load(state, begin, count);
-    const B guess = xsimd::abs(load(initial_guess, begin, count));
-    M to_scalar = (!xsimd::isfinite(tau)) | (!(phi > B(0.0))) | (!xsimd::isfinite(phi));
-    const Prepared pr = prepare(*c, xsimd::abs(tau), phi, to_scalar);
-    const Solved s = iterate(*c, pr, guess, to_scalar, evaluations);
-    // Scalar nodes before the store: slip_rate may alias initial_guess.
-    Lanes result;
-    signed_rate(tau, s, pr).store_aligned(result.v);
-    for_each_lane(bits(to_scalar), count, [&](std::size_t i) {
-      result.v[i] = scalar_node(begin + i);
-      ++counts.scalar_nodes;
-    });
-    store(B::load_aligned(result.v), slip_rate, begin, count);
   }
   counts.evaluations = static_cast<long long>(xsimd::hadd(evaluations));
   return counts;
@@ -335,48 +501,48 @@ BatchCounts predictor_corrector_batch(const LocalSolveParameters& params, double
       throw BatchFailure(i, e.what());
     }
   };
-  const auto c = paper_constants(params);
-  if (!c || !vector_state_update_applies(params.friction, dt)) {
-    for (std::size_t i = 0; i < n; ++i) scalar_node(i);
-    counts.scalar_nodes = static_cast<long long>(n);
-    return counts;
-  }
   const auto& f = params.friction;
   B evaluations(0.0);
-  for (std::size_t begin = 0; begin < n; begin += W) {
-    const std::size_t count = std::min(W, n - begin);
-    const B tau = load(tau_history, begin, count);
-    const B v_old = load(slip_rate_old, begin, count);
-    const B phi_old = load(state_old, begin, count);
-    const B T = xsimd::abs(tau);
-    M to_scalar = !xsimd::isfinite(tau);
+  const auto vector_blocks = [&](const auto& law) {
+    for (std::size_t begin = 0; begin < n; begin += W) {
+      const std::size_t count = std::min(W, n - begin);
+      const B tau = load(tau_history, begin, count);
+      const B v_old = load(slip_rate_old, begin, count);
+      const B phi_old = load(state_old, begin, count);
+      const B T = xsimd::abs(tau);
+      M to_scalar = !xsimd::isfinite(tau);
 
-    // Predictor: state from v_old, slip rate warm-started from |v_old|.
-    const B phi_pred = evolve_lanes(f, phi_old, v_old, dt, to_scalar);
-    const Prepared pp = prepare(*c, T, phi_pred, to_scalar);
-    const Solved sp = iterate(*c, pp, xsimd::abs(v_old), to_scalar, evaluations);
-    const B v_pred = signed_rate(tau, sp, pp);
+      // Predictor: state from v_old, slip rate warm-started from |v_old|.
+      const B phi_pred = evolve_lanes(f, phi_old, v_old, dt, to_scalar);
+      const Prepared pp = law.prepare(T, phi_pred, to_scalar);
+      const Solved sp = iterate(law, pp, xsimd::abs(v_old), to_scalar, evaluations);
+      const B v_pred = signed_rate(tau, sp, pp);
 
-    // Corrector: state from the mean slip rate.  Only the state changed, and
-    // for the paper law it enters g only through the excess, so g at the
-    // predictor's last point is known exactly: g_last + (excess_c - excess_p).
-    // One Newton step from there is the start (it costs one exp, no log1p).
-    const B phi_new = evolve_lanes(f, phi_old, B(0.5) * (v_old + v_pred), dt, to_scalar);
-    const Prepared pc = prepare(*c, T, phi_new, to_scalar);
-    const B extrapolated =
-        sp.u_last * xsimd::exp(-(sp.g_last + (pc.excess - pp.excess)) / sp.slope_last);
-    const B guess = xsimd::select(sp.newton, extrapolated, sp.magnitude);
-    const Solved sc = iterate(*c, pc, guess, to_scalar, evaluations);
+      // Corrector: state from the mean slip rate.  Only the state changed; for
+      // the paper and DR laws it enters g only through `excess`, so g at the
+      // predictor's last point is known exactly: g_last + (excess_c - excess_p)
+      // (regularized law: to first order).  One Newton step from there is the
+      // start (no residual evaluation).
+      const B phi_new = evolve_lanes(f, phi_old, B(0.5) * (v_old + v_pred), dt, to_scalar);
+      const Prepared pc = law.prepare(T, phi_new, to_scalar);
+      const B extrapolated =
+          sp.u_last * xsimd::exp(-(sp.g_last + law.state_change(pp, pc, sp)) / sp.slope_last);
+      const B guess = xsimd::select(sp.newton, extrapolated, sp.magnitude);
+      const Solved sc = iterate(law, pc, guess, to_scalar, evaluations);
 
-    store(phi_new, state_new, begin, count);
-    store(signed_rate(tau, sc, pc), slip_rate_new, begin, count);
-    const std::uint32_t lanes = bits(to_scalar);
-    if (lanes) {
-      for_each_lane(lanes, count, [&](std::size_t i) {
+      store(phi_new, state_new, begin, count);
+      store(signed_rate(tau, sc, pc), slip_rate_new, begin, count);
+      for_each_lane(bits(to_scalar), count, [&](std::size_t i) {
         scalar_node(begin + i);
         ++counts.scalar_nodes;
       });
     }
+  };
+  const bool vectorised =
+      vector_state_update_applies(f, dt) && with_vector_law(params, vector_blocks);
+  if (!vectorised) {
+    for (std::size_t i = 0; i < n; ++i) scalar_node(i);
+    counts.scalar_nodes = static_cast<long long>(n);
   }
   counts.evaluations = static_cast<long long>(xsimd::hadd(evaluations));
   return counts;
