@@ -29,6 +29,7 @@ namespace {
 using B = xsimd::batch<double>;
 using M = B::batch_bool_type;
 constexpr std::size_t W = B::size;
+static_assert(W <= 32, "lane flags are kept in 32 bits");
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 // The scalar solve's constants (friction_law.cpp), restated for the vector path.
@@ -164,11 +165,13 @@ struct PaperLaw {
   }
 
   // Strength at rest and the sticking decision.  The scalar solve compares
-  // |tau| with sigma (f0 (1 + b ln(phi/phi*))) evaluated with libm's log; our
-  // log may differ from it by an ulp or two, which moves s0 by at most
-  // sigma |f0| b 4 eps |ln| plus a few roundings of s0.  Lanes whose |tau| lies
-  // within 32 eps sigma |f0| (1 + b |ln|) of s0 (8x that bound) are ties: they
-  // go to the scalar solve, so the decision is always the scalar solve's.
+  // |tau| with s0 = sigma (f0 (1 + b L)), L = ln(phi/phi*), evaluated with
+  // libm's log (< 0.5 ulp); xsimd's log is within 1 ulp, so the two L differ by
+  // at most 3 eps |L|, and the remaining operations (possibly contracted
+  // differently) by a few roundings: |s0 - s0_libm| <= 7 eps sigma |f0|
+  // (1 + b |L|).  Lanes whose |tau| lies within 32 eps sigma |f0| (1 + b |L|)
+  // of s0 (> 4x that bound; it would still hold with an 8-ulp log) are ties:
+  // they go to the scalar solve, so the decision is always the scalar solve's.
   Prepared prepare(const B& T, const B& state, M& to_scalar) const {
     const B L = xsimd::log(state / B(phi_star));
     const B s0 = B(sigma) * (B(f0) * (B(1.0) + B(b) * L));
