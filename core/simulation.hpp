@@ -69,6 +69,7 @@ class Simulation {
   std::vector<double> x_, slip_, slip_rate_, state_, shear_stress_;
   std::vector<double> previous_slip_rate_, previous_state_;
   std::vector<double> history_stress_;  // history part in x [Pa]
+  std::vector<double> tau_history_;     // load on the local solve at the level solved for [Pa]
   std::vector<double> work_real_;
   std::vector<std::complex<double>> spectrum_;
 

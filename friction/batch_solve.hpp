@@ -1,0 +1,98 @@
+#pragma once
+// Batch (structure-of-arrays, vectorised) versions of the local interface
+// solve and the exact state update, and the predictor-corrector step of the
+// time loop built on them.  Same equations, same guarantees and the same
+// failures as the scalar solve_slip_rate / evolve_state (friction_law.hpp):
+// see docs/friction.md, "Batch solve".
+#include <cstddef>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+#include "friction/friction_law.hpp"
+
+namespace slipstrip {
+
+// Everything the batch loops read besides the per-node fields.  Today every
+// node shares these values; when friction parameters become per-node arrays
+// this struct gains spans and only the loads in batch_solve.cpp change.
+struct LocalSolveParameters {
+  FrictionParameters friction;
+  double normal_stress = 0.0;  // sigma0 [Pa], > 0
+  double eta = 0.0;            // radiation damping mu / (2 c_s) [Pa s/m], > 0
+};
+
+// A failed node in a batch: `index` is the node's position in the spans passed
+// in; what() is exactly the scalar routine's message (LocalSolveFailure or the
+// std::invalid_argument of evolve_state) for that node's inputs.
+struct BatchFailure : std::runtime_error {
+  BatchFailure(std::size_t node_index, const std::string& message)
+      : std::runtime_error(message), index(node_index) {}
+  std::size_t index;
+};
+
+// Work counts, for benchmarks and tests.
+struct BatchCounts {
+  long long solves = 0;       // local solves attempted (sticking included)
+  long long evaluations = 0;  // residual evaluations in the vector path
+  long long scalar_nodes = 0; // nodes handed to the scalar routines (see docs)
+  BatchCounts& operator+=(const BatchCounts& o) {
+    solves += o.solves;
+    evaluations += o.evaluations;
+    scalar_nodes += o.scalar_nodes;
+    return *this;
+  }
+};
+
+// Number of nodes the vector code processes at once (8 with AVX-512).
+std::size_t batch_width();
+
+// slip_rate[i] = solve_slip_rate(friction, sigma0, eta, tau_history[i], state[i],
+// initial_guess[i]) to within that solve's tolerance (each result is within
+// 1e-12 relative of the root, or at the residual's round-off floor); sticking
+// gives exactly 0.0 with the same decision as the scalar solve.  All spans have
+// the same length; slip_rate may alias initial_guess.  Throws BatchFailure.
+BatchCounts solve_slip_rate_batch(const LocalSolveParameters& params,
+                                  std::span<const double> tau_history, std::span<const double> state,
+                                  std::span<const double> initial_guess, std::span<double> slip_rate);
+
+// out[i] = evolve_state(friction, state[i], slip_rate[i], dt) (to a few ulp).
+// out may alias state.  Throws BatchFailure for invalid input.
+void evolve_state_batch(const FrictionParameters& friction, std::span<const double> state,
+                        std::span<const double> slip_rate, double dt, std::span<double> out);
+
+// One second-order predictor-corrector step at every node, the scheme of
+// Simulation::step:
+//   phi_p   = evolve_state(phi_old, v_old, dt)
+//   v_p     = solve_slip_rate(tau_history, phi_p, guess v_old)
+//   phi_new = evolve_state(phi_old, (v_old + v_p) / 2, dt)
+//   v_new   = solve_slip_rate(tau_history, phi_new, guess v_p)
+// The corrector's Newton iteration starts from the predictor's last residual
+// evaluation moved by the change of the state (one Newton step for free), so a
+// smooth history usually needs one evaluation per solve.  Outputs must not
+// alias inputs.  Single-threaded; see predictor_corrector_parallel.
+BatchCounts predictor_corrector_batch(const LocalSolveParameters& params, double dt,
+                                      std::span<const double> tau_history,
+                                      std::span<const double> slip_rate_old,
+                                      std::span<const double> state_old,
+                                      std::span<double> slip_rate_new,
+                                      std::span<double> state_new);
+
+// The same over all nodes with an OpenMP parallel loop over fixed chunks of
+// nodes (results do not depend on the thread count).  On failure throws the
+// BatchFailure of the lowest failing node index (deterministic).
+BatchCounts predictor_corrector_parallel(const LocalSolveParameters& params, double dt,
+                                         std::span<const double> tau_history,
+                                         std::span<const double> slip_rate_old,
+                                         std::span<const double> state_old,
+                                         std::span<double> slip_rate_new,
+                                         std::span<double> state_new);
+
+// solve_slip_rate_batch over all nodes with the same parallel loop.
+BatchCounts solve_slip_rate_parallel(const LocalSolveParameters& params,
+                                     std::span<const double> tau_history,
+                                     std::span<const double> state,
+                                     std::span<const double> initial_guess,
+                                     std::span<double> slip_rate);
+
+}  // namespace slipstrip
