@@ -13,7 +13,8 @@
 namespace slipstrip {
 
 HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
-                                   double time_step, const HalfSpaceOperatorDesign& design)
+                                   double time_step, const HalfSpaceOperatorDesign& design,
+                                   const CancelCheck& cancelled)
     : dt_(time_step), lags_(design.corrected_lags) {
   if (!(length > 0) || nodes < 2 || !(time_step > 0))
     throw std::invalid_argument("HalfSpaceHistory: need length > 0, nodes >= 2, time_step > 0");
@@ -45,10 +46,12 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
   std::vector<std::vector<double>> lag_weight(n_modes), correction(n_modes);
   std::vector<std::vector<std::complex<double>>> poles(n_modes), pole_weights(n_modes);
   std::string failure;
+  bool cancel_seen = false;  // written only inside the critical section below
   static_weight_.assign(n_modes, 0.0);
 #pragma omp parallel for schedule(dynamic)
   for (int q = 1; q < n_modes; ++q) {
     try {
+      throw_if_cancelled(cancelled, "the half-space history operator");
       const double h = h_[q];
       const double scale = mu / cs * h;  // dt mu |k|
       static_weight_[q] = scale * (1.0 - r2);
@@ -68,11 +71,15 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
         poles[q].push_back(std::exp(far.rate[m] * h));
         pole_weights[q].push_back(scale * shifted);
       }
+    } catch (const SetupCancelled& ex) {
+#pragma omp critical(slipstrip_half_space_setup)
+      if (failure.empty()) failure = ex.what(), cancel_seen = true;
     } catch (const std::exception& ex) {
 #pragma omp critical(slipstrip_half_space_setup)
       if (failure.empty()) failure = ex.what();
     }
   }
+  if (cancel_seen) throw SetupCancelled(failure);
   if (!failure.empty()) {
     std::ostringstream msg;
     msg << "half-space history operator (dt = " << dt_ << " s, c_s k_max dt = " << h_.back()
