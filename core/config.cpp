@@ -219,6 +219,8 @@ std::string location(const toml::node* node) {
   const auto& source = node->source();
   if (source.begin.line == 0) return {};
   const std::string line = std::to_string(source.begin.line);
+  // A value given with --set carries its override as its source (apply_override).
+  if (source.path && source.path->rfind("override '", 0) == 0) return *source.path + ": ";
   if (source.path && !source.path->empty()) return *source.path + ":" + line + ": ";
   return "line " + line + ": ";
 }
@@ -771,13 +773,13 @@ void apply_override(toml::table& root, const std::string& assignment) {
   bool as_toml = text.find_first_of("\n\r") == std::string::npos;
   if (as_toml) {
     try {
-      parsed = toml::parse("value = " + text);
+      parsed = toml::parse("value = " + text, "override '" + assignment + "'");
       as_toml = parsed.size() == 1;
     } catch (const toml::parse_error&) {
       as_toml = false;
     }
   }
-  if (!as_toml) parsed = toml::parse("value = " + quote(text));
+  if (!as_toml) parsed = toml::parse("value = " + quote(text), "override '" + assignment + "'");
 
   toml::node* existing = root.get(section_name);
   if (existing == nullptr) {

@@ -69,6 +69,11 @@ TEST_CASE("absurd but finite values are refused naming the key, the value and th
     CAPTURE(c.override_text);
     CHECK(contains(error_of("", {c.override_text}), c.expected));
   }
+  // A value from --set names its override, not "line 1" of a text nobody wrote.
+  CHECK(contains(error_of("", {"material.density=1e-300"}),
+                 "override 'material.density=1e-300': material.density = 1e-300 is out of range"));
+  CHECK(contains(error_of("", {"geometry.nodes=many"}),
+                 "override 'geometry.nodes=many': geometry.nodes = \"many\" has the wrong type"));
   // The ends of the ranges are allowed.
   CHECK(error_of("", {"geometry.height=1e-6"}) == "<no error>");
   CHECK(error_of("", {"geometry.height=1e6"}) == "<no error>");
