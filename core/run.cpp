@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "core/config.hpp"
@@ -35,7 +37,19 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
   using clock = std::chrono::steady_clock;
   // The set-up polls the same stop request as the time loop: a signal during
   // a long kernel set-up ends it with SetupCancelled, before any file exists.
-  Simulation sim(config, hooks.stop_requested);
+  // A local friction solve that fails already at t = 0 is not a divergence of
+  // the run but a combination of [friction], [loading] and [initial] values
+  // without a steady state to start from: an input error (exit code 2).
+  const auto sim_owner = [&] {
+    try {
+      return std::make_unique<Simulation>(config, hooks.stop_requested);
+    } catch (const SimulationError& e) {
+      throw std::invalid_argument(
+          std::string("the initial state (t = 0) cannot be solved for this combination of "
+                      "[friction], [loading] and [initial] values: ") + e.what());
+    }
+  }();
+  Simulation& sim = *sim_owner;
   // Half a step of slack so rounding never adds or drops a final step.  The
   // count must fit a long long (a huge duration once overflowed to "0 steps").
   const double step_count = std::ceil(config.time.duration / sim.time_step() - 0.5);

@@ -1,6 +1,9 @@
 #include "kernels/half_space_history.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -46,12 +49,16 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
   std::vector<std::vector<double>> lag_weight(n_modes), correction(n_modes);
   std::vector<std::vector<std::complex<double>>> poles(n_modes), pole_weights(n_modes);
   std::string failure;
-  bool cancel_seen = false;  // written only inside the critical section below
+  // `cancelled` may call into Python (the bindings), so only the thread that
+  // called this constructor polls it; the others see the atomic flag.
+  std::atomic<bool> cancel_seen{false};
   static_weight_.assign(n_modes, 0.0);
 #pragma omp parallel for schedule(dynamic)
   for (int q = 1; q < n_modes; ++q) {
+    if (omp_get_thread_num() == 0 && cancelled && !cancel_seen.load(std::memory_order_relaxed) && cancelled())
+      cancel_seen.store(true);
+    if (cancel_seen.load(std::memory_order_relaxed)) continue;
     try {
-      throw_if_cancelled(cancelled, "the half-space history operator");
       const double h = h_[q];
       const double scale = mu / cs * h;  // dt mu |k|
       static_weight_[q] = scale * (1.0 - r2);
@@ -71,15 +78,12 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
         poles[q].push_back(std::exp(far.rate[m] * h));
         pole_weights[q].push_back(scale * shifted);
       }
-    } catch (const SetupCancelled& ex) {
-#pragma omp critical(slipstrip_half_space_setup)
-      if (failure.empty()) failure = ex.what(), cancel_seen = true;
     } catch (const std::exception& ex) {
 #pragma omp critical(slipstrip_half_space_setup)
       if (failure.empty()) failure = ex.what();
     }
   }
-  if (cancel_seen) throw SetupCancelled(failure);
+  if (cancel_seen.load()) throw SetupCancelled("set-up cancelled during the half-space history operator");
   if (!failure.empty()) {
     std::ostringstream msg;
     msg << "half-space history operator (dt = " << dt_ << " s, c_s k_max dt = " << h_.back()

@@ -174,3 +174,20 @@ TEST_CASE("the set-up honours a cancellation request") {
   // Never cancelled: builds as before.
   CHECK_NOTHROW((Simulation{c, [] { return false; }}));
 }
+
+TEST_CASE("a friction solve that fails at t = 0 is an input error, and no file is written") {
+  // Past the config's ranges (set directly): used to exit 1 from the CLI.
+  SimulationConfig c = load_config_string("[geometry]\nnodes = 32\n");
+  c.friction.f0 = 1e308;
+  const auto path = std::filesystem::temp_directory_path() / "slipstrip_test_t0_failure.h5";
+  std::filesystem::remove(path);
+  std::string message;
+  try {
+    run_simulation(c, path.string());
+  } catch (const std::invalid_argument& e) {
+    message = e.what();
+  }
+  CHECK(contains(message, "the initial state (t = 0) cannot be solved"));
+  CHECK(contains(message, "[friction]"));
+  CHECK_FALSE(std::filesystem::exists(path));
+}

@@ -394,3 +394,28 @@ def test_one_and_two_threads_are_bitwise_identical(cli, repo, tmp_path, extra):
         assert r.returncode == 0, r.stderr
         outs.append(out)
     _assert_bitwise_equal(*outs)
+
+
+def test_python_run_ctrl_c_during_setup_raises_keyboard_interrupt(slipstrip_module, repo, tmp_path):
+    out = tmp_path / "py_setup.h5"
+    script = (
+        "import sys, time, slipstrip as ss\n"
+        "t0 = time.time()\n"
+        "try:\n"
+        f"    ss.run({str(repo / 'configs/quickstart.toml')!r}, {str(out)!r},\n"
+        "           overrides=['geometry.nodes=2048', 'geometry.height=0.5'])\n"
+        "except KeyboardInterrupt:\n"
+        "    print('KeyboardInterrupt', flush=True)\n"
+        "    sys.exit(7)\n")
+    env = dict(os.environ, PYTHONPATH=str(repo / "python"))
+    proc = subprocess.Popen(["/usr/bin/python3", "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, env=env)
+    time.sleep(2.0)
+    assert proc.poll() is None, "set-up finished too fast for this test"
+    t0 = time.time()
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=30)
+    assert time.time() - t0 < 2.0
+    assert proc.returncode == 7, stderr
+    assert "KeyboardInterrupt" in stdout
+    assert not out.exists()
