@@ -1,8 +1,15 @@
 // slipstrip command-line program: run, stability, events, bench (and the
 // Python-backed analyze / scan, see python/slipstrip).
+#include <fcntl.h>
+#include <hdf5.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <cstdlib>
 #include <chrono>
 #include <csignal>
@@ -17,7 +24,10 @@
 
 #include "apps/bench.hpp"
 #include "core/config.hpp"
+#include "core/resource_estimate.hpp"
 #include "core/run.hpp"
+#include "core/run_output.hpp"
+#include "kernels/history_convolution.hpp"
 #include "core/steady_sliding.hpp"
 #include "events/catalog_io.hpp"
 #include "friction/linear_stability.hpp"
@@ -82,16 +92,82 @@ std::string json_array(const std::vector<double>& v) {
   return s + "]";
 }
 
+// Exit code of a run stopped by a signal: the shell's 128 + signal number
+// (SIGINT 130, SIGTERM 143); docs/reliability.md.
+int signal_exit_code() {
+  const int sig = interrupt_signal;
+  return sig > 0 ? 128 + sig : 130;
+}
+
+const char* signal_name(int sig) { return sig == SIGTERM ? "SIGTERM" : sig == SIGINT ? "SIGINT" : "a signal"; }
+
+std::string errno_text(int err) { return std::strerror(err); }
+
+// Everything about --out that can be checked before the (possibly long)
+// set-up: never the config itself, never an existing file without
+// --overwrite, and the directory must exist and accept a new file.  Throws
+// std::invalid_argument (exit 2) naming the path and the errno text.
+void check_output_path(const std::string& out_path, const std::string& config_path, bool overwrite) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path out(out_path);
+  const auto status = fs::status(out, ec);
+  const bool exists = fs::exists(status);
+  if (exists && fs::equivalent(out, fs::path(config_path), ec))
+    throw std::invalid_argument("--out '" + out_path + "' is the config file '" + config_path +
+                                "': refusing to write the run over its own input (even with --overwrite)");
+  if (exists && fs::is_directory(status))
+    throw std::invalid_argument("--out '" + out_path + "' is a directory: expected a file name");
+  if (exists && !overwrite)
+    throw std::invalid_argument("--out '" + out_path +
+                                "' already exists: refusing to overwrite it (give --overwrite to replace it, "
+                                "or choose another --out)");
+  const fs::path dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  struct stat dir_stat {};
+  if (::stat(dir.c_str(), &dir_stat) != 0)
+    throw std::invalid_argument("--out '" + out_path + "': output directory '" + dir.string() +
+                                "' is not usable: " + errno_text(errno));
+  if (!S_ISDIR(dir_stat.st_mode))
+    throw std::invalid_argument("--out '" + out_path + "': '" + dir.string() + "' is not a directory");
+  // The real test of writability (permissions, read-only file system, quota):
+  // open the file for writing as the run will, without truncating anything.
+  const int fd = exists ? ::open(out_path.c_str(), O_WRONLY)
+                        : ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+  if (fd < 0)
+    throw std::invalid_argument("--out '" + out_path + "' cannot be written: " + errno_text(errno));
+  ::close(fd);
+  if (!exists) ::unlink(out_path.c_str());
+}
+
 int run_command(const std::string& config_path, const std::vector<std::string>& overrides,
-                std::string out_path, bool quiet) {
+                std::string out_path, bool quiet, bool overwrite, const slipstrip::ResourceLimits& limits) {
+  // Signals first: from here on SIGINT/SIGTERM stop the run within about a
+  // second, set-up included.
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
   const auto config = slipstrip::load_config_file(config_path, overrides);
   if (out_path.empty()) {
     auto base = config_path.substr(config_path.find_last_of('/') + 1);
     if (auto dot = base.rfind('.'); dot != std::string::npos) base = base.substr(0, dot);
     out_path = base + ".h5";
   }
-  std::signal(SIGINT, on_interrupt);
-  std::signal(SIGTERM, on_interrupt);
+  check_output_path(out_path, config_path, overwrite);
+  slipstrip::check_resources(config, limits);
+  {
+    // Advisory only: snapshots are compressed, so the estimate is an upper bound.
+    const auto estimate = slipstrip::estimate_resources(config);
+    const std::filesystem::path out(out_path);
+    struct statvfs fs {};
+    const std::string dir = out.has_parent_path() ? out.parent_path().string() : ".";
+    if (::statvfs(dir.c_str(), &fs) == 0) {
+      const double free_bytes = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
+      if (estimate.output_bytes > free_bytes)
+        std::fprintf(stderr,
+                     "warning: the output may need up to %.3g GiB (uncompressed estimate) but '%s' has "
+                     "%.3g GiB free; the run stops with exit code 4 if the disk fills up\n",
+                     estimate.output_bytes / 1073741824.0, dir.c_str(), free_bytes / 1073741824.0);
+    }
+  }
   const bool tty = isatty(fileno(stderr));
   slipstrip::RunHooks hooks;
   if (!quiet) hooks.progress = [tty](const slipstrip::RunProgress& p) { print_progress(p, tty); };
@@ -99,13 +175,20 @@ int run_command(const std::string& config_path, const std::vector<std::string>& 
   hooks.stop_requested = [] { return interrupt_signal != 0; };
   std::fprintf(stderr, "slipstrip %s (%s): %s -> %s\n", slipstrip::code_version, slipstrip::git_hash,
                config_path.c_str(), out_path.c_str());
-  const auto result = slipstrip::run_simulation(config, out_path, hooks);
+  slipstrip::RunResult result;
+  try {
+    result = slipstrip::run_simulation(config, out_path, hooks);
+  } catch (const slipstrip::SetupCancelled& e) {
+    std::fprintf(stderr, "interrupted by %s during the set-up (%s); no output written\n",
+                 signal_name(interrupt_signal), e.what());
+    return signal_exit_code();
+  }
   if (!quiet && tty) std::fprintf(stderr, "\n");
   std::fprintf(stderr, "%s after %lld steps (dt = %.6g s), simulated %.6g s in %.2f s wall; output %s\n",
                result.status.c_str(), result.steps, result.time_step, result.simulated_time,
                result.wall_seconds, out_path.c_str());
   if (result.status == "completed") return 0;
-  if (result.status == "interrupted") return 130;
+  if (result.status == "interrupted") return signal_exit_code();
   return 3;  // diverged
 }
 
@@ -232,7 +315,8 @@ int main(int argc, char** argv) {
 
   std::string config_path, out_path, csv_path, wavelengths, height_range;
   std::vector<std::string> overrides;
-  bool quiet = false, json = false;
+  bool quiet = false, json = false, overwrite = false;
+  slipstrip::ResourceLimits limits;
   double alpha = 15.0;
 
   auto* run = app.add_subcommand("run", "Run a simulation from a TOML config and write one HDF5 file "
@@ -241,6 +325,15 @@ int main(int argc, char** argv) {
   run->add_option("--set", overrides, "Override a config key: section.key=value (repeatable)");
   run->add_option("--out", out_path, "Output HDF5 file (default: <config name>.h5)");
   run->add_flag("--quiet", quiet, "No progress bar");
+  run->add_flag("--overwrite", overwrite, "Replace an existing --out file (never the config file itself)");
+  run->add_option("--max-memory-gib", limits.max_operator_gib,
+                  "Refuse runs whose estimated history-operator memory exceeds this [GiB]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  run->add_option("--max-steps", limits.max_steps, "Refuse runs of more time steps than this")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  run->add_option("--max-output-gib", limits.max_output_gib,
+                  "Refuse runs whose estimated output file exceeds this [GiB]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
 
   auto* stab = app.add_subcommand("stability", "Linear stability of steady sliding: growth rates vs wavelength, or Lc(H)");
   stab->add_option("config", config_path, "TOML config file (material, friction, loading, geometry.height)")->required();
@@ -296,10 +389,13 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every usage error exits 2 (not CLI11's 104-114).
+    return app.exit(e) == 0 ? 0 : 2;
   }
+  // Our own messages name the cause; HDF5's stack dumps would bury them.
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   try {
-    if (*run) return run_command(config_path, overrides, out_path, quiet);
+    if (*run) return run_command(config_path, overrides, out_path, quiet, overwrite, limits);
     if (*stab) return stability_command(config_path, overrides, wavelengths, height_range, out_path, json);
     if (*ev) return events_command(run_path, alpha, out_path, csv_path);
     if (*bench) return slipstrip::run_bench(bench_options);
@@ -308,6 +404,17 @@ int main(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;
+  } catch (const slipstrip::OutputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fflush(stderr);
+    // A file whose H5Fclose failed stays open inside HDF5, whose exit handler
+    // would retry the close and crash (exit 139 on a full disk): leave
+    // without running it.  Nothing of ours is buffered.
+    std::fflush(stdout);
+    std::_Exit(4);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory\n");
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -62,6 +63,9 @@ constexpr Alternatives kAlternatives[] = {
 // The largest node count accepted: keeps N and N/2+1 spectral modes far from
 // int overflow and any run within memory of one machine.
 constexpr std::int64_t kMaxNodes = std::int64_t{1} << 24;
+
+// A config is a few kB of TOML; anything above this is not one.
+constexpr std::uintmax_t kMaxConfigBytes = 1u << 20;
 
 const SectionSchema* find_section(std::string_view name) {
   for (const auto& s : kSchema)
@@ -215,6 +219,8 @@ std::string location(const toml::node* node) {
   const auto& source = node->source();
   if (source.begin.line == 0) return {};
   const std::string line = std::to_string(source.begin.line);
+  // A value given with --set carries its override as its source (apply_override).
+  if (source.path && source.path->rfind("override '", 0) == 0) return *source.path + ": ";
   if (source.path && !source.path->empty()) return *source.path + ":" + line + ": ";
   return "line " + line + ": ";
 }
@@ -340,6 +346,37 @@ class Section {
 };
 
 // ---------------------------------------------------------------------------
+// Physically generous ranges (docs/config.md, "Ranges"): values far outside
+// them are typos or fuzz, and would make the kernel set-up or the local
+// friction solve run forever or fail at t = 0 without naming the key.
+struct Range {
+  double low, high;
+  std::string_view unit;
+};
+constexpr Range kLengthRange{1e-6, 1e6, "m"};
+constexpr Range kModulusRange{1.0, 1e13, "Pa"};
+constexpr Range kDensityRange{1e-3, 1e6, "kg/m^3"};
+constexpr Range kVelocityRange{1e-15, 1e3, "m/s"};
+constexpr Range kStressRange{1.0, 1e11, "Pa"};
+constexpr Range kSlipDistanceRange{1e-12, 1.0, "m"};
+constexpr Range kVStarRange{1e-20, 1e3, "m/s"};
+constexpr Range kPhiStarRange{1e-15, 1e15, "s"};
+constexpr double kMaxFrictionCoefficient = 10.0;
+constexpr double kMinBeta = 1e-3;
+constexpr double kMinDeltaTh = 1e-12;
+
+std::string range_text(const Range& r) {
+  return "between " + format_number(r.low) + " and " + format_number(r.high) + " [" +
+         std::string(r.unit) + "] (the physically generous range of docs/config.md)";
+}
+
+void check_range(const Section& s, std::string_view key, double value, const Range& r,
+                 std::string_view what) {
+  if (!(value >= r.low && value <= r.high))
+    s.out_of_range(key, format_number(value), std::string(what) + " " + range_text(r));
+}
+
+// ---------------------------------------------------------------------------
 // Enumerations: the TOML spelling of each value.
 constexpr std::string_view kPlaneNames[] = {"strain", "stress"};
 constexpr std::string_view kStrengthLawNames[] = {"paper", "dieterich_ruina", "regularized"};
@@ -398,11 +435,14 @@ void read_geometry(const toml::table& root, GeometryConfig& g) {
   const Section s(root, "geometry");
   if (auto v = s.number("length")) {
     if (!(*v > 0.0)) s.out_of_range("length", format_number(*v), "a length > 0 [m]");
+    check_range(s, "length", *v, kLengthRange, "a length");
     g.length = *v;
   }
   if (auto v = s.number_or_inf("height")) {
     if (!(*v > 0.0))
       s.out_of_range("height", format_number(*v), "a height > 0 [m] or \"inf\" (half-space)");
+    if (!is_half_space(*v))
+      check_range(s, "height", *v, kLengthRange, "a height (or \"inf\" for a half-space)");
     g.height = *v;
   }
   const std::string node_range = "an integer between 8 and " + std::to_string(kMaxNodes);
@@ -440,14 +480,17 @@ void read_material(const toml::table& root, ElasticMaterial& m) {
   }
   if (auto v = s.number("shear_modulus")) {
     if (!(*v > 0.0)) s.out_of_range("shear_modulus", format_number(*v), "a modulus > 0 [Pa]");
+    check_range(s, "shear_modulus", *v, kModulusRange, "a modulus");
     m.shear_modulus = *v;
   }
   if (auto v = s.number("youngs_modulus")) {
     if (!(*v > 0.0)) s.out_of_range("youngs_modulus", format_number(*v), "a modulus > 0 [Pa]");
+    check_range(s, "youngs_modulus", *v, kModulusRange, "a modulus");
     m.shear_modulus = *v / (2.0 * (1.0 + m.poisson_ratio));
   }
   if (auto v = s.number("density")) {
     if (!(*v > 0.0)) s.out_of_range("density", format_number(*v), "a density > 0 [kg/m^3]");
+    check_range(s, "density", *v, kDensityRange, "a density");
     m.density = *v;
   }
   if (auto v = s.choice("plane", kPlaneNames))
@@ -460,11 +503,13 @@ void read_loading(const toml::table& root, LoadingConfig& l) {
     // v0 > 0: the initial state is steady sliding, phi = phi_ss(v0).
     if (!(*v > 0.0))
       s.out_of_range("driving_velocity", format_number(*v), "a velocity > 0 [m/s]");
+    check_range(s, "driving_velocity", *v, kVelocityRange, "a velocity");
     l.driving_velocity = *v;
   }
   if (auto v = s.number("normal_stress")) {
     if (!(*v > 0.0))
       s.out_of_range("normal_stress", format_number(*v), "a compressive stress > 0 [Pa]");
+    check_range(s, "normal_stress", *v, kStressRange, "a compressive stress");
     l.normal_stress = *v;
   }
 }
@@ -488,9 +533,20 @@ void read_friction(const toml::table& root, FrictionParameters& f) {
   };
   non_negative("a", f.a);
   non_negative("b", f.b);
+  // Friction coefficients are O(0.01-1); beyond 10 the strength (and the
+  // local solve at t = 0) is meaningless.
+  for (std::string_view key : {"f0", "a", "b"})
+    if (auto v = s.number(key); v && *v > kMaxFrictionCoefficient)
+      s.out_of_range(key, format_number(*v),
+                     std::string(key) + " <= " + format_number(kMaxFrictionCoefficient) +
+                         " (dimensionless; the physically generous range of docs/config.md)");
   positive("characteristic_slip", f.characteristic_slip, "a slip distance D > 0 [m]");
   positive("v_star", f.v_star, "a velocity v* > 0 [m/s]");
   positive("phi_star", f.phi_star, "a time phi* > 0 [s]");
+  if (s.has("characteristic_slip"))
+    check_range(s, "characteristic_slip", f.characteristic_slip, kSlipDistanceRange, "a slip distance D");
+  if (s.has("v_star")) check_range(s, "v_star", f.v_star, kVStarRange, "a velocity v*");
+  if (s.has("phi_star")) check_range(s, "phi_star", f.phi_star, kPhiStarRange, "a time phi*");
 
   // The regularized law divides by a (exp(psi/a)); the others stay defined at
   // a = 0 because radiation damping alone fixes the slip rate.
@@ -587,6 +643,12 @@ void read_time(const toml::table& root, const SimulationConfig& c, TimeConfig& t
     // placed passively for the shortest wavelengths (docs/config.md, docs/theory.md).
     if (!(*v > 0.0 && *v <= 0.4))
       s.out_of_range("beta", format_number(*v), "0 < beta <= 0.4 (dt = beta dx / c_s)");
+    // Below ~1e-3 the number of steps per shear echo (and the strip operator's
+    // memory) explodes for no gain in accuracy (docs/config.md).
+    if (*v < kMinBeta)
+      s.out_of_range("beta", format_number(*v),
+                     format_number(kMinBeta) + " <= beta <= 0.4 (dt = beta dx / c_s; smaller steps "
+                     "only multiply the cost and the operator memory)");
     // Exact limit of a positive-real discrete operator (docs/theory.md 6.4):
     // dt S(k,0)/2 <= eta at the grid's Nyquist wavenumber, i.e.
     // beta <= 1 / (pi (1 - c_s^2/c_d^2)); it falls below 0.4 for nu > ~0.36
@@ -633,6 +695,10 @@ void read_output(const toml::table& root, OutputConfig& o) {
   non_negative("snapshot_interval", o.snapshot_interval, "a time >= 0 [s] (0 = off)");
   non_negative("snapshot_slip_increment", o.snapshot_slip_increment, "a slip >= 0 [m] (0 = off)");
   non_negative("delta_th", o.delta_th, "a slip threshold >= 0 [m] (0 = off)");
+  if (o.delta_th > 0.0 && o.delta_th < kMinDeltaTh)
+    s.out_of_range("delta_th", format_number(o.delta_th),
+                   "0 (off) or a slip threshold >= " + format_number(kMinDeltaTh) +
+                       " [m] (every node writes one crossing time per delta_th of slip)");
   if (auto v = s.number("flush_interval")) {
     if (!(*v > 0.0))
       s.out_of_range("flush_interval", format_number(*v), "a wall-clock time > 0 [s]");
@@ -707,13 +773,13 @@ void apply_override(toml::table& root, const std::string& assignment) {
   bool as_toml = text.find_first_of("\n\r") == std::string::npos;
   if (as_toml) {
     try {
-      parsed = toml::parse("value = " + text);
+      parsed = toml::parse("value = " + text, "override '" + assignment + "'");
       as_toml = parsed.size() == 1;
     } catch (const toml::parse_error&) {
       as_toml = false;
     }
   }
-  if (!as_toml) parsed = toml::parse("value = " + quote(text));
+  if (!as_toml) parsed = toml::parse("value = " + quote(text), "override '" + assignment + "'");
 
   toml::node* existing = root.get(section_name);
   if (existing == nullptr) {
@@ -738,6 +804,24 @@ SimulationConfig load_config_string(const std::string& toml_text,
 
 SimulationConfig load_config_file(const std::string& path,
                                   const std::vector<std::string>& overrides) {
+  // Only a regular file of sane size: a directory used to run the defaults,
+  // and /dev/zero was read forever.
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto status = fs::status(path, ec);
+  if (ec || !fs::exists(status))
+    throw ConfigError("cannot open config file '" + path + "': " +
+                      (ec ? ec.message() : std::string("no such file")));
+  if (!fs::is_regular_file(status))
+    throw ConfigError("config file '" + path + "' is not a regular file (" +
+                      (fs::is_directory(status) ? std::string("a directory")
+                                                : std::string("a device, FIFO or socket")) +
+                      "): expected a TOML file");
+  const auto size = fs::file_size(path, ec);
+  if (!ec && size > kMaxConfigBytes)
+    throw ConfigError("config file '" + path + "' is " + std::to_string(size) +
+                      " bytes: allowed at most " + std::to_string(kMaxConfigBytes) +
+                      " (1 MiB; a config is a few kB of TOML)");
   std::ifstream file(path, std::ios::binary);
   if (!file) throw ConfigError("cannot open config file '" + path + "'");
   std::ostringstream text;

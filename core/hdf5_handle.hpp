@@ -10,12 +10,43 @@
 
 namespace slipstrip::hdf5 {
 
+// The cause of the HDF5 error just raised on this thread, in one line: the
+// operating system's message when HDF5 recorded one ("No space left on
+// device"), else the innermost HDF5 description; "" if the stack is empty.
+inline std::string last_error_cause() {
+  struct Walk {
+    std::string innermost, system;
+  } walk;
+  H5Ewalk2(
+      H5E_DEFAULT, H5E_WALK_UPWARD,
+      [](unsigned n, const H5E_error2_t* e, void* data) -> herr_t {
+        auto* w = static_cast<Walk*>(data);
+        const std::string desc = e->desc ? e->desc : "";
+        if (n == 0) w->innermost = desc;
+        const auto at = desc.find("error message = '");
+        if (w->system.empty() && at != std::string::npos) {
+          const auto begin = at + 17;
+          w->system = desc.substr(begin, desc.find('\'', begin) - begin);
+        }
+        return 0;
+      },
+      &walk);
+  std::string cause = walk.system.empty() ? walk.innermost : walk.system;
+  if (cause.size() > 200) cause = cause.substr(0, 200) + "...";
+  return cause;
+}
+
+inline std::string with_cause(const std::string& what) {
+  const std::string cause = last_error_cause();
+  return "HDF5 error: " + what + " failed" + (cause.empty() ? "" : ": " + cause);
+}
+
 class Handle {
  public:
   Handle() = default;
   // Takes ownership; throws if the HDF5 call that produced `id` failed.
   explicit Handle(hid_t id, const std::string& what = "HDF5 call") : id_(id) {
-    if (id_ < 0) throw std::runtime_error("HDF5 error: " + what + " failed");
+    if (id_ < 0) throw std::runtime_error(with_cause(what));
   }
   Handle(const Handle&) = delete;
   Handle& operator=(const Handle&) = delete;
@@ -55,7 +86,7 @@ class Handle {
 };
 
 inline void check(herr_t status, const std::string& what) {
-  if (status < 0) throw std::runtime_error("HDF5 error: " + what + " failed");
+  if (status < 0) throw std::runtime_error(with_cause(what));
 }
 
 // Scalar attributes on a file, group or dataset; an existing attribute of the

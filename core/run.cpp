@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "core/config.hpp"
@@ -10,10 +13,52 @@
 
 namespace slipstrip {
 
+double next_slip_trigger(double next, double mean_slip, double increment) {
+  // The usual case: step the trigger by whole increments past the slip (the
+  // historical rule, kept so that existing runs take the same snapshots).
+  if ((mean_slip - next) / increment < 1e6) {
+    while (next <= mean_slip) {
+      const double advanced = next + increment;
+      if (!(advanced > next)) break;  // increment below the rounding of next
+      next = advanced;
+    }
+  } else {
+    next = (std::floor(mean_slip / increment) + 1.0) * increment;
+  }
+  // An increment lost in the rounding of the slip (e.g. 1e-30 m on 1e-6 m)
+  // would leave the trigger at or below the slip forever: move it just past
+  // the slip, so at most one snapshot is taken per step.
+  if (!(next > mean_slip)) next = std::nextafter(mean_slip, std::numeric_limits<double>::infinity());
+  return next;
+}
+
 RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
                          const RunHooks& hooks) {
   using clock = std::chrono::steady_clock;
-  Simulation sim(config);
+  // The set-up polls the same stop request as the time loop: a signal during
+  // a long kernel set-up ends it with SetupCancelled, before any file exists.
+  // A local friction solve that fails already at t = 0 is not a divergence of
+  // the run but a combination of [friction], [loading] and [initial] values
+  // without a steady state to start from: an input error (exit code 2).
+  const auto sim_owner = [&] {
+    try {
+      return std::make_unique<Simulation>(config, hooks.stop_requested);
+    } catch (const SimulationError& e) {
+      throw std::invalid_argument(
+          std::string("the initial state (t = 0) cannot be solved for this combination of "
+                      "[friction], [loading] and [initial] values: ") + e.what());
+    }
+  }();
+  Simulation& sim = *sim_owner;
+  // Half a step of slack so rounding never adds or drops a final step.  The
+  // count must fit a long long (a huge duration once overflowed to "0 steps").
+  const double step_count = std::ceil(config.time.duration / sim.time_step() - 0.5);
+  if (!(step_count < 0.5 * static_cast<double>(std::numeric_limits<long long>::max())))
+    throw std::invalid_argument("time.duration = " + std::to_string(config.time.duration) +
+                                " s is " + std::to_string(step_count) + " time steps of dt = " +
+                                std::to_string(sim.time_step()) +
+                                " s: the step count does not fit a 64-bit integer");
+  const long long total_steps = static_cast<long long>(step_count);
   const auto& out_cfg = config.output;
 
   SlipSamplingSetup sampling;
@@ -48,8 +93,6 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
   auto seconds_since = [](clock::time_point t) {
     return std::chrono::duration<double>(clock::now() - t).count();
   };
-  // Half a step of slack so rounding never adds or drops a final step.
-  const long long total_steps = static_cast<long long>(std::ceil(duration / sim.time_step() - 0.5));
   try {
     while (sim.step_index() < total_steps) {
       std::copy(sim.slip().begin(), sim.slip().end(), previous_slip.begin());
@@ -65,7 +108,8 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
         next_snapshot += out_cfg.snapshot_interval;
       } else if (out_cfg.snapshot_slip_increment > 0.0 && sim.mean_slip() >= next_snapshot_slip) {
         write_snapshot();
-        while (next_snapshot_slip <= sim.mean_slip()) next_snapshot_slip += out_cfg.snapshot_slip_increment;
+        next_snapshot_slip = next_slip_trigger(next_snapshot_slip, sim.mean_slip(),
+                                               out_cfg.snapshot_slip_increment);
       }
       // Wall-clock checks are cheap but not free: every 16 steps is plenty.
       if ((sim.step_index() & 15) == 0) {

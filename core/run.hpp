@@ -31,7 +31,15 @@ struct RunResult {
   double time_step = 0.0;
 };
 
-// Runs `config` and writes `output_path`.  A divergence (non-finite field,
+// The next mean-slip level at which a snapshot is taken after one was taken at
+// mean slip `mean_slip` with the previous trigger `next`: the smallest
+// next + m increment above mean_slip, and always > mean_slip, so a tiny
+// increment gives at most one snapshot per step and never loops forever.
+double next_slip_trigger(double next, double mean_slip, double increment);
+
+// Runs `config` and writes `output_path`.  hooks.stop_requested is also polled
+// during the set-up of the history operator; a stop there throws
+// SetupCancelled (kernels/history_convolution.hpp) before the file is created.  A divergence (non-finite field,
 // failed local solve) ends the run with status "diverged: <diagnostic>" and a
 // readable file; it is reported in the result, not thrown.
 RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,

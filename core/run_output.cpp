@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <hdf5.h>
 #include <sys/file.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <filesystem>
 #include <limits>
 #include <stdexcept>
 
@@ -189,7 +191,6 @@ RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
 
   delta_th_ = slip_sampling.delta_th;
   slip_sampling_on_ = delta_th_ > 0.0;
-  const hsize_t n = node_count_;
   timeseries_buffer_.reserve(4 * static_cast<std::size_t>(options_.timeseries_buffer_rows));
   snapshot_time_buffer_.reserve(static_cast<std::size_t>(options_.snapshot_chunk));
   snapshot_field_buffer_.reserve(4 * node_count_ * static_cast<std::size_t>(options_.snapshot_chunk));
@@ -200,6 +201,17 @@ RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
     next_threshold_.assign(node_count_, delta_th_);
   }
 
+  try {
+    create_file(config_toml, slip_sampling);
+  } catch (const std::runtime_error& e) {
+    failed_ = closed_ = true;
+    throw OutputError("cannot create the run file '" + path + "': " + e.what());
+  }
+}
+
+void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSetup& slip_sampling) {
+  const std::string& path = path_;
+  const hsize_t n = node_count_;
   Handle fapl = file_access_list(true);
   Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), "H5Fcreate(" + path + ")");
   hdf5::write_attribute(file, "config", config_toml);
@@ -255,6 +267,7 @@ RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
 }
 
 RunOutput::~RunOutput() {
+  if (failed_) return;
   try {
     close("interrupted");
   } catch (...) {
@@ -392,6 +405,47 @@ Handle RunOutput::open_unless_reader_holds(WriteTrigger trigger) {
 }
 
 bool RunOutput::write_out(WriteTrigger trigger, const std::string* final_status) {
+  if (failed_) throw OutputError("the run file '" + path_ + "' could not be written earlier");
+  try {
+    return write_out_unchecked(trigger, final_status);
+  } catch (const std::runtime_error& e) {
+    // Never retried (a full disk stays full; HDF5 may hold half-written
+    // metadata): the file keeps what the earlier write-outs wrote.
+    failed_ = closed_ = true;
+    throw OutputError("writing the run file '" + path_ + "' failed: " + e.what() +
+                      "; it keeps the data of the previous flush");
+  }
+}
+
+void RunOutput::check_free_space() const {
+  // A write-out that runs out of space half-way leaves HDF5 metadata that
+  // points past the end of the file (measured on a full tmpfs: the status
+  // attribute became unreadable and the process crashed at exit).  Refusing
+  // before writing keeps the file exactly as the previous write-out left it.
+  const std::filesystem::path file(path_);
+  const std::string dir = file.has_parent_path() ? file.parent_path().string() : ".";
+  struct statvfs fs {};
+  if (::statvfs(dir.c_str(), &fs) != 0) return;  // cannot tell: let the write itself report
+  const double available = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
+  double needed = 8.0 * (timeseries_buffer_.size() + snapshot_time_buffer_.size() +
+                         snapshot_field_buffer_.size());
+  if (levels_max_ > crossing_rows_in_file_) {
+    // New rows of [64, min(N, 256)] chunks, allocated whole (NaN fill).
+    const double chunk_rows = std::ceil(levels_max_ / 64.0) - std::floor(crossing_rows_in_file_ / 64.0);
+    needed += chunk_rows * std::ceil(node_count_ / 256.0) * 64.0 * std::min<double>(node_count_, 256) * 8.0;
+  }
+  needed += 256.0 * 1024.0;  // metadata, B-tree nodes, attributes
+  if (available < needed) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "No space left on device (%.0f bytes free in '%s', a write-out needs about %.0f)",
+                  available, dir.c_str(), needed);
+    throw std::runtime_error(text);
+  }
+}
+
+bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* final_status) {
+  check_free_space();
   Handle file = open_unless_reader_holds(trigger);
   if (!file.valid()) return false;
   const hsize_t n = node_count_;
@@ -430,6 +484,7 @@ bool RunOutput::write_out(WriteTrigger trigger, const std::string* final_status)
     Handle dset(H5Dopen2(file, "slip_sampling/crossing_time", H5P_DEFAULT),
                 "H5Dopen2(crossing_time)");
     grow_to(dset, levels_max_, n);
+    crossing_rows_in_file_ = std::max(crossing_rows_in_file_, levels_max_);
     // Element writes: entries not yet reached keep the NaN fill value, so the
     // partially filled rows in the file are always up to date.
     Handle file_space(H5Dget_space(dset), "H5Dget_space(crossing_time)");

@@ -41,6 +41,14 @@ struct SlipSamplingOverflow : std::runtime_error {
 };
 inline constexpr double kMaxLevelsPerStep = 1e6;
 
+// The run file could not be created or written (full disk, read-only or
+// vanished directory, I/O error): the message names the path and the
+// operating system's cause.  After it the writer is closed for good; the
+// file keeps what earlier write-outs put there.
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 struct RunOutputOptions {
   bool snapshots_by_slip = false;     // trigger attribute: "slip_increment" instead of "time"
   int timeseries_buffer_rows = 1024;  // rows held before a forced write-out; also the chunk length
@@ -95,6 +103,11 @@ class RunOutput {
   // Opens, appends every buffer (and at close the final status), closes.
   // Returns false if deferred because a reader holds the file.
   bool write_out(WriteTrigger trigger, const std::string* final_status = nullptr);
+  bool write_out_unchecked(WriteTrigger trigger, const std::string* final_status);
+  // Throws if the file system of the run file has less free space than the
+  // next write-out needs (with a margin for HDF5 metadata).
+  void check_free_space() const;
+  void create_file(const std::string& config_toml, const SlipSamplingSetup& slip_sampling);
   hdf5::Handle open_unless_reader_holds(WriteTrigger trigger);
   void add_crossings(std::size_t node, double t_old, double t_new, double slip_old, double slip_new);
 
@@ -103,12 +116,14 @@ class RunOutput {
   RunOutputOptions options_;
   bool slip_sampling_on_ = false;
   bool closed_ = false;
+  bool failed_ = false;  // a write-out failed: no further attempt (OutputError)
   std::optional<std::chrono::steady_clock::time_point> reader_holds_since_;
   std::size_t deferred_writes_ = 0;
 
   // Rows written to the file so far.
   std::size_t timeseries_rows_in_file_ = 0;
   std::size_t snapshots_in_file_ = 0;
+  std::size_t crossing_rows_in_file_ = 0;
 
   // Buffered rows, row-major.
   std::vector<double> timeseries_buffer_;  // 4 values per row

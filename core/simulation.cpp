@@ -26,7 +26,8 @@ constexpr std::size_t block_history_threshold = 128;
 
 std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& material,
                                                     const StripKernels& kernels,
-                                                    HistoryAlgorithm algorithm) {
+                                                    HistoryAlgorithm algorithm,
+                                                    const CancelCheck& cancelled) {
   if (algorithm == HistoryAlgorithm::automatic) {
     std::size_t most = 0;
     for (std::size_t q = 0; q + 1 < kernels.first_oscillator.size(); ++q)
@@ -34,12 +35,12 @@ std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& mater
     algorithm = most >= block_history_threshold ? HistoryAlgorithm::block : HistoryAlgorithm::modal;
   }
   if (algorithm == HistoryAlgorithm::block)
-    return std::make_unique<BlockStripHistory>(material, kernels);
-  return std::make_unique<StripHistory>(material, kernels);
+    return std::make_unique<BlockStripHistory>(material, kernels, BlockHistoryDesign{}, cancelled);
+  return std::make_unique<StripHistory>(material, kernels, cancelled);
 }
 }
 
-Simulation::Simulation(const SimulationConfig& config)
+Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancelled)
     : config_(config), nodes_(config.geometry.nodes) {
   const auto& g = config_.geometry;
   dx_ = g.length / nodes_;
@@ -49,14 +50,15 @@ Simulation::Simulation(const SimulationConfig& config)
   if (is_half_space(g.height)) {
     // Sampled exact half-space kernel, made passive, with bounded memory
     // (kernels/half_space_history.hpp, docs/theory.md "bounded-memory half-space").
-    history_ = std::make_unique<HalfSpaceHistory>(config_.material, g.length, nodes_, dt_);
+    history_ = std::make_unique<HalfSpaceHistory>(config_.material, g.length, nodes_, dt_,
+                                                  HalfSpaceOperatorDesign{}, cancelled);
   } else {
     const auto kernels =
         config_.output.kernel_cache.empty()
-            ? compute_strip_kernels(config_.material, g.height, g.length, nodes_, dt_)
+            ? compute_strip_kernels(config_.material, g.height, g.length, nodes_, dt_, cancelled)
             : load_or_compute_strip_kernels(config_.output.kernel_cache, config_.material,
-                                            g.height, g.length, nodes_, dt_);
-    history_ = make_strip_history(config_.material, kernels, config_.time.history);
+                                            g.height, g.length, nodes_, dt_, nullptr, cancelled);
+    history_ = make_strip_history(config_.material, kernels, config_.time.history, cancelled);
   }
 
   const auto n = static_cast<std::size_t>(nodes_);

@@ -23,7 +23,10 @@ struct SimulationError : std::runtime_error {
 
 class Simulation {
  public:
-  explicit Simulation(const SimulationConfig& config);
+  // `cancelled` is polled during the kernel and operator set-up (which takes
+  // seconds for thick strips); when it returns true the constructor throws
+  // SetupCancelled (kernels/history_convolution.hpp).
+  explicit Simulation(const SimulationConfig& config, const CancelCheck& cancelled = {});
 
   // Advance one time step dt.
   void step();

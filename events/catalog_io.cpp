@@ -36,24 +36,46 @@ Handle open_group(hid_t file, const char* name, const std::string& path) {
   return Handle(H5Gopen2(file, name, H5P_DEFAULT), std::string("H5Gopen /") + name);
 }
 
+// A damaged or hand-made file may hold an array, a string or a bool (an HDF5
+// enum) where a number belongs: reading it into one double would overrun the
+// buffer (issue 15: a segfault), so shape and type are checked first.
+void require_scalar_number(hid_t attr, const char* name, const std::string& where) {
+  Handle space(H5Aget_space(attr), std::string("H5Aget_space ") + name);
+  const H5S_class_t shape = H5Sget_simple_extent_type(space);
+  const hssize_t count = H5Sget_simple_extent_npoints(space);
+  if (shape != H5S_SCALAR)
+    throw std::invalid_argument(where + " attribute '" + name + "' is invalid: it is " +
+                                (shape == H5S_SIMPLE ? "an array of " + std::to_string(count) + " values"
+                                                     : std::string("empty")) +
+                                ", expected a scalar number");
+  Handle type(H5Aget_type(attr), std::string("H5Aget_type ") + name);
+  const H5T_class_t kind = H5Tget_class(type);
+  if (kind != H5T_FLOAT && kind != H5T_INTEGER)
+    throw std::invalid_argument(where + " attribute '" + name + "' is invalid: its type is " +
+                                (kind == H5T_ENUM ? "boolean/enum" : kind == H5T_STRING ? "a string" : "not a number") +
+                                ", expected a scalar float");
+}
+
 double read_double_attribute(hid_t obj, const char* name, const std::string& where) {
   if (H5Aexists(obj, name) <= 0)
     throw std::invalid_argument(where + " attribute '" + name + "' is missing");
   Handle attr(H5Aopen(obj, name, H5P_DEFAULT), std::string("H5Aopen ") + name);
+  require_scalar_number(attr, name, where);
   double value = 0.0;
   hdf5::check(H5Aread(attr, H5T_NATIVE_DOUBLE, &value), std::string("H5Aread ") + name);
   return value;
 }
 
-double read_optional_double_attribute(hid_t obj, const char* name) {
+double read_optional_double_attribute(hid_t obj, const char* name, const std::string& where) {
   if (H5Aexists(obj, name) <= 0) return std::numeric_limits<double>::quiet_NaN();
-  return read_double_attribute(obj, name, "");
+  return read_double_attribute(obj, name, where);
 }
 
 std::uint64_t read_u64_attribute(hid_t obj, const char* name, const std::string& where) {
   if (H5Aexists(obj, name) <= 0)
     throw std::invalid_argument(where + " attribute '" + name + "' is missing");
   Handle attr(H5Aopen(obj, name, H5P_DEFAULT), std::string("H5Aopen ") + name);
+  require_scalar_number(attr, name, where);
   std::uint64_t value = 0;
   hdf5::check(H5Aread(attr, H5T_NATIVE_UINT64, &value), std::string("H5Aread ") + name);
   return value;
@@ -122,6 +144,13 @@ Hdf5CrossingTimes::Hdf5CrossingTimes(const std::string& path) : path_(path) {
     throw std::invalid_argument("path = '" + path + "' is invalid: dataset /slip_sampling/crossing_time is missing");
   dataset_ = Handle(H5Dopen2(group, "crossing_time", H5P_DEFAULT), "H5Dopen crossing_time");
   file_space_ = Handle(H5Dget_space(dataset_), "H5Dget_space crossing_time");
+  {
+    Handle type(H5Dget_type(dataset_), "H5Dget_type crossing_time");
+    if (H5Tget_class(type) != H5T_FLOAT)
+      throw std::invalid_argument("path = '" + path + "' is invalid: /slip_sampling/crossing_time must hold "
+                                  "floating-point times [s] (NaN = level not reached), not integers, "
+                                  "booleans or strings");
+  }
   const int rank = H5Sget_simple_extent_ndims(file_space_);
   if (rank != 2)
     throw std::invalid_argument("/slip_sampling/crossing_time rank = " + std::to_string(rank) +
@@ -152,8 +181,8 @@ SlipSamplingInfo read_slip_sampling_info(const std::string& path) {
   info.dx = read_double_attribute(group, "dx", where);
   info.v0 = read_double_attribute(group, "v0", where);
   info.mu = read_double_attribute(group, "mu", where);
-  info.D = read_optional_double_attribute(group, "D");
-  info.L = read_optional_double_attribute(group, "L");
+  info.D = read_optional_double_attribute(group, "D", where);
+  info.L = read_optional_double_attribute(group, "L", where);
   if (has_link(group, "x")) {
     info.x = read_vector<double>(group, "x", H5T_NATIVE_DOUBLE, where);
   } else {

@@ -22,6 +22,14 @@ void require_positive(const char* name, double value) {
                                 " is invalid: must be finite and > 0");
 }
 
+// A crossing time is NaN (level not reached) or a finite time >= 0 [s].
+void require_valid_time(double t, std::size_t level, std::size_t node) {
+  if (std::isnan(t) || (std::isfinite(t) && t >= 0.0)) return;
+  throw std::invalid_argument("crossing_time[" + std::to_string(level) + ", " + std::to_string(node) +
+                              "] = " + to_string_g(t) +
+                              " is invalid: crossing times must be finite and >= 0 s (NaN = level not reached)");
+}
+
 void require_non_negative(const char* name, double value) {
   if (!(value >= 0.0) || !std::isfinite(value))
     throw std::invalid_argument(std::string(name) + " = " + to_string_g(value) +
@@ -66,6 +74,7 @@ NodalSlipStream::NodalSlipStream(const CrossingTimeSource& source, std::size_t b
   if (n_levels_ == 0) return;
   for (std::size_t i = 0; i < n_nodes_; ++i) {
     const double t = at(0, i);
+    require_valid_time(t, 0, i);
     if (std::isnan(t)) continue;  // node never reached delta_th
     level_[i] = 0;
     heap_.push_back({t, static_cast<std::int32_t>(i)});
@@ -136,6 +145,7 @@ bool NodalSlipStream::next(NodalSlip& slip) {
 
   // Advance column i; a NaN (or the last row) ends it.
   const double t_next = (j + 1 < n_levels_) ? at(j + 1, i) : std::numeric_limits<double>::quiet_NaN();
+  require_valid_time(t_next, j + 1, i);
   if (std::isnan(t_next)) {
     level_[i] = -1;
     heap_.front() = heap_.back();

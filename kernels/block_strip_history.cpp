@@ -22,7 +22,7 @@ struct BlockStripHistory::Scratch {
 };
 
 BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,
-                                     const BlockHistoryDesign& design)
+                                     const BlockHistoryDesign& design, const CancelCheck& cancelled)
     : dt_(kernels.time_step), direct_block_(design.direct_block), echo_steps_(kernels.echo_steps) {
   const double mu = material.shear_modulus;
   const double cs = material.shear_wave_speed();
@@ -53,6 +53,7 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
   first_frequency_.assign(1, 0);
   c0_.assign(n_modes_, 0.0);
   for (int q = 0; q < n_modes_; ++q) {
+    throw_if_cancelled(cancelled, "the block history operator");
     double weight_sum = 0.0;
     for (std::size_t m = first[q]; m < first[q + 1]; ++m) {
       for (double sign : {1.0, -1.0}) {
@@ -94,6 +95,7 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
   auto& work = scratch_[0];
   auto* buffer = reinterpret_cast<cplx*>(work.level.get());
   for (int q = 1; q < n_modes_; ++q) {
+    throw_if_cancelled(cancelled, "the block history operator");
     const std::size_t f0 = first_frequency_[q], f1 = first_frequency_[q + 1];
     for (std::size_t k = f0; k < f1; ++k) work.frequency[k - f0] = half_weight_[k];
     nufft_->adjoint({theta_.data() + f0, f1 - f0}, {work.frequency.data(), f1 - f0}, work.series,

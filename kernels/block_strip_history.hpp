@@ -51,7 +51,7 @@ struct BlockHistoryDesign {
 class BlockStripHistory final : public HistoryOperator {
  public:
   BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,
-                    const BlockHistoryDesign& design = {});
+                    const BlockHistoryDesign& design = {}, const CancelCheck& cancelled = {});
   ~BlockStripHistory() override;
   BlockStripHistory(const BlockStripHistory&) = delete;
   BlockStripHistory& operator=(const BlockStripHistory&) = delete;

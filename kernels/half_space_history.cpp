@@ -1,6 +1,9 @@
 #include "kernels/half_space_history.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -13,7 +16,8 @@
 namespace slipstrip {
 
 HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
-                                   double time_step, const HalfSpaceOperatorDesign& design)
+                                   double time_step, const HalfSpaceOperatorDesign& design,
+                                   const CancelCheck& cancelled)
     : dt_(time_step), lags_(design.corrected_lags) {
   if (!(length > 0) || nodes < 2 || !(time_step > 0))
     throw std::invalid_argument("HalfSpaceHistory: need length > 0, nodes >= 2, time_step > 0");
@@ -45,9 +49,15 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
   std::vector<std::vector<double>> lag_weight(n_modes), correction(n_modes);
   std::vector<std::vector<std::complex<double>>> poles(n_modes), pole_weights(n_modes);
   std::string failure;
+  // `cancelled` may call into Python (the bindings), so only the thread that
+  // called this constructor polls it; the others see the atomic flag.
+  std::atomic<bool> cancel_seen{false};
   static_weight_.assign(n_modes, 0.0);
 #pragma omp parallel for schedule(dynamic)
   for (int q = 1; q < n_modes; ++q) {
+    if (omp_get_thread_num() == 0 && cancelled && !cancel_seen.load(std::memory_order_relaxed) && cancelled())
+      cancel_seen.store(true);
+    if (cancel_seen.load(std::memory_order_relaxed)) continue;
     try {
       const double h = h_[q];
       const double scale = mu / cs * h;  // dt mu |k|
@@ -73,6 +83,7 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
       if (failure.empty()) failure = ex.what();
     }
   }
+  if (cancel_seen.load()) throw SetupCancelled("set-up cancelled during the half-space history operator");
   if (!failure.empty()) {
     std::ostringstream msg;
     msg << "half-space history operator (dt = " << dt_ << " s, c_s k_max dt = " << h_.back()

@@ -52,7 +52,7 @@ struct HalfSpaceModeKernel {
 class HalfSpaceHistory final : public HistoryOperator {
  public:
   HalfSpaceHistory(const ElasticMaterial& material, double length, int nodes, double time_step,
-                   const HalfSpaceOperatorDesign& design = {});
+                   const HalfSpaceOperatorDesign& design = {}, const CancelCheck& cancelled = {});
 
   double time_step() const override { return dt_; }
   double radiation_damping() const override { return eta_; }

@@ -72,7 +72,8 @@ double strip_time_step(const ElasticMaterial& material, double strip_height, dou
 }
 
 StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip_height,
-                                   double length, int nodes, double time_step) {
+                                   double length, int nodes, double time_step,
+                                   const CancelCheck& cancelled) {
   if (is_half_space(strip_height))
     throw std::invalid_argument("compute_strip_kernels needs a finite strip_height (got inf)");
   if (!(strip_height > 0)) throw std::invalid_argument("strip_height must be > 0");
@@ -89,6 +90,7 @@ StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip
   const int n_modes = nodes / 2 + 1;
   kernels.first_oscillator.assign(1, 0);
   for (int q = 0; q < n_modes; ++q) {
+    throw_if_cancelled(cancelled, "the strip kernels");
     const double k = 2.0 * std::numbers::pi * q / length;
     for (const auto& m : discrete_modes(material, strip_height, k, time_step, kernels.echo_steps)) {
       kernels.phase.push_back(m.phase);
@@ -103,7 +105,8 @@ StripHistory::StripHistory(const ElasticMaterial& material, double strip_height,
                            int nodes, double time_step)
     : StripHistory(material, compute_strip_kernels(material, strip_height, length, nodes, time_step)) {}
 
-StripHistory::StripHistory(const ElasticMaterial& material, const StripKernels& kernels)
+StripHistory::StripHistory(const ElasticMaterial& material, const StripKernels& kernels,
+                           const CancelCheck& cancelled)
     : dt_(kernels.time_step), echo_steps_(kernels.echo_steps),
       first_oscillator_(kernels.first_oscillator), weight_(kernels.weight) {
   const double mu = material.shear_modulus;
@@ -116,7 +119,9 @@ StripHistory::StripHistory(const ElasticMaterial& material, const StripKernels& 
   const int n_modes = static_cast<int>(first_oscillator_.size()) - 1;
   cos_step_.reserve(weight_.size());
   sin_step_.reserve(weight_.size());
-  for (double phase : kernels.phase) {
+  for (std::size_t m = 0; m < kernels.phase.size(); ++m) {
+    if ((m & 0xffff) == 0) throw_if_cancelled(cancelled, "the strip history operator");
+    const double phase = kernels.phase[m];
     cos_step_.push_back(std::cos(phase));
     sin_step_.push_back(std::sin(phase));
   }

@@ -14,7 +14,9 @@
 // not grow with simulated time, yet no reflection is ever dropped.
 #include <complex>
 #include <cstddef>
+#include <functional>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
@@ -58,8 +60,21 @@ struct StripKernels {
   std::vector<double> phase, weight;
 };
 
+// Polled by the long set-up loops (kernels, operator construction) about once
+// per Fourier mode; returning true abandons the set-up by throwing
+// SetupCancelled, so a SIGTERM/SIGINT during a set-up of many seconds is
+// honoured within a fraction of a second.  An empty function never cancels.
+using CancelCheck = std::function<bool()>;
+struct SetupCancelled : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+inline void throw_if_cancelled(const CancelCheck& cancelled, const char* where) {
+  if (cancelled && cancelled()) throw SetupCancelled(std::string("set-up cancelled during ") + where);
+}
+
 StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip_height,
-                                   double length, int nodes, double time_step);
+                                   double length, int nodes, double time_step,
+                                   const CancelCheck& cancelled = {});
 
 struct ModeOperatorStats {
   std::size_t modes = 0;            // Fourier modes q = 0..N/2
@@ -91,7 +106,8 @@ class StripHistory final : public HistoryOperator {
   StripHistory(const ElasticMaterial& material, double strip_height, double length, int nodes,
                double time_step);
   // From precomputed (or cached) kernels of this material and strip height.
-  StripHistory(const ElasticMaterial& material, const StripKernels& kernels);
+  StripHistory(const ElasticMaterial& material, const StripKernels& kernels,
+               const CancelCheck& cancelled = {});
 
   double time_step() const override { return dt_; }
   double radiation_damping() const override { return eta_; }

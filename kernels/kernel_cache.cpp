@@ -69,7 +69,7 @@ std::string strip_kernel_key(const ElasticMaterial& m, double strip_height, doub
 StripKernels load_or_compute_strip_kernels(const std::string& cache_dir,
                                            const ElasticMaterial& material, double strip_height,
                                            double length, int nodes, double time_step,
-                                           KernelSource* source) {
+                                           KernelSource* source, const CancelCheck& cancelled) {
   namespace fs = std::filesystem;
   const std::string key = strip_kernel_key(material, strip_height, length, nodes, time_step);
   const fs::path entry = fs::path(cache_dir) / ("strip_kernels_" + fnv1a_hex(key) + ".h5");
@@ -99,10 +99,10 @@ StripKernels load_or_compute_strip_kernels(const std::string& cache_dir,
     }
     // Same hash, other inputs: never reuse, and leave the entry alone.
     if (source) *source = KernelSource::computed;
-    return compute_strip_kernels(material, strip_height, length, nodes, time_step);
+    return compute_strip_kernels(material, strip_height, length, nodes, time_step, cancelled);
   }
 
-  StripKernels k = compute_strip_kernels(material, strip_height, length, nodes, time_step);
+  StripKernels k = compute_strip_kernels(material, strip_height, length, nodes, time_step, cancelled);
   if (source) *source = KernelSource::computed;
   std::error_code ec;
   fs::create_directories(cache_dir, ec);

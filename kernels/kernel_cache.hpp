@@ -28,6 +28,7 @@ enum class KernelSource { computed, cache };
 StripKernels load_or_compute_strip_kernels(const std::string& cache_dir,
                                            const ElasticMaterial& material, double strip_height,
                                            double length, int nodes, double time_step,
-                                           KernelSource* source = nullptr);
+                                           KernelSource* source = nullptr,
+                                           const CancelCheck& cancelled = {});
 
 }  // namespace slipstrip

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/run.hpp"
+#include "kernels/history_convolution.hpp"
 #include "core/simulation.hpp"
 
 namespace py = pybind11;
@@ -121,9 +122,21 @@ RunResult run(const slipstrip::SimulationConfig& config, const std::string& outp
   };
 
   RunResult result;
+  bool setup_cancelled = false;
   {
     py::gil_scoped_release release;
-    result = slipstrip::run_simulation(config, output_path, hooks);
+    try {
+      result = slipstrip::run_simulation(config, output_path, hooks);
+    } catch (const slipstrip::SetupCancelled&) {
+      if (!pending) throw;
+      setup_cancelled = true;
+    }
+  }
+  if (setup_cancelled) {
+    // Stopped during the set-up (no file written): re-raise what stopped it
+    // (KeyboardInterrupt from Ctrl-C).
+    pending->restore();
+    throw py::error_already_set();
   }
   if (pending) {
     try {

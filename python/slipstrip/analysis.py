@@ -184,15 +184,16 @@ def run_event_detection(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPH
 
 
 def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
-                workdir: str | os.PathLike | None = None) -> dict:
+                workdir: str | os.PathLike | None = None, write_into_run: bool = False) -> dict:
     """The catalog of `run_path` for `alpha`: /events of the run file if it was
-    made with this alpha; else detection is run (into the run file when it has
-    no /events, else into a catalog file in `workdir` or a temporary one)."""
+    made with this alpha; else detection is run into a catalog file in
+    `workdir` (or a temporary one).  Only with write_into_run=True, and when
+    the run file has no /events yet, is the catalog added to the run file."""
     with _open_h5(run_path) as f:
         stored_alpha = float(f["events"].attrs["alpha"]) if "events" in f else None
     if stored_alpha is not None and stored_alpha == float(alpha):
         return read_catalog(run_path)
-    if stored_alpha is None:
+    if stored_alpha is None and write_into_run:
         try:
             run_event_detection(run_path, alpha)
             return read_catalog(run_path)
@@ -757,7 +758,8 @@ def summarize_run(path: str | os.PathLike, alpha: float = DEFAULT_ALPHA) -> dict
     with too few events are NaN.  Runs detection through the CLI if needed.
     """
     info = read_run_info(path)
-    catalog = catalog_for(path, alpha)
+    # Scans call this on run files they wrote themselves: keep the catalog there.
+    catalog = catalog_for(path, alpha, write_into_run=True)
     res = _public(catalog_statistics(catalog, info, n_bootstrap=0))
     res.update(periodic_pulse_of_run(path, catalog, info))
     res["alpha"] = float(alpha)
@@ -1027,12 +1029,12 @@ def _jsonable(obj):
 
 
 def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, event: int | None = None,
-            sensitivity_alphas=SENSITIVITY_ALPHAS, seed: int = 0) -> dict:
+            sensitivity_alphas=SENSITIVITY_ALPHAS, seed: int = 0, write_events: bool = False) -> dict:
     """Everything: statistics, stationarity, threshold sensitivity, figures, summary.json."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     info = read_run_info(path)
-    catalog = catalog_for(path, alpha, workdir=out_dir)
+    catalog = catalog_for(path, alpha, workdir=out_dir, write_into_run=write_events)
     st = catalog_statistics(catalog, info, seed=seed)
     summary = {"run": str(path), "alpha": float(alpha), "normalisation": {
         "u": "u_mean/D", "T": "T*v0/D", "M0": "M0/(mu*D*L)"}, "scales": dataclasses.asdict(info)}
@@ -1130,18 +1132,27 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--alpha", type=float, default=DEFAULT_ALPHA, help="waiting-time threshold factor")
     parser.add_argument("--event", type=int, default=None,
                         help="event index for the before/after fields figure (default: largest M0)")
+    parser.add_argument("--write-events", action="store_true",
+                        help="add the catalog as /events to the run file when it has none "
+                             "(default: the run file is only read; the catalog goes to --out-dir)")
     args = parser.parse_args(list(argv[1:] if argv and argv[0] == "analyze" else argv))
     if not Path(args.run).is_file():
-        print(f"run file {args.run!r} not found", file=sys.stderr)
+        print(f"analyze: run file {args.run!r} not found (or not a regular file)", file=sys.stderr)
         return 2
     if not args.alpha > 0:
-        print(f"--alpha {args.alpha}: must be > 0", file=sys.stderr)
+        print(f"analyze: --alpha {args.alpha}: must be > 0", file=sys.stderr)
+        return 2
+    if not h5py.is_hdf5(args.run):
+        print(f"analyze: run file {args.run!r} is not an HDF5 file", file=sys.stderr)
         return 2
     out_dir = args.out_dir or str(Path(args.run).with_suffix("")) + "_analysis"
     try:
-        summary = analyze(args.run, out_dir, pdf=args.pdf, alpha=args.alpha, event=args.event)
-    except (FileNotFoundError, RuntimeError, KeyError, ValueError) as err:
-        print(f"analyze: {err}", file=sys.stderr)
+        summary = analyze(args.run, out_dir, pdf=args.pdf, alpha=args.alpha, event=args.event,
+                          write_events=args.write_events)
+    except (FileNotFoundError, RuntimeError, KeyError, ValueError, OSError, TypeError, IndexError) as err:
+        # A damaged or foreign run file: one line naming the file, never a traceback.
+        message = " ".join(str(err).split()) or type(err).__name__
+        print(f"analyze: {args.run}: {message}", file=sys.stderr)
         return 1
     print(format_summary(summary))
     print(f"summary: {Path(out_dir) / 'summary.json'}")

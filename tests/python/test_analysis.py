@@ -333,9 +333,9 @@ def test_numpy_grouping_matches_cpp_catalog(quick_run, tmp_path):
 
 def test_analyze_end_to_end(quick_run, tmp_path):
     run = tmp_path / "run.h5"
-    run.write_bytes(quick_run.read_bytes())  # analyze adds /events to the run file
+    run.write_bytes(quick_run.read_bytes())  # analyze --write-events adds /events to the run file
     out_dir = tmp_path / "out"
-    assert analysis.main(["analyze", str(run), "--out-dir", str(out_dir), "--pdf"]) == 0
+    assert analysis.main(["analyze", str(run), "--out-dir", str(out_dir), "--pdf", "--write-events"]) == 0
     summary = json.loads((out_dir / "summary.json").read_text())
     assert summary["n_events"] is not None and summary["n_events"] >= 0
     for name in ("space_time", "space_slip", "event_map", "pdfs", "stationarity", "threshold_sensitivity"):
