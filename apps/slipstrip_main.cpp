@@ -379,7 +379,7 @@ int main(int argc, char** argv) {
   bench->add_option("--max-gib", bench_options.max_operator_gib,
                     "Skip cases whose estimated history-operator memory exceeds this [GiB]");
 
-  for (const char* name : {"analyze", "scan", "plot"}) {
+  for (const char* name : {"analyze", "scan", "plot", "export", "report", "transition"}) {
     auto* py = app.add_subcommand(name, std::string("Python: python3 -m slipstrip ") + name +
                                             " (see docs/analysis.md, docs/scans.md); arguments are forwarded");
     py->allow_extras();
@@ -399,7 +399,7 @@ int main(int argc, char** argv) {
     if (*stab) return stability_command(config_path, overrides, wavelengths, height_range, out_path, json);
     if (*ev) return events_command(run_path, alpha, out_path, csv_path);
     if (*bench) return slipstrip::run_bench(bench_options);
-    for (const char* name : {"analyze", "scan", "plot"})
+    for (const char* name : {"analyze", "scan", "plot", "export", "report", "transition"})
       if (auto* py = app.get_subcommand(name); *py) return forward_to_python(name, py->remaining());
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -42,7 +42,8 @@ constexpr std::string_view kInitialKeys[] = {"noise_amplitude", "noise_seed",   
 constexpr std::string_view kTimeKeys[] = {"beta", "duration", "duration_transits", "history"};
 constexpr std::string_view kOutputKeys[] = {"timeseries_interval", "snapshot_interval",
                                             "snapshot_slip_increment", "delta_th",
-                                            "flush_interval", "kernel_cache"};
+                                            "flush_interval", "kernel_cache", "stations",
+                                            "station_interval", "front_slip_rate"};
 
 constexpr SectionSchema kSchema[] = {
     {"geometry", kGeometryKeys}, {"material", kMaterialKeys},   {"loading", kLoadingKeys},
@@ -300,6 +301,28 @@ class Section {
     if (n == nullptr) return std::nullopt;
     if (const auto* i = n->as_integer()) return i->get();
     wrong_type(key, "an integer");
+  }
+
+  // An array of finite numbers.
+  std::optional<std::vector<double>> numbers(std::string_view key) const {
+    const toml::node* n = node(key);
+    if (n == nullptr) return std::nullopt;
+    const auto* array = n->as_array();
+    if (array == nullptr) wrong_type(key, "an array of numbers, e.g. [0.5, 1.0]");
+    std::vector<double> out;
+    for (const auto& element : *array) {
+      double value;
+      if (const auto* f = element.as_floating_point()) {
+        value = f->get();
+      } else if (const auto* i = element.as_integer()) {
+        value = static_cast<double>(i->get());
+      } else {
+        wrong_type(key, "an array of numbers, e.g. [0.5, 1.0]");
+      }
+      if (!std::isfinite(value)) out_of_range(key, describe(*n), "an array of finite numbers");
+      out.push_back(value);
+    }
+    return out;
   }
 
   // Free text (a path).
@@ -683,7 +706,7 @@ void read_time(const toml::table& root, const SimulationConfig& c, TimeConfig& t
   }
 }
 
-void read_output(const toml::table& root, OutputConfig& o) {
+void read_output(const toml::table& root, double length, OutputConfig& o) {
   const Section s(root, "output");
   const auto non_negative = [&s](std::string_view key, double& field, std::string_view allowed) {
     if (auto v = s.number(key)) {
@@ -705,6 +728,15 @@ void read_output(const toml::table& root, OutputConfig& o) {
     o.flush_interval = *v;
   }
   if (auto v = s.text("kernel_cache")) o.kernel_cache = *v;
+  if (auto v = s.numbers("stations")) {
+    for (double x : *v)
+      if (!(x >= 0.0 && x < length))
+        s.out_of_range("stations", format_number(x),
+                       "positions 0 <= x < geometry.length = " + format_number(length) + " [m]");
+    o.stations = *v;
+  }
+  non_negative("station_interval", o.station_interval, "a time >= 0 [s] (0 = every step)");
+  non_negative("front_slip_rate", o.front_slip_rate, "a slip rate >= 0 [m/s] (0 = off)");
 }
 
 std::string trim(std::string_view text) {
@@ -747,7 +779,7 @@ SimulationConfig config_from_table(const toml::table& root) {
   read_interface(root, c.geometry.nodes, c.interface);
   read_initial(root, c.geometry, c.initial);
   read_time(root, c, c.time);
-  read_output(root, c.output);
+  read_output(root, c.geometry.length, c.output);
   return c;
 }
 
@@ -911,6 +943,14 @@ std::string to_toml(const SimulationConfig& c) {
   number("snapshot_slip_increment", c.output.snapshot_slip_increment, "[m]; 0 = off");
   number("delta_th", c.output.delta_th, "[m] slip-sampling threshold; 0 = off");
   number("flush_interval", c.output.flush_interval, "[s of wall time]");
+  {
+    out << "stations = [";
+    for (std::size_t i = 0; i < c.output.stations.size(); ++i)
+      out << (i ? ", " : "") << format_number(c.output.stations[i]);
+    out << "]  # station positions x [m]; [] = none\n";
+  }
+  number("station_interval", c.output.station_interval, "[s]; 0 = every step");
+  number("front_slip_rate", c.output.front_slip_rate, "[m/s] rupture-front threshold; 0 = off");
   name("kernel_cache", c.output.kernel_cache, "directory caching the strip kernels (HDF5, one file per key); \"\" = off");
   return out.str();
 }

@@ -10,6 +10,7 @@
 #include "core/config.hpp"
 #include "core/run_output.hpp"
 #include "core/simulation.hpp"
+#include "core/stations.hpp"
 
 namespace slipstrip {
 
@@ -71,7 +72,39 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
   sampling.x.assign(sim.x().begin(), sim.x().end());
   RunOutputOptions options;
   options.snapshots_by_slip = out_cfg.snapshot_slip_increment > 0.0;
+  options.station_x = out_cfg.stations;
+  options.front_slip_rate = out_cfg.front_slip_rate;
   RunOutput output(output_path, to_toml(config), sampling, options);
+
+  // Stations (one buffer per field, sampled in turn) and rupture-front arrival times.
+  StationSampler station_slip(out_cfg.stations, sim.dx(), sim.x().size()),
+      station_rate(out_cfg.stations, sim.dx(), sim.x().size()),
+      station_stress(out_cfg.stations, sim.dx(), sim.x().size()),
+      station_state(out_cfg.stations, sim.dx(), sim.x().size());
+  const double mu_dx = config.material.shear_modulus * sim.dx();
+  auto record_stations = [&] {
+    if (station_slip.empty()) return;
+    double sum_rate = 0.0;
+    for (double v : sim.slip_rate()) sum_rate += v;
+    output.append_stations(sim.time(), station_slip.sample(sim.slip()), station_rate.sample(sim.slip_rate()),
+                           station_stress.sample(sim.shear_stress()), station_state.sample(sim.state()),
+                           config.loading.normal_stress, sim.max_slip_rate(), mu_dx * sum_rate);
+  };
+  std::vector<double> front_arrival(out_cfg.front_slip_rate > 0.0 ? sim.x().size() : 0,
+                                    std::numeric_limits<double>::quiet_NaN());
+  auto record_front = [&] {
+    bool changed = false;
+    const auto v = sim.slip_rate();
+    for (std::size_t i = 0; i < front_arrival.size(); ++i)
+      if (std::isnan(front_arrival[i]) && std::abs(v[i]) > out_cfg.front_slip_rate) {
+        front_arrival[i] = sim.time();
+        changed = true;
+      }
+    if (changed) output.set_rupture_front(front_arrival);
+  };
+  record_stations();
+  record_front();
+  double next_station = out_cfg.station_interval;
 
   RunResult result;
   result.time_step = sim.time_step();
@@ -99,6 +132,11 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
       const double t_old = sim.time();
       sim.step();
       output.record_slip(t_old, sim.time(), previous_slip, sim.slip());
+      if (!station_slip.empty() && sim.time() >= next_station * (1 - 1e-12)) {
+        record_stations();
+        next_station += out_cfg.station_interval;
+      }
+      if (!front_arrival.empty()) record_front();
       if (sim.time() >= next_timeseries * (1 - 1e-12)) {
         output.append_timeseries(sim.time(), sim.max_slip_rate(), sim.mean_slip(), sim.mean_shear_stress());
         next_timeseries += out_cfg.timeseries_interval;

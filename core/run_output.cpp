@@ -28,6 +28,10 @@ using hdf5::Handle;
 
 constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
 
+constexpr const char* station_field_names[5] = {"slip", "slip_rate", "shear_stress", "state",
+                                                "normal_stress"};
+constexpr const char* station_field_units[5] = {"m", "m/s", "Pa", "s", "Pa"};
+constexpr std::size_t station_buffer_rows = 1024;
 constexpr const char* timeseries_names[4] = {"time", "max_slip_rate", "mean_slip",
                                              "mean_shear_stress"};
 constexpr const char* timeseries_units[4] = {"s", "m/s", "m", "Pa"};
@@ -194,6 +198,9 @@ RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
   timeseries_buffer_.reserve(4 * static_cast<std::size_t>(options_.timeseries_buffer_rows));
   snapshot_time_buffer_.reserve(static_cast<std::size_t>(options_.snapshot_chunk));
   snapshot_field_buffer_.reserve(4 * node_count_ * static_cast<std::size_t>(options_.snapshot_chunk));
+  station_count_ = options_.station_x.size();
+  if (station_count_ > 0) station_buffer_.reserve(station_buffer_rows * (3 + 5 * station_count_));
+  if (options_.front_slip_rate > 0.0) rupture_front_.assign(node_count_, nan_value);
   if (slip_sampling_on_) {
     pending_coords_.reserve(2 * 4096);
     pending_time_.reserve(4096);
@@ -246,6 +253,26 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
                         snapshot_units[f], false);
     write_fixed_vector(group, "x", slip_sampling.x, "m");
   }
+  if (station_count_ > 0) {
+    Handle group(H5Gcreate2(file, "stations", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                 "H5Gcreate2(stations)");
+    write_fixed_vector(group, "x", options_.station_x, "m");
+    const hsize_t chunk[1] = {station_buffer_rows};
+    create_extendible(group, "time", {}, chunk, 0, "s", false);
+    create_extendible(group, "max_slip_rate", {}, chunk, 0, "m/s", false);
+    create_extendible(group, "moment_rate", {}, chunk, 0, "N/s per m (mu * sum(v) dx)", false);
+    const hsize_t columns[1] = {station_count_};
+    const hsize_t field_chunk[2] = {station_buffer_rows, station_count_};
+    for (int f = 0; f < 5; ++f)
+      create_extendible(group, station_field_names[f], columns, field_chunk, 0, station_field_units[f], false);
+  }
+  if (!rupture_front_.empty()) {
+    Handle group(H5Gcreate2(file, "rupture_front", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                 "H5Gcreate2(rupture_front)");
+    hdf5::write_attribute(group, "slip_rate_threshold", options_.front_slip_rate);
+    write_fixed_vector(group, "x", slip_sampling.x, "m");
+    write_fixed_vector(group, "arrival_time", rupture_front_, "s");
+  }
   if (slip_sampling_on_) {
     Handle group(H5Gcreate2(file, "slip_sampling", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                  "H5Gcreate2(slip_sampling)");
@@ -282,6 +309,26 @@ void RunOutput::append_timeseries(double time, double max_slip_rate, double mean
                             {time, max_slip_rate, mean_slip, mean_shear_stress});
   if (timeseries_buffer_.size() >= 4 * static_cast<std::size_t>(options_.timeseries_buffer_rows))
     write_out(WriteTrigger::buffer_full);
+}
+
+void RunOutput::append_stations(double time, std::span<const double> slip,
+                                std::span<const double> slip_rate, std::span<const double> shear_stress,
+                                std::span<const double> state, double normal_stress,
+                                double max_slip_rate, double moment_rate) {
+  if (closed_) throw std::logic_error("RunOutput::append_stations after close: " + path_);
+  if (station_count_ == 0) throw std::logic_error("RunOutput::append_stations without stations");
+  station_buffer_.insert(station_buffer_.end(), {time, max_slip_rate, moment_rate});
+  for (const auto field : {slip, slip_rate, shear_stress, state})
+    station_buffer_.insert(station_buffer_.end(), field.begin(), field.begin() + station_count_);
+  station_buffer_.insert(station_buffer_.end(), station_count_, normal_stress);
+  if (station_buffer_.size() >= station_buffer_rows * (3 + 5 * station_count_))
+    write_out(WriteTrigger::buffer_full);
+}
+
+void RunOutput::set_rupture_front(std::span<const double> arrival_time) {
+  if (rupture_front_.empty()) throw std::logic_error("RunOutput::set_rupture_front without front_slip_rate");
+  std::copy(arrival_time.begin(), arrival_time.end(), rupture_front_.begin());
+  rupture_front_dirty_ = true;
 }
 
 void RunOutput::write_snapshot(double time, std::span<const double> slip,
@@ -428,7 +475,7 @@ void RunOutput::check_free_space() const {
   if (::statvfs(dir.c_str(), &fs) != 0) return;  // cannot tell: let the write itself report
   const double available = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
   double needed = 8.0 * (timeseries_buffer_.size() + snapshot_time_buffer_.size() +
-                         snapshot_field_buffer_.size());
+                         snapshot_field_buffer_.size() + station_buffer_.size());
   if (levels_max_ > crossing_rows_in_file_) {
     // New rows of [64, min(N, 256)] chunks, allocated whole (NaN fill).
     const double chunk_rows = std::ceil(levels_max_ / 64.0) - std::floor(crossing_rows_in_file_ / 64.0);
@@ -498,6 +545,33 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
           "H5Dwrite(crossing_time)");
     pending_coords_.clear();
     pending_time_.clear();
+  }
+
+  const std::size_t row_width = 3 + 5 * station_count_;
+  const std::size_t station_rows = station_count_ ? station_buffer_.size() / row_width : 0;
+  if (station_rows > 0) {
+    Handle group(H5Gopen2(file, "stations", H5P_DEFAULT), "H5Gopen2(stations)");
+    const char* series[3] = {"time", "max_slip_rate", "moment_rate"};
+    for (int c = 0; c < 3; ++c) {
+      Handle dset(H5Dopen2(group, series[c], H5P_DEFAULT), "H5Dopen2(stations)");
+      grow_to(dset, station_rows_in_file_ + station_rows, 0);
+      write_rows(dset, station_rows_in_file_, station_rows, 0, station_buffer_.data() + c, row_width);
+    }
+    for (int f = 0; f < 5; ++f) {
+      Handle dset(H5Dopen2(group, station_field_names[f], H5P_DEFAULT), "H5Dopen2(stations)");
+      grow_to(dset, station_rows_in_file_ + station_rows, station_count_);
+      for (std::size_t r = 0; r < station_rows; ++r)
+        write_rows(dset, station_rows_in_file_ + r, 1, station_count_,
+                   station_buffer_.data() + r * row_width + 3 + f * station_count_);
+    }
+    station_rows_in_file_ += station_rows;
+    station_buffer_.clear();
+  }
+  if (rupture_front_dirty_) {
+    Handle dset(H5Dopen2(file, "rupture_front/arrival_time", H5P_DEFAULT), "H5Dopen2(arrival_time)");
+    check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rupture_front_.data()),
+          "H5Dwrite(arrival_time)");
+    rupture_front_dirty_ = false;
   }
 
   if (final_status) {

@@ -51,6 +51,8 @@ struct OutputError : std::runtime_error {
 
 struct RunOutputOptions {
   bool snapshots_by_slip = false;     // trigger attribute: "slip_increment" instead of "time"
+  std::vector<double> station_x;      // [m] on-fault stations (/stations); empty = none
+  double front_slip_rate = 0.0;       // [m/s] /rupture_front threshold; 0 = no /rupture_front
   int timeseries_buffer_rows = 1024;  // rows held before a forced write-out; also the chunk length
   int snapshot_chunk = 8;             // snapshots held in memory before a forced write-out
   int gzip_level = 4;                 // deflate level 0..9 for the snapshot fields
@@ -76,6 +78,15 @@ class RunOutput {
                          double mean_shear_stress);
   void write_snapshot(double time, std::span<const double> slip, std::span<const double> slip_rate,
                       std::span<const double> state, std::span<const double> shear_stress);
+  // One row of every station's fields (values at the stations, in the order
+  // of station_x) and the global max slip rate [m/s] and moment rate
+  // [N/s per m: mu * sum(v) dx].  Only with stations.
+  void append_stations(double time, std::span<const double> slip, std::span<const double> slip_rate,
+                       std::span<const double> shear_stress, std::span<const double> state,
+                       double normal_stress, double max_slip_rate, double moment_rate);
+  // The per-node rupture-front arrival times [s] (NaN = not yet), written whole
+  // at every write-out.  Only with front_slip_rate > 0.
+  void set_rupture_front(std::span<const double> arrival_time);
   // Called once per time step with the slip before and after the step.
   void record_slip(double t_old, double t_new, std::span<const double> slip_old,
                    std::span<const double> slip_new);
@@ -129,6 +140,12 @@ class RunOutput {
   std::vector<double> timeseries_buffer_;  // 4 values per row
   std::vector<double> snapshot_time_buffer_;
   std::vector<double> snapshot_field_buffer_;  // 4 fields x N per snapshot, field-major per snapshot
+  // Stations: per row, time, max slip rate, moment rate, then 5 fields x stations.
+  std::size_t station_count_ = 0;
+  std::size_t station_rows_in_file_ = 0;
+  std::vector<double> station_buffer_;
+  std::vector<double> rupture_front_;  // per node; written whole at each write-out
+  bool rupture_front_dirty_ = false;
 
   // Slip sampling.  levels_reached_[i] = number of levels node i has reached;
   // next_threshold_[i] = (levels_reached_[i] + 1) * delta_th, precomputed so the

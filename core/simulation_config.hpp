@@ -88,6 +88,16 @@ struct OutputConfig {
   // phases and weights per Fourier mode) are cached, one HDF5 file per set of
   // inputs they depend on, so a scan computes them once; "" = no cache.
   std::string kernel_cache;
+  // [output] stations: positions x [m] (0 <= x < L) of on-fault stations whose
+  // slip, slip_rate, shear_stress, state and normal_stress are recorded
+  // (linear interpolation between the two neighbouring nodes; exact on a
+  // node) every station_interval [s] (0 = every step) in /stations, with the
+  // global max slip rate and moment rate.  Empty = no stations.
+  std::vector<double> stations;
+  double station_interval = 0.0;
+  // [output] front_slip_rate [m/s]: per node, the first time the slip rate
+  // exceeds it is stored in /rupture_front (0 = off).
+  double front_slip_rate = 0.0;
 };
 
 struct SimulationConfig {

@@ -6,6 +6,7 @@
   scan     ...  (slipstrip.scan.main)
   report   RUNDIR [--out docs/reproduction.md] [--figures DIR] [--allow-missing]  (slipstrip.report.main)
   transition  RUNS... [--csv F] [--plot PNG]  (slipstrip.transition.main: long-time state of each run)
+  export   RUN.h5 --seas DIR  (slipstrip.export.main: SEAS-style station files)
 
 Each command parses its own arguments (`python3 -m slipstrip <command> -h`).
 """
@@ -80,6 +81,7 @@ COMMANDS = {
     "scan": lambda argv: _delegate("scan", argv),
     "report": lambda argv: _delegate("report", argv),
     "transition": lambda argv: _delegate("transition", argv),
+    "export": lambda argv: _delegate("export", argv),
 }
 
 

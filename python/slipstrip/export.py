@@ -1,0 +1,118 @@
+"""Export a run's station records as the plain-text station files of the SCEC
+SEAS benchmarks (docs/output.md, "Stations and SEAS export"):
+
+    python3 -m slipstrip export RUN.h5 --seas DIR
+
+writes, from /stations and /rupture_front of the run file,
+
+* one file per station, ``station_x+0.5000.txt`` (x in m): ``#`` header lines
+  (problem, code, version, git hash, date, element size, location, column
+  descriptions), then the field-name line, then one row per record with
+  t [s], slip [m], log10 slip rate [log10 m/s], shear stress [MPa],
+  log10 state [log10 s] and normal stress [MPa], every value in ``%.15e``;
+* ``global.txt``: t [s], log10 max slip rate [log10 m/s], moment rate
+  [N/s per metre along the third direction, i.e. mu * integral of v dx];
+* ``rupture.txt`` (if the run recorded fronts): x [m], arrival time [s] of the
+  first slip rate above output.front_slip_rate, NaN where it never arrived.
+
+As in the SEAS files, slip rate and state are written as log10 and stresses
+in MPa; slip is the full slip (both strips), the shear stress is the total
+traction on the interface (not its perturbation).
+"""
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from . import analysis
+
+FMT = "%.15e"
+
+
+def _header(f, run_attrs: dict, config: dict, title: str, columns: list[tuple[str, str]], extra: list[str]):
+    geometry = config.get("geometry", {})
+    n = geometry.get("nodes", 0)
+    dx = geometry.get("length", math.nan) / n if n else math.nan
+    lines = [
+        f"# problem: slipstrip run ({title})",
+        f"# code: slipstrip {run_attrs.get('code_version', '?')} (git {run_attrs.get('git_hash', '?')})",
+        f"# modeler: slipstrip export",
+        f"# date: {_dt.date.today().isoformat()} (run started {run_attrs.get('start_time', '?')})",
+        f"# element_size: {dx:.6g} m (interface node spacing L/N)",
+        f"# strip_height: {geometry.get('height', '?')} m, period L: {geometry.get('length', '?')} m",
+        *extra,
+        f"# columns: " + "; ".join(f"{name} [{unit}]" for name, unit in columns),
+    ]
+    f.write("\n".join(lines) + "\n")
+    f.write(" ".join(name for name, _ in columns) + "\n")
+
+
+def export_seas(run_path, out_dir) -> list[Path]:
+    import tomllib
+    out_dir = Path(out_dir)
+    written = []
+    with analysis._open_h5(run_path) as h5:
+        if "stations" not in h5:
+            raise KeyError(f"{run_path}: no /stations (set [output] stations = [x1, ...] in the config)")
+        attrs = {k: analysis._as_str(v) for k, v in h5.attrs.items() if k in
+                 ("code_version", "git_hash", "start_time", "status")}
+        config = tomllib.loads(analysis._as_str(h5.attrs["config"]))
+        g = h5["stations"]
+        x = g["x"][:]
+        t = g["time"][:]
+        fields = {k: g[k][:] for k in ("slip", "slip_rate", "shear_stress", "state", "normal_stress")}
+        vmax = g["max_slip_rate"][:]
+        moment_rate = g["moment_rate"][:]
+        front = h5["rupture_front/arrival_time"][:] if "rupture_front" in h5 else None
+        front_x = h5["rupture_front/x"][:] if front is not None else None
+        front_threshold = float(h5["rupture_front"].attrs["slip_rate_threshold"]) if front is not None else None
+    out_dir.mkdir(parents=True, exist_ok=True)
+    columns = [("t", "s"), ("slip", "m"), ("slip_rate", "log10 m/s"), ("shear_stress", "MPa"),
+               ("state", "log10 s"), ("normal_stress", "MPa")]
+    with np.errstate(divide="ignore"):
+        for s, xs in enumerate(x):
+            path = out_dir / f"station_x{xs:+.4f}.txt"
+            with path.open("w") as f:
+                _header(f, attrs, config, "station time series", columns,
+                        [f"# location: x = {xs:.6g} m on the interface (y = 0)",
+                         "# slip rate and state as log10, stresses in MPa (SEAS convention)"])
+                table = np.column_stack([t, fields["slip"][:, s], np.log10(np.abs(fields["slip_rate"][:, s])),
+                                         fields["shear_stress"][:, s] / 1e6, np.log10(fields["state"][:, s]),
+                                         fields["normal_stress"][:, s] / 1e6])
+                np.savetxt(f, table, fmt=FMT)
+            written.append(path)
+        path = out_dir / "global.txt"
+        with path.open("w") as f:
+            _header(f, attrs, config, "global time series",
+                    [("t", "s"), ("max_slip_rate", "log10 m/s"), ("moment_rate", "N/s per m")],
+                    ["# moment_rate = shear_modulus * sum over nodes of slip_rate * dx"])
+            np.savetxt(f, np.column_stack([t, np.log10(vmax), moment_rate]), fmt=FMT)
+        written.append(path)
+    if front is not None:
+        path = out_dir / "rupture.txt"
+        with path.open("w") as f:
+            _header(f, attrs, config, "rupture-front arrival times", [("x", "m"), ("t", "s")],
+                    [f"# t: first time the slip rate exceeds {front_threshold:.6g} m/s (nan: never)"])
+            np.savetxt(f, np.column_stack([front_x, front]), fmt=FMT)
+        written.append(path)
+    return written
+
+
+def main(argv: list[str]) -> int:
+    p = argparse.ArgumentParser(prog="python3 -m slipstrip export",
+                                description="Export a run's stations as SEAS-style text files.")
+    p.add_argument("run", help="run file with /stations")
+    p.add_argument("--seas", required=True, metavar="DIR", help="directory for the station files")
+    args = p.parse_args(argv)
+    try:
+        files = export_seas(args.run, args.seas)
+    except (OSError, KeyError) as err:
+        print(f"export: {args.run}: {err}", file=sys.stderr)
+        return 2
+    print(f"wrote {len(files)} files to {args.seas}")
+    return 0
