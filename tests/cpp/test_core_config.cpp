@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 
+#include "config_test_helpers.hpp"
 #include "core/config.hpp"
 
 using namespace slipstrip;
@@ -18,19 +19,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The message of the ConfigError thrown by load_config_string(text, overrides).
-std::string error_of(const std::string& text, const std::vector<std::string>& overrides = {}) {
-  try {
-    load_config_string(text, overrides);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
-
-bool contains(const std::string& haystack, const std::string& needle) {
-  return haystack.find(needle) != std::string::npos;
-}
+using testing::contains;
+using testing::error_of;
 
 // Exact equality of every field: a round trip must not lose a single bit.
 void check_same(const SimulationConfig& a, const SimulationConfig& b) {

@@ -10,6 +10,7 @@
 #include <limits>
 #include <string>
 
+#include "config_test_helpers.hpp"
 #include "core/config.hpp"
 #include "core/resource_estimate.hpp"
 #include "core/run.hpp"
@@ -19,18 +20,8 @@ using namespace slipstrip;
 
 namespace {
 
-std::string error_of(const std::string& text, const std::vector<std::string>& overrides = {}) {
-  try {
-    load_config_string(text, overrides);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
+using testing::error_of;
 
 std::string resource_error(const SimulationConfig& c, const ResourceLimits& limits = {}) {
   try {
