@@ -7,7 +7,9 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <cstdlib>
@@ -269,7 +271,13 @@ int events_command(const std::string& run_path, double alpha, const std::string&
                    const std::string& csv_path) {
   slipstrip::events::EventDetectionOptions options;
   options.alpha = alpha;
-  const auto catalog = slipstrip::events::detect_events_in_file(run_path, options);
+  slipstrip::events::EventCatalog catalog;
+  try {
+    catalog = slipstrip::events::detect_events_in_file(run_path, options);
+  } catch (const std::runtime_error& e) {
+    // An HDF5 read failure (truncated or damaged file) is bad input, not a bug: exit 2.
+    throw std::invalid_argument("run file '" + run_path + "' cannot be read: " + e.what());
+  }
   const std::string target = out_path.empty() ? run_path : out_path;
   slipstrip::events::write_event_catalog(target, catalog);
   if (!csv_path.empty()) slipstrip::events::write_event_catalog_csv(csv_path, catalog);
@@ -312,6 +320,24 @@ int main(int argc, char** argv) {
                "elastic strips of height H (rate-and-state friction). SI units throughout."};
   app.set_version_flag("--version", std::string(slipstrip::code_version) + " (" + slipstrip::git_hash + ")");
   app.require_subcommand(1);
+  // Usage errors in one line (CLI11's default adds "Run with --help ..." on a second line).
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    std::string message = e.what();
+    std::replace(message.begin(), message.end(), '\n', ' ');
+    return "error: " + message + " (see --help)\n";
+  });
+  // CLI::PositiveNumber prints its range as 0 ... 1.8e308 in %f, 300 digits.
+  const CLI::Validator finite_positive(
+      [](std::string& text) -> std::string {
+        try {
+          std::size_t used = 0;
+          const double v = std::stod(text, &used);
+          if (used == text.size() && std::isfinite(v) && v > 0) return {};
+        } catch (const std::exception&) {
+        }
+        return "expected a finite number > 0, got '" + text + "'";
+      },
+      "POSITIVE");
 
   std::string config_path, out_path, csv_path, wavelengths, height_range;
   std::vector<std::string> overrides;
@@ -328,12 +354,12 @@ int main(int argc, char** argv) {
   run->add_flag("--overwrite", overwrite, "Replace an existing --out file (never the config file itself)");
   run->add_option("--max-memory-gib", limits.max_operator_gib,
                   "Refuse runs whose estimated history-operator memory exceeds this [GiB]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(finite_positive);
   run->add_option("--max-steps", limits.max_steps, "Refuse runs of more time steps than this")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(finite_positive);
   run->add_option("--max-output-gib", limits.max_output_gib,
                   "Refuse runs whose estimated output file exceeds this [GiB]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(finite_positive);
 
   auto* stab = app.add_subcommand("stability", "Linear stability of steady sliding: growth rates vs wavelength, or Lc(H)");
   stab->add_option("config", config_path, "TOML config file (material, friction, loading, geometry.height)")->required();

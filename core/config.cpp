@@ -783,13 +783,34 @@ SimulationConfig config_from_table(const toml::table& root) {
   return c;
 }
 
+// An override as it appears in messages: control characters (a newline would
+// split the one-line message) are shown escaped.
+std::string printable_override(const std::string& assignment) {
+  std::string out;
+  for (const unsigned char c : assignment) {
+    if (c == '\n') out += "\\n";
+    else if (c == '\r') out += "\\r";
+    else if (c == '\t') out += "\\t";
+    else if (c < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    } else out += static_cast<char>(c);
+  }
+  return out;
+}
+
 void apply_override(toml::table& root, const std::string& assignment) {
-  const std::string context = "override '" + assignment + "': ";
+  const std::string shown = printable_override(assignment);
+  const std::string context = "override '" + shown + "': ";
   const auto equals = assignment.find('=');
   if (equals == std::string::npos)
     throw ConfigError(context + "expected the form section.key=value");
   const std::string path = trim(std::string_view(assignment).substr(0, equals));
   const std::string text = trim(std::string_view(assignment).substr(equals + 1));
+  if (printable_override(path) != path)
+    throw ConfigError(context + "the key '" + printable_override(path) +
+                      "' contains control characters: expected the form section.key=value");
   const auto dot = path.find('.');
   if (dot == std::string::npos || dot == 0 || dot + 1 == path.size() ||
       path.find('.', dot + 1) != std::string::npos)
@@ -805,13 +826,20 @@ void apply_override(toml::table& root, const std::string& assignment) {
   bool as_toml = text.find_first_of("\n\r") == std::string::npos;
   if (as_toml) {
     try {
-      parsed = toml::parse("value = " + text, "override '" + assignment + "'");
+      parsed = toml::parse("value = " + text, "override '" + shown + "'");
       as_toml = parsed.size() == 1;
     } catch (const toml::parse_error&) {
       as_toml = false;
     }
   }
-  if (!as_toml) parsed = toml::parse("value = " + quote(text), "override '" + assignment + "'");
+  if (!as_toml) {
+    try {
+      parsed = toml::parse("value = " + quote(text), "override '" + shown + "'");
+    } catch (const toml::parse_error& e) {
+      throw ConfigError(context + path + " = '" + printable_override(text) +
+                        "' is not a valid value: " + std::string(e.description()));
+    }
+  }
 
   toml::node* existing = root.get(section_name);
   if (existing == nullptr) {

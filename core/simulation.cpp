@@ -101,7 +101,7 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
         if (!(phi > 0.0))
           throw std::invalid_argument(
               "initial state phi <= 0 at x = " + std::to_string(x_[i]) +
-              " m: reduce [initial] noise_amplitude / sine_amplitude / local_amplitude");
+              " m: reduce initial.noise_amplitude, initial.sine_amplitude or initial.local_amplitude");
         state_[i] = phi;
       }
       // At t = 0 the history is empty: tau_0 + eta v0 - eta v = strength(v, phi).

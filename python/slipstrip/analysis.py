@@ -1153,7 +1153,7 @@ def main(argv: list[str]) -> int:
         # A damaged or foreign run file: one line naming the file, never a traceback.
         message = " ".join(str(err).split()) or type(err).__name__
         print(f"analyze: {args.run}: {message}", file=sys.stderr)
-        return 1
+        return 2
     print(format_summary(summary))
     print(f"summary: {Path(out_dir) / 'summary.json'}")
     return 0

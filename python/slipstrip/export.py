@@ -111,8 +111,11 @@ def main(argv: list[str]) -> int:
     args = p.parse_args(argv)
     try:
         files = export_seas(args.run, args.seas)
-    except (OSError, KeyError) as err:
-        print(f"export: {args.run}: {err}", file=sys.stderr)
+    except (OSError, KeyError, ValueError, TypeError, IndexError, UnicodeDecodeError) as err:
+        # A missing, damaged or foreign run file (tomllib's TOMLDecodeError is a
+        # ValueError): one line naming the file, never a traceback.
+        message = " ".join(str(err).split()) or type(err).__name__
+        print(f"export: {args.run}: {message}", file=sys.stderr)
         return 2
     print(f"wrote {len(files)} files to {args.seas}")
     return 0
