@@ -13,6 +13,8 @@
 // The state update is a closed form evaluated with the same operations; its
 // tolerance is a few ulp of each term (see the test).
 #include <doctest/doctest.h>
+
+#include "friction_test_parameters.hpp"
 #include <omp.h>
 
 #include <algorithm>
@@ -36,19 +38,7 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 constexpr double sigma0 = 1e6;                           // [Pa]
 const double eta = 9e9 / (2 * std::sqrt(9e9 / 1200.0));  // mu / (2 c_s), Table S1 [Pa s/m]
 
-FrictionParameters parameters_for(StrengthLaw law, StateLaw state_law = StateLaw::aging) {
-  FrictionParameters p;  // Table S1 for the paper law
-  p.strength_law = law;
-  p.state_law = state_law;
-  if (law != StrengthLaw::paper) {  // Dieterich-Ruina meaning of f0, b
-    p.f0 = 0.6;
-    p.a = 0.01;
-    p.b = 0.015;
-    p.characteristic_slip = 1e-5;
-    p.v_star = 1e-6;
-  }
-  return p;
-}
+using testing::parameters_for;
 
 LocalSolveParameters local(const FrictionParameters& p) { return {p, sigma0, eta}; }
 

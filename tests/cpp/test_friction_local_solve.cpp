@@ -1,6 +1,8 @@
 // Local interface solve  tau_history - eta v = sign(v) strength(|v|, phi).
 #include <doctest/doctest.h>
 
+#include "friction_test_parameters.hpp"
+
 #include <cfloat>
 #include <algorithm>
 #include <cmath>
@@ -20,18 +22,7 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 constexpr double sigma0 = 1e6;            // [Pa]
 const double eta = 9e9 / (2 * std::sqrt(9e9 / 1200.0));  // mu / (2 c_s), Table S1 [Pa s/m]
 
-FrictionParameters parameters_for(StrengthLaw law) {
-  FrictionParameters p;  // Table S1 for the paper law
-  p.strength_law = law;
-  if (law != StrengthLaw::paper) {  // Dieterich-Ruina meaning of f0, b
-    p.f0 = 0.6;
-    p.a = 0.01;
-    p.b = 0.015;
-    p.characteristic_slip = 1e-5;
-    p.v_star = 1e-6;
-  }
-  return p;
-}
+using testing::parameters_for;
 
 const std::vector<StrengthLaw> all_laws = {StrengthLaw::paper, StrengthLaw::dieterich_ruina,
                                            StrengthLaw::regularized};
