@@ -59,6 +59,10 @@ MAX_ERROR_CHARS = 2000  # enough for the solver's one-line errors plus context; 
 class Parameter:
     key: str  # "section.key", as for `slipstrip run --set`
     values: tuple
+    # Parameters sharing a group move together (zipped) inside a product scan:
+    # a one-parameter family through several keys, e.g. (f0, a, b) of the
+    # transition map.  None = a group of its own.
+    group: str | None = None
 
 
 @dataclass(frozen=True)
@@ -142,9 +146,12 @@ def _parameter(scan_path, entry) -> Parameter:
         _fail(scan_path, f"[[parameter]] entry {entry!r} is not a table")
     key = _check_key(scan_path, entry.get("key"))
     given = [k for k in ("values", "range", "logspace") if k in entry]
-    unknown = set(entry) - {"key", "values", "range", "logspace"}
+    unknown = set(entry) - {"key", "values", "range", "logspace", "group"}
     if unknown:
-        _fail(scan_path, f"{key}: unknown field(s) {sorted(unknown)}; allowed: key, values, range, logspace")
+        _fail(scan_path, f"{key}: unknown field(s) {sorted(unknown)}; allowed: key, values, range, logspace, group")
+    group = entry.get("group")
+    if group is not None and (not isinstance(group, str) or not group):
+        _fail(scan_path, f"{key}: group = {group!r} is not allowed: expected a non-empty string")
     if len(given) != 1:
         _fail(scan_path, f"{key}: give exactly one of values, range, logspace (got {given or 'none'})")
     if given[0] == "values":
@@ -154,8 +161,8 @@ def _parameter(scan_path, entry) -> Parameter:
         for v in values:
             if isinstance(v, (dict, list)):
                 _fail(scan_path, f"{key}: value {v!r} is not allowed: expected a number, string or boolean")
-        return Parameter(key, tuple(values))
-    return Parameter(key, _range_values(scan_path, key, entry[given[0]], log=given[0] == "logspace"))
+        return Parameter(key, tuple(values), group)
+    return Parameter(key, _range_values(scan_path, key, entry[given[0]], log=given[0] == "logspace"), group)
 
 
 def load_scan(path: str | os.PathLike, output_dir: str | os.PathLike | None = None) -> ScanSpec:
@@ -197,6 +204,12 @@ def load_scan(path: str | os.PathLike, output_dir: str | os.PathLike | None = No
     if mode == "zip" and len({len(p.values) for p in parameters}) > 1:
         lengths = {p.key: len(p.values) for p in parameters}
         _fail(path, f"mode = \"zip\" needs lists of equal length; got {lengths}")
+    if mode == "zip" and any(p.group is not None for p in parameters):
+        _fail(path, "group is only allowed with mode = \"product\" (in a zip every parameter is one group)")
+    for group in {p.group for p in parameters if p.group is not None}:
+        lengths = {p.key: len(p.values) for p in parameters if p.group == group}
+        if len(set(lengths.values())) > 1:
+            _fail(path, f"group {group!r} needs lists of equal length (its parameters are zipped); got {lengths}")
     name = doc.get("name", path.stem)
     out = Path(output_dir if output_dir is not None else doc.get("output_dir", f"scan_{path.stem}"))
     return ScanSpec(path=path, name=str(name), base_config=base, mode=mode, parameters=parameters,
@@ -224,16 +237,39 @@ def run_file_name(index: int, n_runs: int) -> str:
 
 
 def expand_runs(spec: ScanSpec) -> list[RunTask]:
-    """The scan's runs in order: Cartesian product (last parameter fastest) or zip."""
-    value_lists = [p.values for p in spec.parameters]
+    """The scan's runs in order: Cartesian product (last parameter fastest) or zip.
+
+    In a product, parameters of the same `group` are zipped into one factor,
+    placed where the group's first parameter stands.
+    """
     if spec.mode == "zip":
-        combos = list(zip(*value_lists)) if value_lists else [()]
+        value_lists = [p.values for p in spec.parameters]
+        combos = [dict(zip((p.key for p in spec.parameters), c))
+                  for c in (zip(*value_lists) if value_lists else [()])]
     else:
-        combos = list(itertools.product(*value_lists))
+        factors = []  # each factor: list of {key: value} of its zipped parameters
+        positions = {}
+        for p in spec.parameters:
+            if p.group is None or p.group not in positions:
+                if p.group is not None:
+                    positions[p.group] = len(factors)
+                factors.append([{p.key: v} for v in p.values])
+            else:
+                factor = factors[positions[p.group]]
+                for entry, v in zip(factor, p.values):
+                    entry[p.key] = v
+        combos = []
+        for choice in itertools.product(*factors):
+            merged = {}
+            for part in choice:
+                merged.update(part)
+            combos.append(merged)
+    # Overrides in the order the parameters are declared, whatever the grouping.
+    order = [p.key for p in spec.parameters]
     fixed = tuple(format_override(k, v) for k, v in spec.fixed.items())
     tasks = []
     for index, combo in enumerate(combos):
-        params = {p.key: v for p, v in zip(spec.parameters, combo)}
+        params = {k: combo[k] for k in order}
         overrides = fixed + tuple(format_override(k, v) for k, v in params.items())
         tasks.append(RunTask(index=index, parameters=params, overrides=overrides,
                              run_file=spec.output_dir / run_file_name(index, len(combos))))

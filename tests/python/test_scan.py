@@ -154,6 +154,35 @@ values = [0.05, 0.06, 0.07]
     assert [r.parameters["friction.b"] for r in runs] == [0.05, 0.06, 0.07]
 
 
+def test_grouped_parameters_move_together_inside_a_product(tmp_path):
+    # The transition map's friction family: (f0, a, b) step together along one
+    # axis while the strip height is crossed with it.
+    (tmp_path / "base.toml").write_text("")
+    (tmp_path / "s.toml").write_text("""
+base = "base.toml"
+[[parameter]]
+key = "friction.f0"
+values = [0.28, 0.18]
+group = "friction"
+[[parameter]]
+key = "geometry.height"
+values = [0.1, 0.2, "inf"]
+[[parameter]]
+key = "friction.a"
+values = [0.005, 0.015]
+group = "friction"
+""")
+    runs = scan.expand_runs(scan.load_scan(tmp_path / "s.toml", output_dir=tmp_path / "o"))
+    assert len(runs) == 6  # 2 friction points x 3 heights, not 2 x 3 x 2
+    pairs = {(r.parameters["friction.f0"], r.parameters["friction.a"]) for r in runs}
+    assert pairs == {(0.28, 0.005), (0.18, 0.015)}
+    # The group stands where its first parameter is declared: friction slowest, height fastest.
+    assert [r.parameters["geometry.height"] for r in runs[:3]] == [0.1, 0.2, "inf"]
+    assert runs[3].parameters == {"friction.f0": 0.18, "geometry.height": 0.1, "friction.a": 0.015}
+    # Overrides keep the declaration order.
+    assert [o.split("=")[0] for o in runs[0].overrides] == ["friction.f0", "geometry.height", "friction.a"]
+
+
 @pytest.mark.parametrize("body, message", [
     ('mode = "zip"\n[[parameter]]\nkey = "friction.a"\nvalues = [1, 2]\n[[parameter]]\nkey = "friction.b"\nvalues = [1]\n',
      "equal length"),
@@ -164,6 +193,10 @@ values = [0.05, 0.06, 0.07]
     ('[[parameter]]\nkey = "friction.a"\nvalues = [1]\nrange = {start = 1, stop = 2, num = 2}\n', "exactly one"),
     ('[fixed]\n"friction.a" = 1\n[[parameter]]\nkey = "friction.a"\nvalues = [1]\n', "more than once"),
     ('outputdir = "x"\n', "unknown top-level key"),
+    ('[[parameter]]\nkey = "friction.a"\nvalues = [1, 2]\ngroup = "g"\n[[parameter]]\nkey = "friction.b"\nvalues = [1]\ngroup = "g"\n',
+     "group 'g' needs lists of equal length"),
+    ('mode = "zip"\n[[parameter]]\nkey = "friction.a"\nvalues = [1]\ngroup = "g"\n', "only allowed with mode"),
+    ('[[parameter]]\nkey = "friction.a"\nvalues = [1]\ngroup = 3\n', "group = 3 is not allowed"),
 ])
 def test_bad_scan_files_name_the_problem(tmp_path, body, message):
     (tmp_path / "base.toml").write_text("")

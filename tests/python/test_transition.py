@@ -151,3 +151,43 @@ def test_pipeline_end_to_end_on_tiny_runs(cli, repo, tmp_path):
         assert row["status"] == "completed"
     assert sorted(float(row["height"]) for row in rows) == [0.05, math.inf]
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_transition_scan_follows_the_friction_family_and_scales_snapshots_with_L():
+    """configs/scans/transition.toml: its friction points lie on the straight line in
+    (f0, a, b) through configs/reference.toml (s = 0) and configs/fig5.toml (s = 1), at
+    nearly fixed f_ss(v0); every length keeps dx = 2.5 mm and ~24 snapshots per L/c_s."""
+    import tomllib
+    from pathlib import Path
+    from slipstrip import scan
+    repo = Path(__file__).resolve().parents[2]
+    spec = scan.load_scan(repo / "configs/scans/transition.toml")
+    runs = scan.expand_runs(spec)
+    ref = tomllib.loads((repo / "configs/reference.toml").read_text())
+    fig5 = tomllib.loads((repo / "configs/fig5.toml").read_text())
+    end = {k: (ref["friction"][k], fig5["friction"][k]) for k in ("f0", "a", "b")}
+    points = sorted({tuple(r.parameters[f"friction.{k}"] for k in ("f0", "a", "b")) for r in runs}, reverse=True)
+    assert len(points) == 3
+    fr = ref["friction"]
+    v0 = ref["loading"]["driving_velocity"]
+    steady = []
+    for f0, a, b in points:
+        s = (f0 - end["f0"][0]) / (end["f0"][1] - end["f0"][0])
+        # On the line: a and b at the same s as f0 (to the 3-4 digits the scan file gives).
+        assert a == pytest.approx(end["a"][0] + s * (end["a"][1] - end["a"][0]), rel=1e-3)
+        assert b == pytest.approx(end["b"][0] + s * (end["b"][1] - end["b"][0]), rel=1e-3)
+        # Eq. S1 at steady sliding, phi_ss = D / v0.
+        phi_ss = fr["characteristic_slip"] / v0
+        steady.append(f0 * (1 + b * math.log(phi_ss / fr["phi_star"])) + a * math.log1p(v0 / fr["v_star"]))
+    assert max(steady) - min(steady) < 0.002  # 0.3237 .. 0.3227: "fixed f_ss(v0)" to 0.3 %
+    mu = ref["material"]["youngs_modulus"] / (2 * (1 + ref["material"]["poisson_ratio"]))
+    c_s = math.sqrt(mu / ref["material"]["density"])
+    for r in runs:
+        length = r.parameters["geometry.length"]
+        assert length / r.parameters["geometry.nodes"] == pytest.approx(2.5e-3, rel=1e-12)
+        assert length / c_s / r.parameters["output.snapshot_interval"] == pytest.approx(24, rel=0.01)
+    heights = {r.parameters["geometry.height"] for r in runs}
+    finite = [h for h in heights if h != "inf"]
+    lengths = {r.parameters["geometry.length"] for r in runs}
+    # The issue's range: H/L from <= 0.0125 to >= 1, plus the half-space.
+    assert min(finite) / max(lengths) <= 0.0125 and max(finite) / min(lengths) >= 1 and "inf" in heights
