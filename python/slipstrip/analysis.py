@@ -663,6 +663,52 @@ def periodic_pulse_from_spacetime(time, slip_rate, v0: float, dx: float,
     return out
 
 
+PULSE_EPISODE_WINDOW_TRANSITS = 20.0  # window of pulse_episodes, in L/c_s
+
+
+def pulse_episodes(time, slip_rate, v0: float, dx: float, window: float) -> dict:
+    """Where in a record the space-time pulse criterion holds: the record is cut
+    into consecutive windows of `window` seconds and the criterion of
+    periodic_pulse_from_spacetime is applied, unchanged, to the whole of each
+    window (late_fraction = 1).  A pulse that lives for a while and then breaks
+    up (seen in the Fig. 5 run) is reported as such instead of only "no pulse
+    in the late half".  The window must let a slow pulse travel the criterion's
+    PULSE_MIN_TRAVEL periods: 20 L/c_s admits speeds down to 0.025 c_s.
+
+    Returns windows [(t0, t1)], flags, determined, and the longest stretch of
+    consecutive pulse windows (longest_start, longest_end; NaN if none)."""
+    t = np.asarray(time, float)
+    v = np.asarray(slip_rate)
+    out = {"windows": [], "flags": [], "determined": [], "longest_start": math.nan, "longest_end": math.nan,
+           "pulse_fraction": math.nan}
+    if t.size < 2 or not window > 0:
+        return out
+    edges = np.arange(t[0], t[-1] + 1e-12 * window, window)
+    for t0 in edges:
+        t1 = t0 + window
+        if t1 > t[-1] + 1e-9 * window:
+            break  # a partial last window would judge a shorter record
+        rows = np.nonzero((t >= t0) & (t < t1))[0]
+        r = periodic_pulse_from_spacetime(t[rows], v[rows], v0, dx, late_fraction=1.0)
+        out["windows"].append((float(t0), float(t1)))
+        out["flags"].append(bool(r["flag"]))
+        out["determined"].append(bool(r["determined"]))
+    best, start = (0, None), None
+    for i, flag in enumerate(out["flags"] + [False]):
+        if flag and start is None:
+            start = i
+        elif not flag and start is not None:
+            if i - start > best[0]:
+                best = (i - start, start)
+            start = None
+    if best[0]:
+        out["longest_start"] = out["windows"][best[1]][0]
+        out["longest_end"] = out["windows"][best[1] + best[0] - 1][1]
+    decided = [f for f, d in zip(out["flags"], out["determined"]) if d]
+    out["pulse_fraction"] = float(np.mean(decided)) if decided else math.nan
+    return out
+
+
 def read_spacetime(path, max_rows: int | None = None):
     """(time, x, slip_rate) of /snapshots; None without enough snapshots.
     max_rows > 0 strides the rows evenly."""

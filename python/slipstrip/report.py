@@ -846,8 +846,19 @@ class Report:
                               f"(range {fmt(ps['speed_min'] / s['run'].info.c_s)}-"
                               f"{fmt(ps['speed_max'] / s['run'].info.c_s)}); pulse from t = "
                               f"{fmt(ps['onset_time'] / tr)} L/c_s (coarsening transient)")
+            episodes = self._pulse_episodes(s)
+            if episodes is not None:
+                n_pulse = sum(episodes["flags"])
+                value += (f"; same criterion in {fmt(an.PULSE_EPISODE_WINDOW_TRANSITS)} L/c_s windows: pulse in "
+                          f"{n_pulse} of {len(episodes['flags'])}")
+                if n_pulse:
+                    value += (f", longest stretch t = {fmt(episodes['longest_start'] / tr)}-"
+                              f"{fmt(episodes['longest_end'] / tr)} L/c_s")
             if name == "fig5":
                 verdict = verdict_bool(p["periodic_pulse"])
+                if not p["periodic_pulse"] and episodes is not None and sum(episodes["flags"]):
+                    verdict = (f"differs (a pulse only for t = {fmt(episodes['longest_start'] / tr)}-"
+                               f"{fmt(episodes['longest_end'] / tr)} L/c_s, not in the late half)")
             elif name == "fig5_H02":
                 verdict = verdict_bool(not s["complex"], f"complex = {s['complex']}")
                 value += f"; complex = {s['complex']} ({s['stats']['n_events_small']} small / " \
@@ -857,6 +868,16 @@ class Report:
             self.add(sec, claim, paper_cell(key), value, verdict, self.basis(name))
             if name == "fig5":
                 self._fig5_figure(s)
+
+    def _pulse_episodes(self, s):
+        """pulse_episodes of a run's snapshots (None without snapshots); cached per run."""
+        cache = s.setdefault("_pulse_episodes", {})
+        if "value" not in cache:
+            st = an.read_spacetime(s["run"].path, max_rows=6000)
+            cache["value"] = None if st is None else an.pulse_episodes(
+                st[0], st[2], s["run"].info.v0, s["run"].info.L / st[2].shape[1],
+                window=an.PULSE_EPISODE_WINDOW_TRANSITS * s["run"].transit)
+        return cache["value"]
 
     def _fig5_figure(self, s):
         st = an.read_spacetime(s["run"].path, max_rows=2000)
@@ -870,6 +891,11 @@ class Report:
         im = ax.imshow(z, origin="lower", aspect="auto", cmap="viridis", vmin=-2,
                        extent=(0, 1, t[0] / run.transit, t[-1] / run.transit))
         fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
+        episodes = self._pulse_episodes(s)
+        for (t0, t1), flag in zip(episodes["windows"] if episodes else [], episodes["flags"] if episodes else []):
+            if flag:  # windows where the space-time pulse criterion holds
+                ax.axvspan(0.97, 1.0, ymin=(t0 - t[0]) / (t[-1] - t[0]), ymax=(t1 - t[0]) / (t[-1] - t[0]),
+                           color="r")
         onset = s["pulse"]["periodic_pulse_spacetime"].get("onset_time", math.nan)
         if _finite(onset):
             ax.axhline(onset / run.transit, color="w", ls="--", lw=0.8, label="pulse onset (criterion)")
@@ -877,7 +903,25 @@ class Report:
         ax.set_xlabel("$x/L$")
         ax.set_ylabel("$t c_s/L$")
         self._save(fig, "fig5_spacetime.png")
-        self.figure("Fig. 5 friction: space-time map of log10(v/v0) (whole run)", "fig5_spacetime.png")
+        self.figure("Fig. 5 friction: space-time map of log10(v/v0) (whole run); red bar at the right edge: "
+                    "windows where the space-time pulse criterion holds", "fig5_spacetime.png")
+        # Zoom: 10 L/c_s in the middle of the longest pulse stretch, and the last 10 L/c_s.
+        zooms = []
+        if episodes and _finite(episodes["longest_start"]):
+            mid = 0.5 * (episodes["longest_start"] + episodes["longest_end"])
+            zooms.append(("pulse stretch", mid - 5 * run.transit, mid + 5 * run.transit))
+        zooms.append(("end of the run", t[-1] - 10 * run.transit, t[-1]))
+        fig, axes = plt.subplots(1, len(zooms), figsize=(4.2 * len(zooms), 3.6), squeeze=False)
+        for ax, (label, t0, t1) in zip(axes[0], zooms):
+            rows = (t >= t0) & (t <= t1)
+            zz = np.log10(np.maximum(np.abs(v[rows]), 1e-6 * run.info.v0) / run.info.v0)
+            im = ax.imshow(_downsample(zz, 400, 400), origin="lower", aspect="auto", cmap="viridis", vmin=-2,
+                           vmax=1.5, extent=(0, 1, t[rows][0] / run.transit, t[rows][-1] / run.transit))
+            ax.set(xlabel="$x/L$", ylabel="$t c_s/L$", title=label)
+        fig.colorbar(im, ax=axes[0, -1], label=r"$\log_{10}(v/v_0)$")
+        self._save(fig, "fig5_zoom.png")
+        self.figure("Fig. 5 friction: 10 L/c_s in the middle of the longest stretch where the pulse criterion "
+                    "holds, and the last 10 L/c_s", "fig5_zoom.png")
 
     def stationarity_section(self):
         sec = "Stationarity, threshold, clusters (Figs. S6, S8, S9)"

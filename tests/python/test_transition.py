@@ -191,3 +191,21 @@ def test_transition_scan_follows_the_friction_family_and_scales_snapshots_with_L
     lengths = {r.parameters["geometry.length"] for r in runs}
     # The issue's range: H/L from <= 0.0125 to >= 1, plus the half-space.
     assert min(finite) / max(lengths) <= 0.0125 and max(finite) / min(lengths) >= 1 and "inf" in heights
+
+
+def test_pulse_episodes_find_a_pulse_that_later_breaks_up():
+    """The Fig. 5 run shows a travelling pulse for ~100 L/c_s that then breaks up;
+    pulse_episodes must put the pulse windows in the first half of such a record
+    and none in the second, with the unchanged space-time criterion."""
+    from slipstrip import analysis
+    t = np.linspace(0.0, 0.04, 801)
+    first = t < 0.02
+    v = np.where(first[:, None], pulse(t), bursts(t))
+    ep = analysis.pulse_episodes(t, v, V0, DX, window=0.005)
+    assert len(ep["windows"]) == 8 and all(ep["determined"])
+    assert ep["flags"] == [True] * 4 + [False] * 4
+    assert ep["longest_start"] == pytest.approx(0.0) and ep["longest_end"] == pytest.approx(0.02)
+    assert ep["pulse_fraction"] == pytest.approx(0.5)
+    # A record of bursts only has no episode.
+    none = analysis.pulse_episodes(t, bursts(t), V0, DX, window=0.005)
+    assert not any(none["flags"]) and math.isnan(none["longest_start"])
