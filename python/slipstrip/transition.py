@@ -278,37 +278,99 @@ MARKERS = {"steady": ("s", "0.6"), "periodic_pulse": ("o", "tab:blue"), "uniform
            "complex": ("*", "tab:red"), "other": ("D", "tab:purple"), "unreadable": ("x", "k")}
 
 
-def plot_map(rows: list[dict], out_png, critical_length=None) -> None:
-    """The two planes of the issue: (H/L, Lc(H)/H) and (H/L, |df_ss/d ln v|);
-    open symbols: not converged.  Half-spaces are drawn at H/L = 2x the largest finite value."""
+def _run_config_text(path) -> str:
+    with analysis._open_h5(path) as f:
+        return analysis._as_str(f.attrs["config"])
+
+
+def add_critical_lengths(rows: list[dict]) -> None:
+    """Adds Lc(H) [m] (linear stability of steady sliding, the bindings; docs/stability.md)
+    and Lc(inf) to every row, from the run's own resolved config, so the map's Lc axis
+    uses exactly the material and friction that ran.  NaN where it cannot be computed."""
+    import slipstrip
+    cache = {}
+    for r in rows:
+        try:
+            text = _run_config_text(r["file"])
+        except (OSError, KeyError) as err:
+            r["critical_length"] = r["critical_length_halfspace"] = math.nan
+            r.setdefault("error", str(err))
+            continue
+        key = (text, r["height"])
+        if key not in cache:
+            try:
+                config = slipstrip.load_config(text)
+                lc = slipstrip.critical_wavelength_vs_height(config, [r["height"], math.inf])
+                cache[key] = (float(lc[0]), float(lc[1]))
+            except (ValueError, RuntimeError):
+                cache[key] = (math.nan, math.nan)
+        r["critical_length"], r["critical_length_halfspace"] = cache[key]
+
+
+def _scatter(ax, x, y, row, size=60):
+    marker, colour = MARKERS[row["state"]]
+    ax.scatter(x, y, marker=marker, s=size, facecolors=colour if row["converged"] else "none", edgecolors=colour)
+
+
+def plot_map(rows: list[dict], out_png) -> None:
+    """The state of every run (open symbols: not converged), in
+    (a) the issue's plane (H/L, |df_ss/d ln v|), marker size growing with L;
+    (b) (H/L, Lc(H)/H) when rows carry `critical_length` (add_critical_lengths);
+    (c) one panel per interface length L in (H, |df_ss/d ln v|), with the lines
+        H = L (dashed) and H = Lc(H) (dotted, from the rows' Lc): a transition that
+        stays at the same H when L changes scales with Lc(H); one that moves with L
+        scales with L.
+    Half-spaces are drawn at 2x the largest finite abscissa."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    finite = [r["height"] / r["length"] for r in rows if math.isfinite(r["height"])]
-    inf_at = 2 * max(finite) if finite else 1.0
-    fig, axes = plt.subplots(1, 2 if critical_length else 1, figsize=(10 if critical_length else 5, 4),
-                             squeeze=False)
-    ax = axes[0, 0]
+    lengths = sorted({r["length"] for r in rows})
+    has_lc = any(math.isfinite(r.get("critical_length", math.nan)) for r in rows)
+    n_panels = 1 + has_lc + len(lengths)
+    fig, axes = plt.subplots(1, n_panels, figsize=(4.2 * n_panels, 3.8), squeeze=False)
+    axes = axes[0]
+    finite_ratio = [r["height"] / r["length"] for r in rows if math.isfinite(r["height"])]
+    inf_ratio = 2 * max(finite_ratio) if finite_ratio else 1.0
+    size = {L: 30 + 60 * i for i, L in enumerate(lengths)}
+    ax = axes[0]
     for r in rows:
-        h = r["height"] / r["length"] if math.isfinite(r["height"]) else inf_at
-        marker, colour = MARKERS[r["state"]]
-        ax.scatter(h, r["rate_weakening"], marker=marker, s=60,
-                   facecolors=colour if r["converged"] else "none", edgecolors=colour)
-    ax.set(xscale="log", xlabel="H / L (half-space at the right end)", ylabel="|d f_ss / d ln v|")
-    if critical_length:
-        ax = axes[0, 1]
+        h = r["height"] / r["length"] if math.isfinite(r["height"]) else inf_ratio
+        _scatter(ax, h, r["rate_weakening"], r, size[r["length"]])
+    ax.set(xscale="log", xlabel="H / L (half-space at the right end)", ylabel="|d f_ss / d ln v|",
+           title="all runs (marker size: L = " + ", ".join(f"{L:g}" for L in lengths) + " m)")
+    if has_lc:
+        ax = axes[1]
         for r in rows:
-            lc = critical_length(r)
-            if not (lc and math.isfinite(r["height"])):
-                continue
-            marker, colour = MARKERS[r["state"]]
-            ax.scatter(r["height"] / r["length"], lc / r["height"], marker=marker, s=60,
-                       facecolors=colour if r["converged"] else "none", edgecolors=colour)
-        ax.set(xscale="log", yscale="log", xlabel="H / L", ylabel="Lc(H) / H")
+            lc = r.get("critical_length", math.nan)
+            if math.isfinite(r["height"]) and math.isfinite(lc):
+                _scatter(ax, r["height"] / r["length"], lc / r["height"], r, size[r["length"]])
+        ax.axhline(1.0, color="0.5", ls=":", lw=0.8)
+        ax.set(xscale="log", yscale="log", xlabel="H / L", ylabel="Lc(H) / H", title="finite strips")
+    finite_h = [r["height"] for r in rows if math.isfinite(r["height"])]
+    inf_h = 2 * max(finite_h) if finite_h else 1.0
+    for ax, L in zip(axes[1 + has_lc:], lengths):
+        mine = [r for r in rows if r["length"] == L]
+        for r in mine:
+            _scatter(ax, r["height"] if math.isfinite(r["height"]) else inf_h, r["rate_weakening"], r)
+        ax.axvline(L, color="0.4", ls="--", lw=0.8, label="H = L")
+        # H = Lc(H) for each friction point: the smallest finite H with Lc(H) <= H
+        # (Lc grows with H and saturates at Lc(inf), so it is crossed once).
+        crossing = {}
+        for r in mine:
+            lc = r.get("critical_length", math.nan)
+            if math.isfinite(r["height"]) and math.isfinite(lc) and lc <= r["height"]:
+                key = round(r["rate_weakening"], 6)
+                crossing[key] = min(crossing.get(key, math.inf), r["height"])
+        if crossing:
+            ys = sorted(crossing)
+            ax.plot([crossing[y] for y in ys], ys, color="0.4", ls=":", lw=1.0, label="first H with Lc(H) <= H")
+        ax.set(xscale="log", xlabel="H [m] (half-space at the right end)", ylabel="|d f_ss / d ln v|",
+               title=f"L = {L:g} m")
+        ax.legend(fontsize=6, loc="lower left")
     handles = [plt.Line2D([], [], marker=m, color=c, linestyle="", label=s) for s, (m, c) in MARKERS.items()]
-    axes[0, -1].legend(handles=handles, fontsize=7, loc="best")
-    fig.tight_layout()
-    fig.savefig(out_png, dpi=110)
+    fig.legend(handles=handles, fontsize=7, loc="upper center", ncol=len(MARKERS))
+    fig.tight_layout(rect=(0, 0, 1, 0.92))
+    fig.savefig(out_png, dpi=100)
     plt.close(fig)
 
 
@@ -333,9 +395,10 @@ def main(argv: list[str]) -> int:
             print(f"error: {entry}: no such file or directory", file=sys.stderr)
             return 2
     rows = classify_directory(files)
+    add_critical_lengths(rows)
     for r in rows:
         print(f"{Path(r['file']).name:40s} H/L = {r['height'] / r['length']:<8.4g} "
-              f"|df/dlnv| = {r['rate_weakening']:.4f}  {r['state']:18s} "
+              f"|df/dlnv| = {r['rate_weakening']:.4f}  Lc(H) = {r['critical_length']:<7.3g} {r['state']:18s} "
               f"{'converged' if r['converged'] else 'NOT converged'}  agreement {r['agreement']:.2f}")
     if args.csv:
         keys = sorted({k for r in rows for k in r})

@@ -148,6 +148,11 @@ def test_pipeline_end_to_end_on_tiny_runs(cli, repo, tmp_path):
     assert {row["file"] for row in rows} == {str(f) for f in files}
     for row in rows:
         assert row["state"] in transition.STATES
+        # Lc(H) from the run's own config (linear stability), Lc(inf) for the half-space itself.
+        lc, lc_inf = float(row["critical_length"]), float(row["critical_length_halfspace"])
+        assert 0 < lc <= lc_inf * (1 + 1e-9)
+        if row["height"] == "inf":
+            assert lc == lc_inf
         assert row["status"] == "completed"
     assert sorted(float(row["height"]) for row in rows) == [0.05, math.inf]
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
