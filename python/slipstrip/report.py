@@ -937,7 +937,7 @@ class Report:
         for name in STATISTICS_RUNS:
             s = self.stat(name)
             if s is None:
-                self.stationarity_rows.append([name, self.not_run(name), "", "", "", "", "", ""])
+                self.stationarity_rows.append([name, self.not_run(name), "", "", "", "", "", "", "", "", "", ""])
                 continue
             part, run = s["part"], s["run"]
             st = part["stationarity"]
@@ -948,15 +948,24 @@ class Report:
                 f"{fmt(run.info.duration / run.transit)} L/c_s", str(len(part["catalog"]["t_start"])),
                 f"{st['n_first']} / {st['n_last']}",
                 *(fmt(st[k]["pvalue"], digits=2) for k in ("u", "T", "M0")),
-                "yes" if part["stationary"] else "no"])
+                "yes" if part["stationary"] else "no",
+                *(fmt(part["stationarity_blocks"][k]["pvalue"], digits=2) for k in ("u", "T", "M0")),
+                "yes" if part["stationary_blocks"] else "no"])
             if name != "reference":
                 continue
+            sb = part["stationarity_blocks"]
             value = (f"cut {fmt(cut['t_cut'] / run.transit)} L/c_s of {fmt(run.info.duration / run.transit)}; "
-                     "KS p (first vs last fifth of what is kept): " +
+                     "first vs last fifth of what is kept, block-permutation KS p (serially dependent events, "
+                     f"{sb['n_blocks']} blocks): " +
+                     ", ".join(f"{k} {fmt(sb[k]['pvalue'], digits=2)}" for k in ("u", "T", "M0")) +
+                     "; plain KS p (assumes independent events): " +
                      ", ".join(f"{k} {fmt(st[k]['pvalue'], digits=2)}" for k in ("u", "T", "M0")))
+            detail = ("block-permutation p ≥ 0.05 for u, T, M0" if part["stationary_blocks"] else
+                      "some block-permutation p < 0.05")
+            if part["stationary_blocks"] and not part["stationary"]:
+                detail += "; the plain KS test, which assumes independent events, has some p < 0.05"
             self.add(sec, "reference: statistics stationary after the transient cut", paper_cell("stationary"), value,
-                     verdict_bool(part["stationary"], "all p ≥ 0.05" if part["stationary"] else "some p < 0.05"),
-                     self.basis(name))
+                     verdict_bool(part["stationary_blocks"], detail), self.basis(name))
         if "reference" in self.missing:
             self.add_missing(sec, "reference: statistics stationary after the transient cut", paper_cell("stationary"),
                              ["reference"])
@@ -1129,10 +1138,16 @@ class Report:
             out.append("| " + " | ".join(_cell(c) for c in (r.claim, r.paper, r.value, r.verdict, r.basis)) + " |")
         out += ["", "## Stationarity of every statistics run", "",
                 "Transient cut by MSER on batch series of the event rate and the mean log10(u/D) "
-                "(`analysis.transient_cut`); then two-sample KS tests between the first and the last fifth of what "
-                f"is kept (pass: every p ≥ {an.STATIONARITY_LEVEL:g}).", "",
+                "(`analysis.transient_cut`); then KS tests between the first and the last fifth of what "
+                f"is kept (pass: every p ≥ {an.STATIONARITY_LEVEL:g}): the plain two-sample test, which assumes "
+                "independent events, and the block-permutation test (`analysis.block_permutation_stationarity`, "
+                f"{an.STATIONARITY_BLOCKS} time blocks, {an.STATIONARITY_PERMUTATIONS} permutations), which allows for "
+                "the clustering of events. On synthetic stationary clustered catalogs the plain test rejects ~74 % "
+                "at the 5 % level and the block test ~3 % (tests/python/test_analysis_stationarity.py); both reject "
+                "a drift of event sizes. The verdict uses the block test.", "",
                 "| run | cut (batches dropped: rate/slip) | run length | events kept | first / last fifth | "
-                "p(u) | p(T) | p(M0) | stationary |", "|---|---|---|---|---|---|---|---|---|"]
+                "plain p(u) | plain p(T) | plain p(M0) | plain: stationary | block p(u) | block p(T) | block p(M0) | "
+                "block: stationary |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         out += ["| " + " | ".join(_cell(c) for c in row) + " |" for row in self.stationarity_rows]
         out += ["", "## Figures", ""]
         for caption, rel in self.figures:
