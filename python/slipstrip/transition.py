@@ -374,6 +374,45 @@ def plot_map(rows: list[dict], out_png) -> None:
     plt.close(fig)
 
 
+STATE_SYMBOLS = {"steady": "S", "periodic_pulse": "P", "uniform_stick_slip": "U", "complex": "C", "other": "O",
+                 "unreadable": "x"}
+
+
+def state_grid_markdown(rows: list[dict]) -> str:
+    """The map as Markdown tables, one per interface length L: a row per
+    friction point (|df_ss/d ln v|), a column per strip height H, each cell the
+    state's letter (lower case: not converged) and Lc(H)/H.  Written by
+    `transition --table`, so the doc's table is regenerated with the map."""
+    def h_key(h):
+        return (math.isinf(h), h)
+    lines = ["States: " + ", ".join(f"{v} = `{k}`" for k, v in STATE_SYMBOLS.items()) +
+             "; lower case = not converged (the last two thirds disagree); in brackets Lc(H)/H "
+             "(linear stability of steady sliding with the run's own config).", ""]
+    for L in sorted({r["length"] for r in rows}):
+        mine = [r for r in rows if r["length"] == L]
+        heights = sorted({r["height"] for r in mine}, key=h_key)
+        frictions = sorted({round(r["rate_weakening"], 6) for r in mine}, reverse=True)
+        lines += [f"**L = {L:g} m** (N = {mine[0]['nodes']})", "",
+                  "| \\|df_ss/d ln v\\| | " + " | ".join("∞" if math.isinf(h) else f"H = {h:g} m" for h in heights) + " |",
+                  "|---|" + "---|" * len(heights)]
+        for fr in frictions:
+            cells = []
+            for h in heights:
+                match = [r for r in mine if r["height"] == h and round(r["rate_weakening"], 6) == fr]
+                if not match:
+                    cells.append("")
+                    continue
+                r = match[0]
+                letter = STATE_SYMBOLS.get(r["state"], "?")
+                letter = letter if r["converged"] else letter.lower()
+                lc = r.get("critical_length", math.nan)
+                ratio = f" ({lc / h:.2g})" if math.isfinite(h) and math.isfinite(lc) else ""
+                cells.append(letter + ratio)
+            lines.append(f"| {fr:.4f} | " + " | ".join(cells) + " |")
+        lines.append("")
+    return "\n".join(lines)
+
+
 def main(argv: list[str]) -> int:
     import argparse
     import csv
@@ -384,6 +423,7 @@ def main(argv: list[str]) -> int:
     p.add_argument("paths", nargs="+", help="run files or directories holding them")
     p.add_argument("--csv", help="write one row per run")
     p.add_argument("--plot", help="write the state map (PNG)")
+    p.add_argument("--table", help="write the map as Markdown tables (one per L)")
     args = p.parse_args(argv)
     files = []
     for entry in map(Path, args.paths):
@@ -408,4 +448,6 @@ def main(argv: list[str]) -> int:
             w.writerows(rows)
     if args.plot:
         plot_map(rows, args.plot)
+    if args.table:
+        Path(args.table).write_text(state_grid_markdown(rows))
     return 0

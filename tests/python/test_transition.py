@@ -142,9 +142,14 @@ def test_pipeline_end_to_end_on_tiny_runs(cli, repo, tmp_path):
         r = subprocess.run([str(cli), "events", str(out)], capture_output=True, text=True, timeout=60)
         assert r.returncode == 0, r.stderr
         files.append(out)
-    csv_path, png = tmp_path / "map.csv", tmp_path / "map.png"
-    assert transition.main([str(tmp_path), "--csv", str(csv_path), "--plot", str(png)]) == 0
+    csv_path, png, table = tmp_path / "map.csv", tmp_path / "map.png", tmp_path / "map.md"
+    assert transition.main([str(tmp_path), "--csv", str(csv_path), "--plot", str(png), "--table", str(table)]) == 0
     rows = list(csv.DictReader(csv_path.open()))
+    # The Markdown grid: one table for the one L, a column per height, a cell per run.
+    text = table.read_text()
+    assert "**L = 0.8 m** (N = 64)" in text and "| H = 0.05 m | ∞ |" in text
+    grid = [line for line in text.splitlines() if line.startswith("| 0.")]
+    assert len(grid) == 1 and grid[0].count("|") == 4
     assert {row["file"] for row in rows} == {str(f) for f in files}
     for row in rows:
         assert row["state"] in transition.STATES
