@@ -27,7 +27,17 @@ States (`classify_window`):
   complex             a broad population of events (log10 M0 spread >=
                       COMPLEX_MIN_SIZE_SPREAD decades) with < 80 % of the slip
                       in system-spanning events;
-  other               none of these (e.g. quasi-periodic large events).
+  spanning_ruptures   >= 80 % of the slip in system-spanning ruptures that are
+                      neither one steady pulse nor uniform: the interface has
+                      coarsened to the system size L, the large-H/L behaviour
+                      the paper cites (Rice 1996: "quasi-periodic slip bursts
+                      that correspond to rupture propagating a distance
+                      comparable to L");
+  other               none of these, including windows with fewer than
+                      MIN_EVENTS events: a broad size distribution cannot be
+                      established from a handful of events, and rare
+                      system-size ruptures (thick strips, small L) must not
+                      pass for complexity.
 
 A run is `converged` when its last two thirds give the same state (the
 classification is unchanged over the last third).  All thresholds are module
@@ -50,7 +60,9 @@ COMPLEX_MIN_SIZE_SPREAD = 0.5  # [decades] std of log10 M0 of a complex populati
 PATCH_RATE = 10.0              # [v0] a node slips "fast" above this (patch counting)
 MIN_EVENTS = 5                 # fewer events in a window: the catalog does not vote
 
-STATES = ("steady", "periodic_pulse", "uniform_stick_slip", "complex", "other")
+STATES = ("steady", "periodic_pulse", "uniform_stick_slip", "spanning_ruptures", "complex", "other")
+# Coarsened (to one pulse, one uniform mode or system-size ruptures) vs complex: the paper's dichotomy.
+COARSENED_STATES = ("periodic_pulse", "uniform_stick_slip", "spanning_ruptures")
 
 
 @dataclass
@@ -105,7 +117,9 @@ def window_observables(w: WindowRecord) -> dict:
     obs["active_time_fraction"] = float(np.mean(vmax_series > analysis.PULSE_MIN_RATE * v0)) \
         if vmax_series.size else math.nan
     logv = np.log10(np.maximum(vmax_series, 1e-3 * v0) / v0)
-    obs["cv_max_slip_rate"] = float(vmax_series.std() / vmax_series.mean()) if vmax_series.size else math.nan
+    mean_vmax = float(vmax_series.mean()) if vmax_series.size else 0.0
+    # A window stuck everywhere (v = 0 exactly) has no CV: NaN, and no vote from the series.
+    obs["cv_max_slip_rate"] = float(vmax_series.std() / mean_vmax) if mean_vmax > 0 else math.nan
     obs["autocorrelation_peak"] = autocorrelation_peak(logv)
     # space-time
     if v.ndim == 2 and v.shape[0] >= 2:
@@ -182,12 +196,12 @@ def classify_window(w: WindowRecord) -> dict:
     elif (not math.isnan(obs["size_spread_decades"]) and obs["size_spread_decades"] >= COMPLEX_MIN_SIZE_SPREAD
           and obs["spanning_slip_fraction"] < SPANNING_COHERENT):
         state = "complex"
-    elif vote.get("catalog") is None and vote.get("spacetime") == "complex" and vote.get("timeseries") == "complex":
-        state = "complex"  # too few events in the window to vote, both fields say complex
+    elif not math.isnan(obs["spanning_slip_fraction"]) and obs["spanning_slip_fraction"] >= SPANNING_COHERENT:
+        state = "spanning_ruptures"
     else:
         state = "other"
     expected = {"steady": "steady", "periodic_pulse": "coherent", "uniform_stick_slip": "coherent",
-                "complex": "complex", "other": None}[state]
+                "spanning_ruptures": "coherent", "complex": "complex", "other": None}[state]
     cast = [v for v in vote.values() if v is not None]
     agreement = (sum(v == expected for v in cast) / len(cast)) if (cast and expected) else math.nan
     return {"state": state, "observables": obs, "votes": vote, "agreement": agreement}
@@ -275,7 +289,8 @@ def classify_directory(paths) -> list[dict]:
 
 
 MARKERS = {"steady": ("s", "0.6"), "periodic_pulse": ("o", "tab:blue"), "uniform_stick_slip": ("^", "tab:green"),
-           "complex": ("*", "tab:red"), "other": ("D", "tab:purple"), "unreadable": ("x", "k")}
+           "spanning_ruptures": ("v", "tab:cyan"), "complex": ("*", "tab:red"), "other": ("D", "tab:purple"),
+           "unreadable": ("x", "k")}
 
 
 def _run_config_text(path) -> str:
@@ -374,8 +389,8 @@ def plot_map(rows: list[dict], out_png) -> None:
     plt.close(fig)
 
 
-STATE_SYMBOLS = {"steady": "S", "periodic_pulse": "P", "uniform_stick_slip": "U", "complex": "C", "other": "O",
-                 "unreadable": "x"}
+STATE_SYMBOLS = {"steady": "S", "periodic_pulse": "P", "uniform_stick_slip": "U", "spanning_ruptures": "R",
+                 "complex": "C", "other": "O", "unreadable": "x"}
 
 
 def state_grid_markdown(rows: list[dict]) -> str:
