@@ -19,6 +19,9 @@ as a disagreement (`agreement` below):
   of log10 M0, in decades) and the fraction of slip in system-spanning events.
 
 States (`classify_window`):
+  arrested            v_max < ARRESTED_MAX_RATE v0 throughout: the interface
+                      is locked (a half-space has no uniform-mode stiffness, so
+                      nothing reloads a locked interface: docs/transition.md);
   steady              v_max < STEADY_MAX_RATE v0 throughout: no events;
   periodic_pulse      the travelling-pulse criterion holds;
   uniform_stick_slip  while slipping the slip rate is nearly uniform in x
@@ -54,13 +57,14 @@ import numpy as np
 from . import analysis
 
 STEADY_MAX_RATE = 3.0          # [v0] below this everywhere and always: steady sliding
+ARRESTED_MAX_RATE = 0.1        # [v0] below this everywhere and always: locked, not sliding
 UNIFORM_MAX_CV = 0.3           # spatial CV of v while slipping, uniform k = 0 stick-slip
 SPANNING_COHERENT = 0.8        # fraction of slip in spanning events of a coherent state
 COMPLEX_MIN_SIZE_SPREAD = 0.5  # [decades] std of log10 M0 of a complex population
 PATCH_RATE = 10.0              # [v0] a node slips "fast" above this (patch counting)
 MIN_EVENTS = 5                 # fewer events in a window: the catalog does not vote
 
-STATES = ("steady", "periodic_pulse", "uniform_stick_slip", "spanning_ruptures", "complex", "other")
+STATES = ("arrested", "steady", "periodic_pulse", "uniform_stick_slip", "spanning_ruptures", "complex", "other")
 # Coarsened (to one pulse, one uniform mode or system-size ruptures) vs complex: the paper's dichotomy.
 COARSENED_STATES = ("periodic_pulse", "uniform_stick_slip", "spanning_ruptures")
 
@@ -186,7 +190,9 @@ def votes(obs: dict) -> dict:
 def classify_window(w: WindowRecord) -> dict:
     obs = window_observables(w)
     vote = votes(obs)
-    if obs["max_rate_v0"] < STEADY_MAX_RATE:
+    if obs["max_rate_v0"] < ARRESTED_MAX_RATE:
+        state = "arrested"
+    elif obs["max_rate_v0"] < STEADY_MAX_RATE:
         state = "steady"
     elif obs["pulse"].get("flag"):
         state = "periodic_pulse"
@@ -200,7 +206,7 @@ def classify_window(w: WindowRecord) -> dict:
         state = "spanning_ruptures"
     else:
         state = "other"
-    expected = {"steady": "steady", "periodic_pulse": "coherent", "uniform_stick_slip": "coherent",
+    expected = {"arrested": "steady", "steady": "steady", "periodic_pulse": "coherent", "uniform_stick_slip": "coherent",
                 "spanning_ruptures": "coherent", "complex": "complex", "other": None}[state]
     cast = [v for v in vote.values() if v is not None]
     agreement = (sum(v == expected for v in cast) / len(cast)) if (cast and expected) else math.nan
@@ -288,7 +294,7 @@ def classify_directory(paths) -> list[dict]:
     return rows
 
 
-MARKERS = {"steady": ("s", "0.6"), "periodic_pulse": ("o", "tab:blue"), "uniform_stick_slip": ("^", "tab:green"),
+MARKERS = {"arrested": ("X", "k"), "steady": ("s", "0.6"), "periodic_pulse": ("o", "tab:blue"), "uniform_stick_slip": ("^", "tab:green"),
            "spanning_ruptures": ("v", "tab:cyan"), "complex": ("*", "tab:red"), "other": ("D", "tab:purple"),
            "unreadable": ("x", "k")}
 
@@ -389,7 +395,7 @@ def plot_map(rows: list[dict], out_png) -> None:
     plt.close(fig)
 
 
-STATE_SYMBOLS = {"steady": "S", "periodic_pulse": "P", "uniform_stick_slip": "U", "spanning_ruptures": "R",
+STATE_SYMBOLS = {"arrested": "A", "steady": "S", "periodic_pulse": "P", "uniform_stick_slip": "U", "spanning_ruptures": "R",
                  "complex": "C", "other": "O", "unreadable": "x"}
 
 

@@ -116,6 +116,17 @@ def test_steady_sliding():
     assert out["state"] == "steady" and out["converged"]
 
 
+def test_locked_interface_is_arrested_not_steady():
+    """A half-space interface that locks (v = 0 exactly, as the solver's sticking
+    allows) is not steady sliding at v0."""
+    t = np.linspace(0, 0.02, 300)
+    v = np.zeros((t.size, N))
+    v[:5] = V0  # slides at first, then locks
+    out = transition.classify_record(record(t, v, {}))
+    assert out["state"] == "arrested" and out["converged"]
+    assert transition.classify_record(record(t, V0 * np.ones((t.size, N)), {}))["state"] == "steady"
+
+
 def test_coarsening_record_ends_as_a_pulse_and_is_converged_only_when_the_last_thirds_agree():
     rng = np.random.default_rng(5)
     t = np.linspace(0, 0.03, 900)
