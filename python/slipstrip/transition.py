@@ -445,6 +445,8 @@ def main(argv: list[str]) -> int:
     p.add_argument("--csv", help="write one row per run")
     p.add_argument("--plot", help="write the state map (PNG)")
     p.add_argument("--table", help="write the map as Markdown tables (one per L)")
+    p.add_argument("--include-unfinished", action="store_true",
+                   help="also classify runs whose status is not 'completed'")
     args = p.parse_args(argv)
     files = []
     for entry in map(Path, args.paths):
@@ -455,6 +457,20 @@ def main(argv: list[str]) -> int:
         else:
             print(f"error: {entry}: no such file or directory", file=sys.stderr)
             return 2
+    if not args.include_unfinished:
+        # A running or interrupted run is a shorter record than its config says:
+        # its state would be judged on the wrong window.  Listed, not classified.
+        finished = []
+        for path in files:
+            try:
+                status = _run_parameters(path)["status"]
+            except (OSError, KeyError, ValueError) as err:
+                status = f"unreadable ({err})"
+            if status == "completed":
+                finished.append(path)
+            else:
+                print(f"{path.name:40s} skipped: status {status} (--include-unfinished to classify it)")
+        files = finished
     rows = classify_directory(files)
     add_critical_lengths(rows)
     for r in rows:
