@@ -689,7 +689,7 @@ def classify(case: Case, rc: int, stderr: str, timed_out: bool, subst: dict):
         return "traceback", False
     # The message lines: without warnings and the run's banner ("slipstrip 0.1.0 (hash): CONFIG -> OUT").
     lines = [l for l in stderr.splitlines() if l.strip() and not l.lstrip().lower().startswith("warning")
-             and not re.match(r"slipstrip \S+ \([0-9a-f]+\): ", l)]
+             and not re.match(r"slipstrip \S+ \(([0-9a-f]+(-dirty)?|unknown)\): ", l)]
     if rc == 0:
         return "completed", True
     if rc == 2:
