@@ -109,6 +109,13 @@ bool has_per_node(const LocalSolveParameters& params) {
   return !(n.f0.empty() && n.a.empty() && n.b.empty() && n.characteristic_slip.empty());
 }
 
+// Lanes no vector law takes: a = 0 (closed form) and non-finite values go to
+// the scalar solve.
+M unusable(const NodeLanes& n) {
+  return (!(n.a > B(0.0))) | (!xsimd::isfinite(n.a)) | (!xsimd::isfinite(n.b)) |
+         (!xsimd::isfinite(n.f0));
+}
+
 // --- state update -------------------------------------------------------------
 
 bool vector_state_update_applies(const FrictionParameters& p, double dt) {
@@ -175,8 +182,8 @@ struct Solved {
   M newton;                       // lanes settled by the Newton loop
 };
 
-// Each law: the scalars every node shares (make, once per batch call; nullopt
-// when they have no vector path) and the per-lane values of a block of nodes
+// Each law: the scalars every node shares (shared(), once per batch call;
+// nullopt when they have no vector path) and the per-lane values of a block of nodes
 // (with_lanes; lanes it cannot take are flagged in `invalid` and go to the
 // scalar solve).  The lane values are computed with the same operations, in
 // the same order, as the scalar constants they replaced, so a node's result
@@ -191,7 +198,7 @@ struct PaperLaw {
   B tie_factor;  // see prepare()
   M invalid;
 
-  static std::optional<PaperLaw> make(const LocalSolveParameters& params, const NodeLanes& n) {
+  static std::optional<PaperLaw> shared(const LocalSolveParameters& params) {
     const auto& p = params.friction;
     const double sigma = params.normal_stress, eta = params.eta;
     if (!(p.v_star >= 1e-150 && p.v_star <= 1e150 && std::isfinite(p.phi_star) && p.phi_star > 0.0))
@@ -199,7 +206,7 @@ struct PaperLaw {
     PaperLaw c{sigma, p.phi_star, p.v_star, eta, std::exp(kMargin) / eta, std::exp(-kMargin),
                B(0.0), B(0.0), B(0.0), B(0.0), B(0.0), M(true)};
     if (!std::isfinite(c.hi_factor)) return std::nullopt;
-    return c.with_lanes(n);
+    return c;
   }
 
   PaperLaw with_lanes(const NodeLanes& n) const {
@@ -210,8 +217,7 @@ struct PaperLaw {
     c.lo_factor = B(exp_minus_margin) / (B(eta) + c.A / B(v_star));
     c.tie_factor = B(32.0 * kEps * sigma) * xsimd::abs(n.f0);
     // a = 0 (closed form) and odd values: scalar solve.
-    c.invalid = (!(n.a > B(0.0))) | (!xsimd::isfinite(n.a)) | (!xsimd::isfinite(n.b)) |
-                (!xsimd::isfinite(n.f0)) | (!xsimd::isfinite(c.lo_factor)) | (!(c.lo_factor > B(0.0)));
+    c.invalid = unusable(n) | (!xsimd::isfinite(c.lo_factor)) | (!(c.lo_factor > B(0.0)));
     return c;
   }
 
@@ -262,13 +268,11 @@ struct DieterichRuinaLaw {
   B f0, b, D, A, reference_part;
   M invalid;
 
-  static std::optional<DieterichRuinaLaw> make(const LocalSolveParameters& params,
-                                               const NodeLanes& n) {
-    const auto& p = params.friction;
-    if (!(std::isfinite(p.v_star) && p.v_star > 0.0)) return std::nullopt;
-    const DieterichRuinaLaw c{params.normal_stress, p.v_star, params.eta, std::log(p.v_star),
-                              B(0.0), B(0.0), B(0.0), B(0.0), B(0.0), M(true)};
-    return c.with_lanes(n);
+  static std::optional<DieterichRuinaLaw> shared(const LocalSolveParameters& params) {
+    const double v_star = params.friction.v_star;
+    if (!(std::isfinite(v_star) && v_star > 0.0)) return std::nullopt;
+    return DieterichRuinaLaw{params.normal_stress, v_star, params.eta, std::log(v_star),
+                             B(0.0), B(0.0), B(0.0), B(0.0), B(0.0), M(true)};
   }
 
   DieterichRuinaLaw with_lanes(const NodeLanes& n) const {
@@ -278,9 +282,7 @@ struct DieterichRuinaLaw {
     c.D = n.D;
     c.A = B(sigma) * n.a;
     c.reference_part = c.A * B(log_v_star);
-    // a = 0 (closed form) and odd values: scalar solve.
-    c.invalid = (!(n.a > B(0.0))) | (!xsimd::isfinite(n.a)) | (!xsimd::isfinite(n.b)) |
-                (!xsimd::isfinite(n.f0)) | n.invalid_D;
+    c.invalid = unusable(n) | n.invalid_D;
     return c;
   }
 
@@ -323,14 +325,12 @@ struct RegularizedLaw {
   B f0, b, a, D, A, log_A;
   M invalid;
 
-  static std::optional<RegularizedLaw> make(const LocalSolveParameters& params,
-                                            const NodeLanes& n) {
-    const auto& p = params.friction;
-    if (!(std::isfinite(p.v_star) && p.v_star > 0.0)) return std::nullopt;
-    const RegularizedLaw c{params.normal_stress, p.v_star, params.eta, std::log(2.0 * p.v_star),
-                           std::log(params.eta), B(0.0), B(0.0), B(0.0), B(0.0), B(0.0), B(0.0),
-                           M(true)};
-    return c.with_lanes(n);
+  static std::optional<RegularizedLaw> shared(const LocalSolveParameters& params) {
+    const double v_star = params.friction.v_star;
+    if (!(std::isfinite(v_star) && v_star > 0.0)) return std::nullopt;
+    return RegularizedLaw{params.normal_stress, v_star, params.eta, std::log(2.0 * v_star),
+                          std::log(params.eta), B(0.0), B(0.0), B(0.0), B(0.0), B(0.0), B(0.0),
+                          M(true)};
   }
 
   RegularizedLaw with_lanes(const NodeLanes& n) const {
@@ -341,8 +341,7 @@ struct RegularizedLaw {
     c.D = n.D;
     c.A = B(sigma) * n.a;
     c.log_A = xsimd::log(c.A);
-    c.invalid = (!(n.a > B(0.0))) | (!xsimd::isfinite(n.a)) | (!xsimd::isfinite(n.b)) |
-                (!xsimd::isfinite(n.f0)) | n.invalid_D;
+    c.invalid = unusable(n) | n.invalid_D;
     return c;
   }
 
@@ -496,19 +495,19 @@ bool with_vector_law(const LocalSolveParameters& params, F&& f) {
   if (!(std::isfinite(sigma) && sigma > 0.0 && std::isfinite(eta) && eta > 0.0)) return false;
   // The first node's lanes (all lanes when uniform); per-node blocks reload theirs.
   const NodeLanes first = node_lanes(params, 0, 1);
-  const auto run = [&](const auto& law) {
-    if (!law) return false;
-    BlockLaw block(params, *law, first);
+  const auto run = [&](const auto& shared) {
+    if (!shared) return false;
+    BlockLaw block(params, shared->with_lanes(first), first);
     f(block);
     return true;
   };
   switch (params.friction.strength_law) {
     case StrengthLaw::paper:
-      return run(PaperLaw::make(params, first));
+      return run(PaperLaw::shared(params));
     case StrengthLaw::dieterich_ruina:
-      return run(DieterichRuinaLaw::make(params, first));
+      return run(DieterichRuinaLaw::shared(params));
     case StrengthLaw::regularized:
-      return run(RegularizedLaw::make(params, first));
+      return run(RegularizedLaw::shared(params));
   }
   return false;
 }
