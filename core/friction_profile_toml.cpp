@@ -29,10 +29,11 @@ std::string shortest(double value) {
 std::vector<double> number_array(const toml::table& table, std::string_view name,
                                  std::string_view key) {
   const toml::node* node = table.get(name);
-  if (node == nullptr) invalid(key, "missing '" + std::string(name) + "' (an array of numbers)");
+  if (node == nullptr)
+    invalid(key, std::string("missing '") + std::string(name) + "' (an array of numbers)");
   const toml::array* array = node->as_array();
   if (array == nullptr || array->empty())
-    invalid(key, "'" + std::string(name) + "' must be a non-empty array of numbers");
+    invalid(key, std::string("'") + std::string(name) + "' must be a non-empty array of numbers");
   std::vector<double> out;
   out.reserve(array->size());
   for (std::size_t k = 0; k < array->size(); ++k) {
@@ -40,9 +41,9 @@ std::vector<double> number_array(const toml::table& table, std::string_view name
     double value = 0.0;
     if (const auto* f = item.as_floating_point()) value = f->get();
     else if (const auto* i = item.as_integer()) value = static_cast<double>(i->get());
-    else invalid(key, "'" + std::string(name) + "'[" + std::to_string(k) + "] is not a number");
+    else invalid(key, std::string("'") + std::string(name) + "'[" + std::to_string(k) + "] is not a number");
     if (!std::isfinite(value))
-      invalid(key, "'" + std::string(name) + "'[" + std::to_string(k) + "] = " + shortest(value) +
+      invalid(key, std::string("'") + std::string(name) + "'[" + std::to_string(k) + "] = " + shortest(value) +
                        " is not finite");
     out.push_back(value);
   }
@@ -52,7 +53,7 @@ std::vector<double> number_array(const toml::table& table, std::string_view name
 std::string text_value(const toml::table& table, std::string_view name, std::string_view key) {
   const toml::node* node = table.get(name);
   if (node == nullptr || !node->is_string())
-    invalid(key, "'" + std::string(name) + "' must be a string");
+    invalid(key, std::string("'") + std::string(name) + "' must be a string");
   return std::string(node->as_string()->get());
 }
 
@@ -97,7 +98,7 @@ ParameterProfile parse_parameter_profile(const toml::node& node, std::string_vie
       if (!known) {
         std::string list;
         for (auto n : names) list += (list.empty() ? "" : ", ") + std::string(n);
-        invalid(key, "unknown field '" + std::string(name.str()) + "' for profile = \"" + kind +
+        invalid(key, std::string("unknown field '") + std::string(name.str()) + "' for profile = \"" + kind +
                          "\"; allowed: " + list);
       }
     }
