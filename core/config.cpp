@@ -1,5 +1,7 @@
 #include "core/config.hpp"
 
+#include "core/friction_profile_toml.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -404,7 +406,6 @@ void check_range(const Section& s, std::string_view key, double value, const Ran
 constexpr std::string_view kPlaneNames[] = {"strain", "stress"};
 constexpr std::string_view kStrengthLawNames[] = {"paper", "dieterich_ruina", "regularized"};
 constexpr std::string_view kStateLawNames[] = {"aging", "slip"};
-constexpr std::string_view kInterfaceLawNames[] = {"rate_and_state", "prescribed_slip", "free"};
 constexpr std::string_view kProfileNames[] = {"ramp", "bump"};
 constexpr std::string_view kHistoryAlgorithmNames[] = {"auto", "modal", "block"};
 
@@ -537,18 +538,47 @@ void read_loading(const toml::table& root, LoadingConfig& l) {
   }
 }
 
-void read_friction(const toml::table& root, FrictionParameters& f) {
+// f0, a, b and characteristic_slip may be tables: profiles along x
+// (core/friction_profile_toml.hpp).  Such a key is parsed here and skipped by
+// the scalar checks below; its scalar field is set to NaN, so nothing can use
+// one value for the whole interface by accident (friction/parameter_profile.hpp);
+// its values are checked node by node in config_from_table.
+void read_friction_profiles(const Section& s, FrictionParameters& f, FrictionProfiles& profiles) {
+  const auto read = [&](std::string_view key, double& field, std::optional<ParameterProfile>& out) {
+    const toml::node* n = s.node(key);
+    if (n == nullptr || !n->is_table()) return;
+    try {
+      out = parse_parameter_profile(*n, s.full(key));
+    } catch (const std::invalid_argument& e) {
+      fail(n, e.what());
+    }
+    field = std::numeric_limits<double>::quiet_NaN();
+  };
+  read("f0", f.f0, profiles.f0);
+  read("a", f.a, profiles.a);
+  read("b", f.b, profiles.b);
+  read("characteristic_slip", f.characteristic_slip, profiles.characteristic_slip);
+}
+
+void read_friction(const toml::table& root, FrictionParameters& f, FrictionProfiles& profiles) {
   const Section s(root, "friction");
   if (auto v = s.choice("law", kStrengthLawNames))
     f.strength_law = enum_from_name<StrengthLaw>(*v, kStrengthLawNames);
-  const auto positive = [&s](std::string_view key, double& field, std::string_view allowed) {
+  read_friction_profiles(s, f, profiles);
+  const auto scalar = [&s](std::string_view key) {
+    const toml::node* n = s.node(key);
+    return n != nullptr && !n->is_table();
+  };
+  const auto positive = [&s, &scalar](std::string_view key, double& field, std::string_view allowed) {
+    if (!scalar(key)) return;
     if (auto v = s.number(key)) {
       if (!(*v > 0.0)) s.out_of_range(key, format_number(*v), allowed);
       field = *v;
     }
   };
   positive("f0", f.f0, "f0 > 0");
-  const auto non_negative = [&s](std::string_view key, double& field) {
+  const auto non_negative = [&s, &scalar](std::string_view key, double& field) {
+    if (!scalar(key)) return;
     if (auto v = s.number(key)) {
       if (!(*v >= 0.0)) s.out_of_range(key, format_number(*v), std::string(key) + " >= 0");
       field = *v;
@@ -559,21 +589,21 @@ void read_friction(const toml::table& root, FrictionParameters& f) {
   // Friction coefficients are O(0.01-1); beyond 10 the strength (and the
   // local solve at t = 0) is meaningless.
   for (std::string_view key : {"f0", "a", "b"})
-    if (auto v = s.number(key); v && *v > kMaxFrictionCoefficient)
+    if (auto v = scalar(key) ? s.number(key) : std::nullopt; v && *v > kMaxFrictionCoefficient)
       s.out_of_range(key, format_number(*v),
                      std::string(key) + " <= " + format_number(kMaxFrictionCoefficient) +
                          " (dimensionless; the physically generous range of docs/config.md)");
   positive("characteristic_slip", f.characteristic_slip, "a slip distance D > 0 [m]");
   positive("v_star", f.v_star, "a velocity v* > 0 [m/s]");
   positive("phi_star", f.phi_star, "a time phi* > 0 [s]");
-  if (s.has("characteristic_slip"))
+  if (scalar("characteristic_slip"))
     check_range(s, "characteristic_slip", f.characteristic_slip, kSlipDistanceRange, "a slip distance D");
   if (s.has("v_star")) check_range(s, "v_star", f.v_star, kVStarRange, "a velocity v*");
   if (s.has("phi_star")) check_range(s, "phi_star", f.phi_star, kPhiStarRange, "a time phi*");
 
   // The regularized law divides by a (exp(psi/a)); the others stay defined at
   // a = 0 because radiation damping alone fixes the slip rate.
-  if (f.strength_law == StrengthLaw::regularized && !(f.a > 0.0))
+  if (f.strength_law == StrengthLaw::regularized && !profiles.a && !(f.a > 0.0))
     fail(s.has("a") ? s.node("a") : s.node("law"),
          "friction.a = " + format_number(f.a) +
              " is out of range for friction.law = \"regularized\": expected a > 0");
@@ -585,8 +615,11 @@ void read_friction(const toml::table& root, FrictionParameters& f) {
 
 void read_interface(const toml::table& root, int nodes, InterfaceConfig& in) {
   const Section s(root, "interface");
-  if (auto v = s.choice("law", kInterfaceLawNames))
-    in.law = enum_from_name<InterfaceLaw>(*v, kInterfaceLawNames);
+  // The registered laws (core/interface_laws.inc); the name kept is the
+  // registry's (static storage), not the parsed string.
+  const InterfaceLawRegistry laws = builtin_interface_laws();
+  const std::vector<std::string_view> law_names = laws.names();
+  if (auto v = s.choice("law", law_names)) in.law = InterfaceLaw{laws.find(*v)->name};
   if (auto v = s.number("slip_amplitude")) in.slip_amplitude = *v;
   if (auto v = s.integer("mode")) {
     // Below Nyquist: mode N/2 has no sine partner on the grid.
@@ -775,7 +808,18 @@ SimulationConfig config_from_table(const toml::table& root) {
   read_geometry(root, c.geometry);
   read_material(root, c.material);
   read_loading(root, c.loading);
-  read_friction(root, c.friction);
+  read_friction(root, c.friction, c.friction_along_x);
+  if (c.friction_along_x.any()) {
+    // Every node's values against the scalar rules (a profile may not carry a
+    // value its key would refuse as a number).
+    try {
+      (void)resolve_friction_nodes(c.friction, c.friction_along_x,
+                                   static_cast<std::size_t>(c.geometry.nodes),
+                                   c.geometry.length / c.geometry.nodes);
+    } catch (const std::invalid_argument& e) {
+      throw ConfigError(e.what());
+    }
+  }
   read_interface(root, c.geometry.nodes, c.interface);
   read_initial(root, c.geometry, c.initial);
   read_time(root, c, c.time);
@@ -927,10 +971,20 @@ std::string to_toml(const SimulationConfig& c) {
   out << "\n[friction]\n";
   name("law", enum_name(c.friction.strength_law, kStrengthLawNames),
        "\"paper\" | \"dieterich_ruina\" | \"regularized\"");
-  number("f0", c.friction.f0, "[-]");
-  number("a", c.friction.a, "[-]");
-  number("b", c.friction.b, "[-]");
-  number("characteristic_slip", c.friction.characteristic_slip, "D [m]");
+  // A parameter that varies along x is written as its profile (inline table).
+  const auto parameter = [&out, &number](std::string_view key, double value,
+                                         const std::optional<ParameterProfile>& profile,
+                                         std::string_view comment) {
+    if (profile)
+      out << key << " = " << parameter_profile_toml(*profile) << "  # " << comment << " along x\n";
+    else
+      number(key, value, comment);
+  };
+  parameter("f0", c.friction.f0, c.friction_along_x.f0, "[-]");
+  parameter("a", c.friction.a, c.friction_along_x.a, "[-]");
+  parameter("b", c.friction.b, c.friction_along_x.b, "[-]");
+  parameter("characteristic_slip", c.friction.characteristic_slip,
+            c.friction_along_x.characteristic_slip, "D [m]");
   number("v_star", c.friction.v_star, "v* [m/s]");
   number("phi_star", c.friction.phi_star, "phi* [s]");
 
@@ -938,8 +992,12 @@ std::string to_toml(const SimulationConfig& c) {
   name("law", enum_name(c.friction.state_law, kStateLawNames), "\"aging\" | \"slip\"");
 
   out << "\n[interface]\n";
-  name("law", enum_name(c.interface.law, kInterfaceLawNames),
-       "\"rate_and_state\" | \"prescribed_slip\" | \"free\"");
+  {
+    std::string laws;
+    for (const auto law : builtin_interface_laws().names())
+      laws += (laws.empty() ? "\"" : " | \"") + std::string(law) + "\"";
+    name("law", c.interface.law.name, laws);
+  }
   number("slip_amplitude", c.interface.slip_amplitude, "[m] (prescribed_slip)");
   integer("mode", c.interface.mode, "m (prescribed_slip)");
   name("profile", enum_name(c.interface.profile, kProfileNames), "\"ramp\" | \"bump\"");

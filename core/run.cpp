@@ -74,6 +74,16 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
   options.snapshots_by_slip = out_cfg.snapshot_slip_increment > 0.0;
   options.station_x = out_cfg.stations;
   options.front_slip_rate = out_cfg.front_slip_rate;
+  if (config.interface.law == InterfaceLaw::rate_and_state) {
+    // The parameters every node ran with (profiles resolved), so the file is
+    // interpretable without the profile files the config may name.
+    const auto nodes = resolve_friction_nodes(config.friction, config.friction_along_x,
+                                              sim.x().size(), sim.dx());
+    options.node_parameters = {{"f0", "1", nodes.f0},
+                               {"a", "1", nodes.a},
+                               {"b", "1", nodes.b},
+                               {"characteristic_slip", "m", nodes.characteristic_slip}};
+  }
   RunOutput output(output_path, to_toml(config), sampling, options);
 
   // Stations (one buffer per field, sampled in turn) and rupture-front arrival times.

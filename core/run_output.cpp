@@ -253,6 +253,12 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
                         snapshot_units[f], false);
     write_fixed_vector(group, "x", slip_sampling.x, "m");
   }
+  if (!options_.node_parameters.empty()) {
+    Handle group(H5Gcreate2(file, "friction", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                 "H5Gcreate2(friction)");
+    write_fixed_vector(group, "x", slip_sampling.x, "m");
+    for (const auto& p : options_.node_parameters) write_fixed_vector(group, p.name, p.values, p.units);
+  }
   if (station_count_ > 0) {
     Handle group(H5Gcreate2(file, "stations", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                  "H5Gcreate2(stations)");

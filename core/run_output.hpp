@@ -49,7 +49,17 @@ struct OutputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// One per-node parameter of the interface law (e.g. friction.a at every
+// node), written once when the file is created.
+struct NodeParameter {
+  std::string name;   // dataset name in /friction
+  std::string units;  // its "units" attribute
+  std::vector<double> values;
+};
+
 struct RunOutputOptions {
+  // Per-node friction parameters: datasets of /friction (docs/output.md); none = no group.
+  std::vector<NodeParameter> node_parameters;
   bool snapshots_by_slip = false;     // trigger attribute: "slip_increment" instead of "time"
   std::vector<double> station_x;      // [m] on-fault stations (/stations); empty = none
   double front_slip_rate = 0.0;       // [m/s] /rupture_front threshold; 0 = no /rupture_front

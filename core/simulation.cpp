@@ -2,21 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <numeric>
-#include <random>
 #include <sstream>
 
-#include "friction/batch_solve.hpp"
-#include "friction/friction_law.hpp"
 #include "kernels/block_strip_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/kernel_cache.hpp"
 
 namespace slipstrip {
 namespace {
-constexpr double pi = std::numbers::pi;
-
 // Both algorithms apply the same discrete operator (to ~1e-13,
 // tests/cpp/test_kernels_block_history.cpp); the block one wins once a
 // Fourier mode carries more than ~100 normal modes (bench_kernels_history:
@@ -40,7 +34,8 @@ std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& mater
 }
 }
 
-Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancelled)
+Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancelled,
+                       const InterfaceLawRegistry& laws)
     : config_(config), nodes_(config.geometry.nodes) {
   const auto& g = config_.geometry;
   dx_ = g.length / nodes_;
@@ -71,128 +66,39 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
   previous_slip_rate_.assign(n, 0.0);
   previous_state_.assign(n, 0.0);
   history_stress_.assign(n, 0.0);
-  tau_history_.assign(n, 0.0);
   work_real_.assign(n, 0.0);
   spectrum_.assign(n / 2 + 1, 0.0);
 
-  const auto& in = config_.interface;
-  switch (in.law) {
-    case InterfaceLaw::rate_and_state: {
-      const auto& f = config_.friction;
-      driving_velocity_ = config_.loading.driving_velocity;
-      const double phi_ss = steady_state(f, driving_velocity_);
-      reference_shear_stress_ =
-          frictional_strength(f, config_.loading.normal_stress, driving_velocity_, phi_ss);
-      const auto& init = config_.initial;
-      std::mt19937_64 rng(init.noise_seed);
-      std::normal_distribution<double> normal(0.0, 1.0);
-      for (std::size_t i = 0; i < n; ++i) {
-        double phi = phi_ss;
-        if (init.noise_amplitude != 0.0) phi += phi_ss * init.noise_amplitude * normal(rng);
-        if (init.sine_amplitude != 0.0)
-          phi += phi_ss * init.sine_amplitude *
-                 std::sin(2.0 * pi * init.sine_mode * x_[i] / g.length + pi / 2.0);
-        if (init.local_amplitude != 0.0 && init.local_width > 0.0) {
-          // periodic distance to the perturbation centre
-          double d = std::remainder(x_[i] - init.local_center, g.length);
-          phi += phi_ss * init.local_amplitude *
-                 std::exp(-0.5 * (d / init.local_width) * (d / init.local_width));
-        }
-        if (!(phi > 0.0))
-          throw std::invalid_argument(
-              "initial state phi <= 0 at x = " + std::to_string(x_[i]) +
-              " m: reduce initial.noise_amplitude, initial.sine_amplitude or initial.local_amplitude");
-        state_[i] = phi;
-      }
-      // At t = 0 the history is empty: tau_0 + eta v0 - eta v = strength(v, phi).
-      for (std::size_t i = 0; i < n; ++i) history_stress_[i] = 0.0;
-      solve_rate_and_state(/*initial=*/true);
-      break;
-    }
-    case InterfaceLaw::prescribed_slip: {
-      driving_velocity_ = 0.0;
-      const double k = 2.0 * pi * in.mode / g.length;
-      for (std::size_t i = 0; i < n; ++i) {
-        slip_[i] = in.slip_amplitude * std::cos(k * x_[i]) * profile(0.0);
-        slip_rate_[i] = in.slip_amplitude * std::cos(k * x_[i]) * profile_rate(0.0);
-        shear_stress_[i] = -eta_ * slip_rate_[i];
-      }
-      break;
-    }
-    case InterfaceLaw::free: {
-      driving_velocity_ = 0.0;
-      for (std::size_t i = 0; i < n; ++i) {
-        slip_rate_[i] = imposed_stress(x_[i], 0.0) / eta_;
-        shear_stress_[i] = -eta_ * slip_rate_[i];
-      }
-      break;
-    }
-  }
+  law_ = laws.make(InterfaceSetup{config_, x_, eta_});
+  driving_velocity_ = law_->driving_velocity();
+  InterfaceFields f = fields();
+  run_law([&] { law_->initialise(f); });
   check_finite("initial fields");
 }
 
-double Simulation::profile(double t) const {
-  const auto& in = config_.interface;
-  const double T = in.rise_time;
-  if (t <= 0.0) return 0.0;
-  if (in.profile == TimeProfile::ramp) return t >= T ? 1.0 : 0.5 * (1.0 - std::cos(pi * t / T));
-  if (t >= T) return 0.0;
-  const double s = std::sin(pi * t / T);
-  return s * s * s * s;
+InterfaceFields Simulation::fields() {
+  return InterfaceFields{x_, history_stress_, previous_slip_rate_, previous_state_,
+                         slip_,  slip_rate_,     state_,              shear_stress_};
 }
 
-double Simulation::profile_rate(double t) const {
-  const auto& in = config_.interface;
-  const double T = in.rise_time;
-  if (t <= 0.0 || t >= T) return 0.0;
-  if (in.profile == TimeProfile::ramp) return 0.5 * pi / T * std::sin(pi * t / T);
-  const double s = std::sin(pi * t / T), c = std::cos(pi * t / T);
-  return 4.0 * s * s * s * c * pi / T;
-}
-
-double Simulation::imposed_stress(double x, double t) const {
-  const auto& in = config_.interface;
-  const double amplitude =
-      in.law == InterfaceLaw::free ? in.stress_amplitude : in.load_pulse_amplitude;
-  if (amplitude == 0.0) return 0.0;
-  double shape = 1.0;
-  if (std::isfinite(in.pulse_width) && in.pulse_width > 0.0) {
-    const double d = std::remainder(x - in.pulse_center, config_.geometry.length);
-    shape = std::exp(-0.5 * (d / in.pulse_width) * (d / in.pulse_width));
-  }
-  return amplitude * shape * profile(t);
-}
-
-void Simulation::solve_rate_and_state(bool initial) {
-  // Second-order predictor-corrector on the state; the slip rate is always
-  // the exact local solution at the new time level.  The batch routines
-  // (friction/batch_solve.hpp) run the scheme over all nodes, vectorised, in an
-  // OpenMP loop over fixed chunks of nodes.
-  const LocalSolveParameters params{config_.friction, config_.loading.normal_stress, eta_};
-  const double load = reference_shear_stress_ + eta_ * driving_velocity_;
-  const double t_load = initial ? time_ : time_ + dt_;  // the level being solved for
-  // The loads: a few flops per node unless a load pulse is imposed (an exp
-  // per node); only then is it worth a parallel region of its own.
-  const bool pulse = config_.interface.load_pulse_amplitude != 0.0;
-#pragma omp parallel for schedule(static) if (pulse)
-  for (int i = 0; i < nodes_; ++i)
-    tau_history_[i] = load - history_stress_[i] + imposed_stress(x_[i], t_load);
+template <class Call>
+void Simulation::run_law(Call&& call) {
   try {
-    if (initial) {
-      std::fill(slip_rate_.begin(), slip_rate_.end(), driving_velocity_);  // the initial guess
-      solve_slip_rate_parallel(params, tau_history_, state_, slip_rate_, slip_rate_);
-    } else {
-      predictor_corrector_parallel(params, dt_, tau_history_, previous_slip_rate_,
-                                   previous_state_, slip_rate_, state_);
-    }
-  } catch (const BatchFailure& e) {
-    const std::size_t i = e.index;
+    call();
+  } catch (const InterfaceFailure& e) {
+    const std::size_t i = e.node;
     std::ostringstream msg;
-    msg << "local friction solve failed at node " << i << " (x = " << x_[i]
-        << " m), t = " << time_ << " s, step " << step_index_ << ": " << e.what();
+    msg << e.failed << " at node " << i << " (x = " << x_[i] << " m), t = " << time_
+        << " s, step " << step_index_ << ": " << e.what();
     throw SimulationError(msg.str());
   }
-  for (int i = 0; i < nodes_; ++i) shear_stress_[i] = tau_history_[i] - eta_ * slip_rate_[i];
+}
+
+double Simulation::reference_shear_stress() const {
+  const auto tau0 = law_->reference_shear_stress();
+  if (tau0.empty()) return 0.0;
+  if (std::all_of(tau0.begin(), tau0.end(), [&](double t) { return t == tau0[0]; })) return tau0[0];
+  return std::accumulate(tau0.begin(), tau0.end(), 0.0) / static_cast<double>(tau0.size());
 }
 
 void Simulation::step() {
@@ -215,32 +121,8 @@ void Simulation::step() {
   const double t_new = time_ + dt_;
 
   // 2. interface law at t_{n+1}.
-  const auto& in = config_.interface;
-  switch (in.law) {
-    case InterfaceLaw::rate_and_state:
-      solve_rate_and_state(/*initial=*/false);
-      break;
-    case InterfaceLaw::prescribed_slip: {
-      const double k = 2.0 * pi * in.mode / config_.geometry.length;
-      const double g = profile(t_new), gdot = profile_rate(t_new);
-      for (int i = 0; i < nodes_; ++i) {
-        const double shape = in.slip_amplitude * std::cos(k * x_[i]);
-        slip_rate_[i] = shape * gdot;
-        shear_stress_[i] = -history_stress_[i] - eta_ * slip_rate_[i];
-        slip_[i] = shape * g;
-      }
-      break;
-    }
-    case InterfaceLaw::free:
-      for (int i = 0; i < nodes_; ++i) {
-        slip_rate_[i] = (imposed_stress(x_[i], t_new) - history_stress_[i]) / eta_;
-        shear_stress_[i] = -history_stress_[i] - eta_ * slip_rate_[i];
-      }
-      break;
-  }
-  if (in.law != InterfaceLaw::prescribed_slip)
-    for (int i = 0; i < nodes_; ++i)
-      slip_[i] += 0.5 * dt_ * (previous_slip_rate_[i] + slip_rate_[i]);
+  InterfaceFields f = fields();
+  run_law([&] { law_->advance(InterfaceStep{time_, dt_, step_index_}, f); });
   time_ = t_new;
   ++step_index_;
   check_finite("interface fields");

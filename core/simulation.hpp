@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/interface_law.hpp"
 #include "core/simulation_config.hpp"
 #include "kernels/fft.hpp"
 #include "kernels/history_convolution.hpp"
@@ -26,7 +27,9 @@ class Simulation {
   // `cancelled` is polled during the kernel and operator set-up (which takes
   // seconds for thick strips); when it returns true the constructor throws
   // SetupCancelled (kernels/history_convolution.hpp).
-  explicit Simulation(const SimulationConfig& config, const CancelCheck& cancelled = {});
+  // The interface law is config.interface.law, looked up in `laws`.
+  explicit Simulation(const SimulationConfig& config, const CancelCheck& cancelled = {},
+                      const InterfaceLawRegistry& laws = builtin_interface_laws());
 
   // Advance one time step dt.
   void step();
@@ -50,34 +53,36 @@ class Simulation {
   double mean_shear_stress() const;
 
   // Steady sliding reference: tau_0 = strength(v0, phi_ss(v0)) (rate_and_state),
-  // 0 for the verification laws.
-  double reference_shear_stress() const { return reference_shear_stress_; }
+  // 0 for the verification laws: the value of every node when it is the same
+  // everywhere, else the mean over the nodes (per node: reference_shear_stresses()).
+  double reference_shear_stress() const;
+  std::span<const double> reference_shear_stresses() const {
+    return law_->reference_shear_stress();
+  }
 
  private:
-  double profile(double t) const;
-  double profile_rate(double t) const;
-  double imposed_stress(double x, double t) const;  // free law
-  // initial: t = 0, no state update (the state is given); else predictor-corrector.
-  void solve_rate_and_state(bool initial);
+  InterfaceFields fields();
+  // Runs the law; a failed node becomes a SimulationError naming x, t and the step.
+  template <class Call>
+  void run_law(Call&& call);
   void check_finite(const char* what) const;
 
   SimulationConfig config_;
   int nodes_;
   double dx_, dt_, eta_;
   double driving_velocity_;  // v0 used for the perturbation split (0 for verification laws)
-  double reference_shear_stress_ = 0.0;
   double time_ = 0.0;
   long long step_index_ = 0;
 
   std::vector<double> x_, slip_, slip_rate_, state_, shear_stress_;
   std::vector<double> previous_slip_rate_, previous_state_;
   std::vector<double> history_stress_;  // history part in x [Pa]
-  std::vector<double> tau_history_;     // load on the local solve at the level solved for [Pa]
   std::vector<double> work_real_;
   std::vector<std::complex<double>> spectrum_;
 
   std::unique_ptr<RealFft> fft_;
   std::unique_ptr<HistoryOperator> history_;
+  std::unique_ptr<InterfaceCondition> law_;
 };
 
 }  // namespace slipstrip

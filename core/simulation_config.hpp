@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "core/interface_law.hpp"
 #include "friction/friction_law.hpp"
+#include "friction/parameter_profile.hpp"
 #include "kernels/elastic_material.hpp"
 
 namespace slipstrip {
@@ -23,11 +25,11 @@ struct LoadingConfig {
   double normal_stress = 1e6;      // [loading] normal_stress sigma0 [Pa]
 };
 
-// How the interface closes the elastodynamic problem.
+// How the interface closes the elastodynamic problem: InterfaceLaw
+// (core/interface_law.hpp) names a registered law.  Built in:
 //   rate_and_state  : the paper's friction (default)
 //   prescribed_slip : slip(x,t) = amplitude cos(2 pi mode x / L) g(t)   (verification)
 //   free            : no friction, an imposed shear-stress perturbation   (verification)
-enum class InterfaceLaw { rate_and_state, prescribed_slip, free };
 
 // Time profile g(t) used by the verification laws.
 //   ramp : g = 0 for t<0, (1 - cos(pi t / T))/2 for 0<=t<T, 1 after   (C1 ramp)
@@ -105,6 +107,9 @@ struct SimulationConfig {
   ElasticMaterial material;  // [material] shear_modulus, poisson_ratio, density, plane
   LoadingConfig loading;
   FrictionParameters friction;  // [friction] law, f0, a, b, characteristic_slip, v_star, phi_star; [state] law
+  // [friction] f0, a, b, characteristic_slip given as profiles along x (the
+  // matching field of `friction` is then NaN; friction/parameter_profile.hpp).
+  FrictionProfiles friction_along_x;
   InterfaceConfig interface;
   InitialConfig initial;
   TimeConfig time;

@@ -78,20 +78,60 @@ std::uint32_t bits(const M& m) {
   return r;
 }
 
+// --- friction parameters of a block of nodes ---------------------------------------
+
+// f0, a, b, D of W nodes (LocalSolveParameters::per_node, or the scalar when a
+// parameter has no per-node values), and what the lanes derive from D.
+struct NodeLanes {
+  B f0, a, b, D;
+  B log_D;       // ln D (slip law)
+  M invalid_D;   // D not finite and > 0: the scalar routines report it
+};
+
+B lanes_of(std::span<const double> per_node, double scalar, std::size_t begin, std::size_t count) {
+  return per_node.empty() ? B(scalar) : load(per_node, begin, count);
+}
+
+NodeLanes node_lanes(const LocalSolveParameters& params, std::size_t begin, std::size_t count) {
+  const auto& p = params.friction;
+  const auto& n = params.per_node;
+  NodeLanes lanes{lanes_of(n.f0, p.f0, begin, count), lanes_of(n.a, p.a, begin, count),
+                  lanes_of(n.b, p.b, begin, count),
+                  lanes_of(n.characteristic_slip, p.characteristic_slip, begin, count), B(0.0),
+                  M(false)};
+  lanes.log_D = xsimd::log(lanes.D);
+  lanes.invalid_D = (!(lanes.D > B(0.0))) | (!xsimd::isfinite(lanes.D));
+  return lanes;
+}
+
+bool has_per_node(const LocalSolveParameters& params) {
+  const auto& n = params.per_node;
+  return !(n.f0.empty() && n.a.empty() && n.b.empty() && n.characteristic_slip.empty());
+}
+
+// Lanes no vector law takes: a = 0 (closed form) and non-finite values go to
+// the scalar solve.
+M unusable(const NodeLanes& n) {
+  return (!(n.a > B(0.0))) | (!xsimd::isfinite(n.a)) | (!xsimd::isfinite(n.b)) |
+         (!xsimd::isfinite(n.f0));
+}
+
 // --- state update -------------------------------------------------------------
 
 bool vector_state_update_applies(const FrictionParameters& p, double dt) {
-  // v*^2 must neither underflow nor overflow in sqrt(v^2 + v*^2).
-  return std::isfinite(dt) && dt >= 0.0 && p.v_star >= 1e-150 && p.v_star <= 1e150 &&
-         std::isfinite(p.characteristic_slip) && p.characteristic_slip > 0.0;
+  // v*^2 must neither underflow nor overflow in sqrt(v^2 + v*^2).  (D is
+  // checked per lane: NodeLanes::invalid_D.)
+  return std::isfinite(dt) && dt >= 0.0 && p.v_star >= 1e-150 && p.v_star <= 1e150;
 }
 
 // evolve_state on W lanes.  Lanes the scalar routine rejects (state <= 0 or
 // not finite) or treats specially (non-finite slip rate) are flagged in
-// `to_scalar`; their values here are meaningless.
-B evolve_lanes(const FrictionParameters& p, const B& state, const B& v, double dt, M& to_scalar) {
-  to_scalar = to_scalar | !(state > B(0.0)) | !xsimd::isfinite(state) | !xsimd::isfinite(v);
-  const B D(p.characteristic_slip);
+// `to_scalar` (as are lanes with an invalid D); their values here are meaningless.
+B evolve_lanes(const FrictionParameters& p, const NodeLanes& n, const B& state, const B& v,
+               double dt, M& to_scalar) {
+  to_scalar = to_scalar | !(state > B(0.0)) | !xsimd::isfinite(state) | !xsimd::isfinite(v) |
+              n.invalid_D;
+  const B& D = n.D;
   const B u = xsimd::abs(v);
   if (p.state_law == StateLaw::aging) {
     // hypot(v, v*): above 1e150 m/s, v*^2 is far below the rounding of u^2.
@@ -101,7 +141,7 @@ B evolve_lanes(const FrictionParameters& p, const B& state, const B& v, double d
     return state * xsimd::exp(x) + phi_ss * (-xsimd::expm1(x));
   }
   // Slip law: psi = ln(u phi / D) decays as exp(-u dt / D); unchanged at rest.
-  const B log_scale = B(std::log(p.characteristic_slip)) - xsimd::log(u);
+  const B log_scale = n.log_D - xsimd::log(u);
   const B psi0 = xsimd::log(state) - log_scale;
   const B evolved = xsimd::exp(log_scale + psi0 * xsimd::exp((-u) * B(dt) / D));
   return xsimd::select(u == B(0.0), state, evolved);
@@ -142,25 +182,42 @@ struct Solved {
   M newton;                       // lanes settled by the Newton loop
 };
 
+// Each law: the scalars every node shares (shared(), once per batch call;
+// nullopt when they have no vector path) and the per-lane values of a block of nodes
+// (with_lanes; lanes it cannot take are flagged in `invalid` and go to the
+// scalar solve).  The lane values are computed with the same operations, in
+// the same order, as the scalar constants they replaced, so a node's result
+// does not depend on whether its parameters came from a span or a scalar.
 struct PaperLaw {
   static constexpr bool carries_w = false;
-  double sigma, f0, b, phi_star, v_star, A, eta;
+  double sigma, phi_star, v_star, eta;
   double hi_factor;   // u_hi = excess * hi_factor: the scalar solve's cap ln(excess/eta) + margin
-  double lo_factor;   // u_lo = excess * lo_factor: its cold start ln(excess) - ln(eta + A/v*) - margin
-  double tie_factor;  // see prepare()
+  double exp_minus_margin;
+  B f0, b, A;
+  B lo_factor;   // u_lo = excess * lo_factor: its cold start ln(excess) - ln(eta + A/v*) - margin
+  B tie_factor;  // see prepare()
+  M invalid;
 
-  static std::optional<PaperLaw> make(const LocalSolveParameters& params) {
+  static std::optional<PaperLaw> shared(const LocalSolveParameters& params) {
     const auto& p = params.friction;
     const double sigma = params.normal_stress, eta = params.eta;
-    if (!(p.a > 0.0 && std::isfinite(p.a) && std::isfinite(p.b) && std::isfinite(p.f0) &&
-          p.v_star >= 1e-150 && p.v_star <= 1e150 && std::isfinite(p.phi_star) && p.phi_star > 0.0))
-      return std::nullopt;  // a = 0 (closed form) and odd values: scalar solve
-    const double A = sigma * p.a;
-    PaperLaw c{sigma, p.f0, p.b, p.phi_star, p.v_star, A, eta,
-               std::exp(kMargin) / eta, std::exp(-kMargin) / (eta + A / p.v_star),
-               32.0 * kEps * sigma * std::fabs(p.f0)};
-    if (!(std::isfinite(c.hi_factor) && std::isfinite(c.lo_factor) && c.lo_factor > 0.0))
+    if (!(p.v_star >= 1e-150 && p.v_star <= 1e150 && std::isfinite(p.phi_star) && p.phi_star > 0.0))
       return std::nullopt;
+    PaperLaw c{sigma, p.phi_star, p.v_star, eta, std::exp(kMargin) / eta, std::exp(-kMargin),
+               B(0.0), B(0.0), B(0.0), B(0.0), B(0.0), M(true)};
+    if (!std::isfinite(c.hi_factor)) return std::nullopt;
+    return c;
+  }
+
+  PaperLaw with_lanes(const NodeLanes& n) const {
+    PaperLaw c = *this;
+    c.f0 = n.f0;
+    c.b = n.b;
+    c.A = B(sigma) * n.a;
+    c.lo_factor = B(exp_minus_margin) / (B(eta) + c.A / B(v_star));
+    c.tie_factor = B(32.0 * kEps * sigma) * xsimd::abs(n.f0);
+    // a = 0 (closed form) and odd values: scalar solve.
+    c.invalid = unusable(n) | (!xsimd::isfinite(c.lo_factor)) | (!(c.lo_factor > B(0.0)));
     return c;
   }
 
@@ -207,18 +264,26 @@ struct PaperLaw {
 
 struct DieterichRuinaLaw {
   static constexpr bool carries_w = true;
-  double sigma, f0, b, v_star, D, A, eta, reference_part;
+  double sigma, v_star, eta, log_v_star;
+  B f0, b, D, A, reference_part;
+  M invalid;
 
-  static std::optional<DieterichRuinaLaw> make(const LocalSolveParameters& params) {
-    const auto& p = params.friction;
-    const double sigma = params.normal_stress;
-    if (!(p.a > 0.0 && std::isfinite(p.a) && std::isfinite(p.b) && std::isfinite(p.f0) &&
-          std::isfinite(p.v_star) && p.v_star > 0.0 && std::isfinite(p.characteristic_slip) &&
-          p.characteristic_slip > 0.0))
-      return std::nullopt;  // a = 0 (closed form) and odd values: scalar solve
-    const double A = sigma * p.a;
-    return DieterichRuinaLaw{sigma, p.f0, p.b, p.v_star, p.characteristic_slip, A, params.eta,
-                             A * std::log(p.v_star)};
+  static std::optional<DieterichRuinaLaw> shared(const LocalSolveParameters& params) {
+    const double v_star = params.friction.v_star;
+    if (!(std::isfinite(v_star) && v_star > 0.0)) return std::nullopt;
+    return DieterichRuinaLaw{params.normal_stress, v_star, params.eta, std::log(v_star),
+                             B(0.0), B(0.0), B(0.0), B(0.0), B(0.0), M(true)};
+  }
+
+  DieterichRuinaLaw with_lanes(const NodeLanes& n) const {
+    DieterichRuinaLaw c = *this;
+    c.f0 = n.f0;
+    c.b = n.b;
+    c.D = n.D;
+    c.A = B(sigma) * n.a;
+    c.reference_part = c.A * B(log_v_star);
+    c.invalid = unusable(n) | n.invalid_D;
+    return c;
   }
 
   // Never sticks (strength -> -inf at rest); zero load has no slip direction
@@ -227,7 +292,7 @@ struct DieterichRuinaLaw {
     const B state_part = B(sigma) * (B(f0) + B(b) * xsimd::log(B(v_star) * state / B(D)));
     const B c = T - state_part + B(reference_part);
     to_scalar = to_scalar | (T == B(0.0)) | !xsimd::isfinite(c);
-    return {c, T + xsimd::abs(state_part) + B(std::fabs(reference_part)), T, M(false), B(0.0)};
+    return {c, T + xsimd::abs(state_part) + xsimd::abs(reference_part), T, M(false), B(0.0)};
   }
 
   // Change of g at a fixed u when the state changes from `from` to `to`: exact.
@@ -256,17 +321,28 @@ struct DieterichRuinaLaw {
 
 struct RegularizedLaw {
   static constexpr bool carries_w = true;
-  double f0, b, a, v_star, D, A, eta, log_two_v_star, log_eta, log_A;
+  double sigma, v_star, eta, log_two_v_star, log_eta;
+  B f0, b, a, D, A, log_A;
+  M invalid;
 
-  static std::optional<RegularizedLaw> make(const LocalSolveParameters& params) {
-    const auto& p = params.friction;
-    if (!(p.a > 0.0 && std::isfinite(p.a) && std::isfinite(p.b) && std::isfinite(p.f0) &&
-          std::isfinite(p.v_star) && p.v_star > 0.0 && std::isfinite(p.characteristic_slip) &&
-          p.characteristic_slip > 0.0))
-      return std::nullopt;
-    const double A = params.normal_stress * p.a;
-    return RegularizedLaw{p.f0, p.b, p.a, p.v_star, p.characteristic_slip, A, params.eta,
-                          std::log(2.0 * p.v_star), std::log(params.eta), std::log(A)};
+  static std::optional<RegularizedLaw> shared(const LocalSolveParameters& params) {
+    const double v_star = params.friction.v_star;
+    if (!(std::isfinite(v_star) && v_star > 0.0)) return std::nullopt;
+    return RegularizedLaw{params.normal_stress, v_star, params.eta, std::log(2.0 * v_star),
+                          std::log(params.eta), B(0.0), B(0.0), B(0.0), B(0.0), B(0.0), B(0.0),
+                          M(true)};
+  }
+
+  RegularizedLaw with_lanes(const NodeLanes& n) const {
+    RegularizedLaw c = *this;
+    c.f0 = n.f0;
+    c.b = n.b;
+    c.a = n.a;
+    c.D = n.D;
+    c.A = B(sigma) * n.a;
+    c.log_A = xsimd::log(c.A);
+    c.invalid = unusable(n) | n.invalid_D;
+    return c;
   }
 
   // strength(0) = 0: only zero load sticks.  ln u_c = ln(2 v*) - psi/a.
@@ -358,9 +434,10 @@ void for_each_lane(std::uint32_t lanes, std::size_t count, F&& f) {
 
 // The time loop's scalar predictor-corrector at one node (the code the batch
 // replaces, used for the nodes the vector path hands over).
-void predictor_corrector_scalar(const LocalSolveParameters& params, double dt, double tau,
-                                double v_old, double phi_old, double& v_new, double& phi_new) {
-  const auto& f = params.friction;
+void predictor_corrector_scalar(const LocalSolveParameters& params, std::size_t node, double dt,
+                                double tau, double v_old, double phi_old, double& v_new,
+                                double& phi_new) {
+  const FrictionParameters f = params.at(node);
   const double phi_pred = evolve_state(f, phi_old, v_old, dt);
   const double v_pred = solve_slip_rate(f, params.normal_stress, params.eta, tau, phi_pred, v_old);
   phi_new = evolve_state(f, phi_old, 0.5 * (v_old + v_pred), dt);
@@ -372,66 +449,119 @@ void check_sizes(std::size_t n, std::initializer_list<std::size_t> sizes) {
     if (s != n) throw std::invalid_argument("batch friction solve: spans of different lengths");
 }
 
+void check_per_node_sizes(const LocalSolveParameters& params, std::size_t n) {
+  const auto& p = params.per_node;
+  for (std::size_t s : {p.f0.size(), p.a.size(), p.b.size(), p.characteristic_slip.size()})
+    if (s != 0 && s != n)
+      throw std::invalid_argument(
+          "batch friction solve: per-node parameters must be empty or one value per node");
+}
+
 }  // namespace
 
 std::size_t batch_width() { return W; }
 
 namespace {
 
-// Calls f(law) with the vector-path description of params' strength law, or
-// returns false when that law (or these parameter values) has no vector path.
+// The law of each block of nodes: built once when every node shares the
+// parameters (the uniform case costs nothing per block), rebuilt from the
+// block's per-node values otherwise.
+template <class Law>
+class BlockLaw {
+ public:
+  BlockLaw(const LocalSolveParameters& params, const Law& law, const NodeLanes& lanes)
+      : params_(params), per_node_(has_per_node(params)), law_(law), lanes_(lanes) {}
+
+  void load(std::size_t begin, std::size_t count) {
+    if (!per_node_) return;
+    lanes_ = node_lanes(params_, begin, count);
+    law_ = law_.with_lanes(lanes_);
+  }
+  const Law& law() const { return law_; }
+  const NodeLanes& lanes() const { return lanes_; }
+
+ private:
+  const LocalSolveParameters& params_;
+  bool per_node_;
+  Law law_;
+  NodeLanes lanes_;
+};
+
+// Calls f(block_law) with the vector-path description of params' strength
+// law, or returns false when that law (or these shared values) has no vector path.
 template <class F>
 bool with_vector_law(const LocalSolveParameters& params, F&& f) {
   const double sigma = params.normal_stress, eta = params.eta;
   if (!(std::isfinite(sigma) && sigma > 0.0 && std::isfinite(eta) && eta > 0.0)) return false;
+  // The first node's lanes (all lanes when uniform); per-node blocks reload theirs.
+  const NodeLanes first = node_lanes(params, 0, 1);
+  const auto run = [&](const auto& shared) {
+    if (!shared) return false;
+    BlockLaw block(params, shared->with_lanes(first), first);
+    f(block);
+    return true;
+  };
   switch (params.friction.strength_law) {
     case StrengthLaw::paper:
-      if (const auto law = PaperLaw::make(params)) {
-        f(*law);
-        return true;
-      }
-      return false;
+      return run(PaperLaw::shared(params));
     case StrengthLaw::dieterich_ruina:
-      if (const auto law = DieterichRuinaLaw::make(params)) {
-        f(*law);
-        return true;
-      }
-      return false;
+      return run(DieterichRuinaLaw::shared(params));
     case StrengthLaw::regularized:
-      if (const auto law = RegularizedLaw::make(params)) {
-        f(*law);
-        return true;
-      }
-      return false;
+      return run(RegularizedLaw::shared(params));
   }
   return false;
 }
 
 }  // namespace
 
+LocalSolveParameters LocalSolveParameters::slice(std::size_t begin, std::size_t count) const {
+  LocalSolveParameters out = *this;
+  const auto cut = [&](std::span<const double>& s) {
+    if (!s.empty()) s = s.subspan(begin, count);
+  };
+  cut(out.per_node.f0);
+  cut(out.per_node.a);
+  cut(out.per_node.b);
+  cut(out.per_node.characteristic_slip);
+  return out;
+}
+
+FrictionParameters LocalSolveParameters::at(std::size_t i) const {
+  FrictionParameters p = friction;
+  if (!per_node.f0.empty()) p.f0 = per_node.f0[i];
+  if (!per_node.a.empty()) p.a = per_node.a[i];
+  if (!per_node.b.empty()) p.b = per_node.b[i];
+  if (!per_node.characteristic_slip.empty()) p.characteristic_slip = per_node.characteristic_slip[i];
+  return p;
+}
+
 BatchCounts solve_slip_rate_batch(const LocalSolveParameters& params,
                                   std::span<const double> tau_history, std::span<const double> state,
                                   std::span<const double> initial_guess, std::span<double> slip_rate) {
   const std::size_t n = tau_history.size();
   check_sizes(n, {state.size(), initial_guess.size(), slip_rate.size()});
+  check_per_node_sizes(params, n);
   BatchCounts counts;
   counts.solves = static_cast<long long>(n);
   const auto scalar_node = [&](std::size_t i) {
     try {
-      return solve_slip_rate(params.friction, params.normal_stress, params.eta, tau_history[i],
+      return solve_slip_rate(params.at(i), params.normal_stress, params.eta, tau_history[i],
                              state[i], initial_guess[i]);
     } catch (const std::exception& e) {
       throw BatchFailure(i, e.what());
     }
   };
   B evaluations(0.0);
-  const bool vectorised = with_vector_law(params, [&](const auto& law) {
+  const bool vectorised = n > 0 && with_vector_law(params, [&](auto& block) {
     for (std::size_t begin = 0; begin < n; begin += W) {
       const std::size_t count = std::min(W, n - begin);
+      block.load(begin, count);
+      const auto& law = block.law();
       const B tau = load(tau_history, begin, count);
       const B phi = load(state, begin, count);
       const B guess = xsimd::abs(load(initial_guess, begin, count));
-      M to_scalar = (!xsimd::isfinite(tau)) | (!(phi > B(0.0))) | (!xsimd::isfinite(phi));
+      M to_scalar =
+          (!xsimd::isfinite(tau)) | (!(phi > B(0.0))) | (!xsimd::isfinite(phi)) | law.invalid;
       const Prepared pr = law.prepare(xsimd::abs(tau), phi, to_scalar);
       const Solved s = iterate(law, pr, guess, to_scalar, evaluations);
       // Scalar nodes before the store: slip_rate may alias initial_guess.
@@ -467,11 +597,12 @@ void evolve_state_batch(const FrictionParameters& friction, std::span<const doub
     for (std::size_t i = 0; i < n; ++i) scalar_node(i);
     return;
   }
+  const NodeLanes lanes = node_lanes(LocalSolveParameters{friction, 0.0, 0.0, {}}, 0, W);
   for (std::size_t begin = 0; begin < n; begin += W) {
     const std::size_t count = std::min(W, n - begin);
     M to_scalar(false);
     const B phi = load(state, begin, count);
-    const B result = evolve_lanes(friction, phi, load(slip_rate, begin, count), dt, to_scalar);
+    const B result = evolve_lanes(friction, lanes, phi, load(slip_rate, begin, count), dt, to_scalar);
     // Scalar nodes before the store: out may alias state.
     Lanes scalar_values;
     result.store_aligned(scalar_values.v);
@@ -494,11 +625,12 @@ BatchCounts predictor_corrector_batch(const LocalSolveParameters& params, double
                                       std::span<double> state_new) {
   const std::size_t n = tau_history.size();
   check_sizes(n, {slip_rate_old.size(), state_old.size(), slip_rate_new.size(), state_new.size()});
+  check_per_node_sizes(params, n);
   BatchCounts counts;
   counts.solves = 2 * static_cast<long long>(n);
   const auto scalar_node = [&](std::size_t i) {
     try {
-      predictor_corrector_scalar(params, dt, tau_history[i], slip_rate_old[i], state_old[i],
+      predictor_corrector_scalar(params, i, dt, tau_history[i], slip_rate_old[i], state_old[i],
                                  slip_rate_new[i], state_new[i]);
     } catch (const std::exception& e) {
       throw BatchFailure(i, e.what());
@@ -506,17 +638,20 @@ BatchCounts predictor_corrector_batch(const LocalSolveParameters& params, double
   };
   const auto& f = params.friction;
   B evaluations(0.0);
-  const auto vector_blocks = [&](const auto& law) {
+  const auto vector_blocks = [&](auto& block) {
     for (std::size_t begin = 0; begin < n; begin += W) {
       const std::size_t count = std::min(W, n - begin);
+      block.load(begin, count);
+      const auto& law = block.law();
+      const NodeLanes& lanes = block.lanes();
       const B tau = load(tau_history, begin, count);
       const B v_old = load(slip_rate_old, begin, count);
       const B phi_old = load(state_old, begin, count);
       const B T = xsimd::abs(tau);
-      M to_scalar = !xsimd::isfinite(tau);
+      M to_scalar = (!xsimd::isfinite(tau)) | law.invalid;
 
       // Predictor: state from v_old, slip rate warm-started from |v_old|.
-      const B phi_pred = evolve_lanes(f, phi_old, v_old, dt, to_scalar);
+      const B phi_pred = evolve_lanes(f, lanes, phi_old, v_old, dt, to_scalar);
       const Prepared pp = law.prepare(T, phi_pred, to_scalar);
       const Solved sp = iterate(law, pp, xsimd::abs(v_old), to_scalar, evaluations);
       const B v_pred = signed_rate(tau, sp, pp);
@@ -526,7 +661,7 @@ BatchCounts predictor_corrector_batch(const LocalSolveParameters& params, double
       // predictor's last point is known exactly: g_last + (excess_c - excess_p)
       // (regularized law: to first order).  One Newton step from there is the
       // start (no residual evaluation).
-      const B phi_new = evolve_lanes(f, phi_old, B(0.5) * (v_old + v_pred), dt, to_scalar);
+      const B phi_new = evolve_lanes(f, lanes, phi_old, B(0.5) * (v_old + v_pred), dt, to_scalar);
       const Prepared pc = law.prepare(T, phi_new, to_scalar);
       const B extrapolated =
           sp.u_last * xsimd::exp(-(sp.g_last + law.state_change(pp, pc, sp)) / sp.slope_last);
@@ -542,7 +677,7 @@ BatchCounts predictor_corrector_batch(const LocalSolveParameters& params, double
     }
   };
   const bool vectorised =
-      vector_state_update_applies(f, dt) && with_vector_law(params, vector_blocks);
+      n > 0 && vector_state_update_applies(f, dt) && with_vector_law(params, vector_blocks);
   if (!vectorised) {
     for (std::size_t i = 0; i < n; ++i) scalar_node(i);
     counts.scalar_nodes = static_cast<long long>(n);
@@ -595,8 +730,10 @@ BatchCounts predictor_corrector_parallel(const LocalSolveParameters& params, dou
                                          std::span<double> state_new) {
   const std::size_t n = tau_history.size();
   check_sizes(n, {slip_rate_old.size(), state_old.size(), slip_rate_new.size(), state_new.size()});
+  check_per_node_sizes(params, n);  // before slicing them
   return parallel_chunks(n, [&](std::size_t begin, std::size_t count) {
-    return predictor_corrector_batch(params, dt, tau_history.subspan(begin, count),
+    return predictor_corrector_batch(params.slice(begin, count), dt,
+                                     tau_history.subspan(begin, count),
                                      slip_rate_old.subspan(begin, count),
                                      state_old.subspan(begin, count),
                                      slip_rate_new.subspan(begin, count),
@@ -611,8 +748,9 @@ BatchCounts solve_slip_rate_parallel(const LocalSolveParameters& params,
                                      std::span<double> slip_rate) {
   const std::size_t n = tau_history.size();
   check_sizes(n, {state.size(), initial_guess.size(), slip_rate.size()});
+  check_per_node_sizes(params, n);  // before slicing them
   return parallel_chunks(n, [&](std::size_t begin, std::size_t count) {
-    return solve_slip_rate_batch(params, tau_history.subspan(begin, count),
+    return solve_slip_rate_batch(params.slice(begin, count), tau_history.subspan(begin, count),
                                  state.subspan(begin, count), initial_guess.subspan(begin, count),
                                  slip_rate.subspan(begin, count));
   });

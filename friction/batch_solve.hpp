@@ -13,13 +13,32 @@
 
 namespace slipstrip {
 
-// Everything the batch loops read besides the per-node fields.  Today every
-// node shares these values; when friction parameters become per-node arrays
-// this struct gains spans and only the loads in batch_solve.cpp change.
+// Friction parameters that differ from node to node (tandem-style: the law is
+// parameterised per node).  Each span is either empty -- every node uses the
+// scalar of LocalSolveParameters::friction -- or holds one value per node,
+// aligned with the field spans passed to the batch routines.
+struct FrictionNodeSpans {
+  std::span<const double> f0, a, b, characteristic_slip;
+};
+
+// Everything the batch loops read besides the per-node fields: the scalars
+// every node shares, and the per-node parameters (if any).  With all spans
+// empty and with spans holding the scalar at every node, the results are the
+// same bit for bit (each lane computes from the same values either way).
 struct LocalSolveParameters {
-  FrictionParameters friction;
+  LocalSolveParameters(const FrictionParameters& friction_, double normal_stress_, double eta_,
+                       FrictionNodeSpans per_node_ = {})
+      : friction(friction_), normal_stress(normal_stress_), eta(eta_), per_node(per_node_) {}
+
+  FrictionParameters friction;  // strength and state law, v*, phi*; f0, a, b, D unless per node
   double normal_stress = 0.0;  // sigma0 [Pa], > 0
   double eta = 0.0;            // radiation damping mu / (2 c_s) [Pa s/m], > 0
+  FrictionNodeSpans per_node;
+
+  // The same parameters for nodes [begin, begin + count) of the spans.
+  LocalSolveParameters slice(std::size_t begin, std::size_t count) const;
+  // Node i's parameters for the scalar routines.
+  FrictionParameters at(std::size_t i) const;
 };
 
 // A failed node in a batch: `index` is the node's position in the spans passed

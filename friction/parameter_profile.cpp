@@ -1,0 +1,165 @@
+// Friction parameters along x: sampling a profile at the nodes, per-node
+// validation, and the uniform-parameter view.  See parameter_profile.hpp.
+#include "friction/parameter_profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+namespace slipstrip {
+namespace {
+
+std::string format_double(double x) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.17g", x);
+  return buffer;
+}
+
+// The per-node rules: those of validate(FrictionParameters) and the
+// "physically generous" ranges of docs/config.md (the ones core/config.cpp
+// applies to a scalar value), so a profile cannot smuggle in a value a scalar
+// key would refuse.
+struct NodeRule {
+  const char* key;
+  double low;         // allowed: low < value (strict) or low <= value
+  bool low_strict;
+  double high;        // value <= high
+  const char* allowed;
+};
+constexpr NodeRule kF0Rule{"friction.f0", 0.0, true, 10.0, "0 < f0 <= 10 (dimensionless)"};
+constexpr NodeRule kARule{"friction.a", 0.0, false, 10.0, "0 <= a <= 10 (dimensionless)"};
+constexpr NodeRule kBRule{"friction.b", 0.0, false, 10.0, "0 <= b <= 10 (dimensionless)"};
+constexpr NodeRule kDRule{"friction.characteristic_slip", 1e-12, false, 1.0,
+                          "a slip distance D between 1e-12 and 1 [m]"};
+
+void check_nodes(std::span<const double> values, const NodeRule& rule, double dx) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double v = values[i];
+    const bool above = rule.low_strict ? v > rule.low : v >= rule.low;
+    if (!(std::isfinite(v) && above && v <= rule.high))
+      throw std::invalid_argument(std::string(rule.key) + " at node " + std::to_string(i) +
+                                  " (x = " + format_double(static_cast<double>(i) * dx) +
+                                  " m) = " + format_double(v) + " is out of range: expected " +
+                                  rule.allowed);
+  }
+}
+
+std::vector<double> node_values(double scalar, const std::optional<ParameterProfile>& profile,
+                                std::size_t nodes, double dx, std::string_view key) {
+  if (!profile) return std::vector<double>(nodes, scalar);
+  return profile->at_nodes(nodes, dx, key);
+}
+
+bool all_equal(std::span<const double> v) {
+  return std::adjacent_find(v.begin(), v.end(), std::not_equal_to<>()) == v.end();
+}
+
+}  // namespace
+
+std::string_view to_string(ParameterProfile::Kind kind) {
+  switch (kind) {
+    case ParameterProfile::Kind::piecewise_constant: return "piecewise_constant";
+    case ParameterProfile::Kind::piecewise_linear: return "piecewise_linear";
+    case ParameterProfile::Kind::node_file: return "node_file";
+  }
+  throw std::invalid_argument("ParameterProfile: unknown kind");
+}
+
+double ParameterProfile::at(double position) const {
+  if (kind == Kind::node_file || x.empty() || x.size() != values.size())
+    throw std::logic_error("ParameterProfile::at: needs x and values of the same, non-zero length");
+  // First point strictly right of `position`.
+  const auto right = std::upper_bound(x.begin(), x.end(), position);
+  if (right == x.begin()) return values.front();
+  const auto k = static_cast<std::size_t>(right - x.begin()) - 1;  // x[k] <= position
+  if (kind == Kind::piecewise_constant || k + 1 == x.size()) return values[k];
+  // Linear: exact at the points (weight 0), and between two equal values the
+  // value itself (no rounding), so a flat stretch stays flat bit for bit.
+  if (values[k] == values[k + 1]) return values[k];
+  const double weight = (position - x[k]) / (x[k + 1] - x[k]);
+  return values[k] + weight * (values[k + 1] - values[k]);
+}
+
+std::vector<double> ParameterProfile::at_nodes(std::size_t nodes, double dx,
+                                               std::string_view key) const {
+  if (kind == Kind::node_file) {
+    if (values.size() != nodes)
+      throw std::invalid_argument(std::string(key) + ": the file '" + path + "' has " +
+                                  std::to_string(values.size()) + " values, expected one per node (" +
+                                  std::to_string(nodes) + " = geometry.nodes)");
+    return values;
+  }
+  std::vector<double> out(nodes);
+  for (std::size_t i = 0; i < nodes; ++i) out[i] = at(static_cast<double>(i) * dx);
+  return out;
+}
+
+std::string FrictionProfiles::keys() const {
+  std::string out;
+  const auto add = [&out](const std::optional<ParameterProfile>& p, const char* key) {
+    if (!p) return;
+    if (!out.empty()) out += ", ";
+    out += key;
+  };
+  add(f0, "friction.f0");
+  add(a, "friction.a");
+  add(b, "friction.b");
+  add(characteristic_slip, "friction.characteristic_slip");
+  return out;
+}
+
+FrictionNodeValues resolve_friction_nodes(const FrictionParameters& scalars,
+                                          const FrictionProfiles& profiles, std::size_t nodes,
+                                          double dx) {
+  FrictionNodeValues out{node_values(scalars.f0, profiles.f0, nodes, dx, "friction.f0"),
+                         node_values(scalars.a, profiles.a, nodes, dx, "friction.a"),
+                         node_values(scalars.b, profiles.b, nodes, dx, "friction.b"),
+                         node_values(scalars.characteristic_slip, profiles.characteristic_slip,
+                                     nodes, dx, "friction.characteristic_slip")};
+  check_nodes(out.f0, kF0Rule, dx);
+  check_nodes(out.a, kARule, dx);
+  check_nodes(out.b, kBRule, dx);
+  check_nodes(out.characteristic_slip, kDRule, dx);
+  // The regularized law divides by a (exp(psi/a)).
+  if (scalars.strength_law == StrengthLaw::regularized)
+    check_nodes(out.a, {"friction.a", 0.0, true, 10.0, "0 < a <= 10 for friction.law = \"regularized\""},
+                dx);
+  return out;
+}
+
+FrictionParameters friction_at_node(const FrictionParameters& scalars,
+                                    const FrictionNodeValues& nodes, std::size_t i) {
+  FrictionParameters p = scalars;
+  p.f0 = nodes.f0[i];
+  p.a = nodes.a[i];
+  p.b = nodes.b[i];
+  p.characteristic_slip = nodes.characteristic_slip[i];
+  return p;
+}
+
+FrictionParameters uniform_friction(const FrictionParameters& scalars,
+                                    const FrictionProfiles& profiles, std::size_t nodes,
+                                    double dx, std::string_view purpose) {
+  if (!profiles.any()) return scalars;
+  const FrictionNodeValues v = resolve_friction_nodes(scalars, profiles, nodes, dx);
+  std::string varying;
+  const auto check = [&varying](std::span<const double> values, const char* key) {
+    if (all_equal(values)) return;
+    if (!varying.empty()) varying += ", ";
+    varying += key;
+  };
+  check(v.f0, "friction.f0");
+  check(v.a, "friction.a");
+  check(v.b, "friction.b");
+  check(v.characteristic_slip, "friction.characteristic_slip");
+  if (!varying.empty())
+    throw std::invalid_argument(std::string(purpose) +
+                                " needs friction parameters that are the same at every node, but " +
+                                varying + " vary along x (a profile in [friction]); it "
+                                "describes homogeneous steady sliding only");
+  return nodes == 0 ? scalars : friction_at_node(scalars, v, 0);
+}
+
+}  // namespace slipstrip
