@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "apps/bench.hpp"
+#include "core/checkpoint.hpp"
 #include "core/config.hpp"
 #include "core/resource_estimate.hpp"
 #include "core/run.hpp"
@@ -96,9 +97,10 @@ std::string json_array(const std::vector<double>& v) {
 
 // Exit code of a run stopped by a signal: the shell's 128 + signal number
 // (SIGINT 130, SIGTERM 143); docs/reliability.md.
+// --stop-after-steps stops the run as SIGTERM would, so it exits as SIGTERM.
 int signal_exit_code() {
   const int sig = interrupt_signal;
-  return sig > 0 ? 128 + sig : 130;
+  return sig > 0 ? 128 + sig : 128 + SIGTERM;
 }
 
 const char* signal_name(int sig) { return sig == SIGTERM ? "SIGTERM" : sig == SIGINT ? "SIGINT" : "a signal"; }
@@ -141,8 +143,84 @@ void check_output_path(const std::string& out_path, const std::string& config_pa
   if (!exists) ::unlink(out_path.c_str());
 }
 
+// The first line where two resolved configs differ, for the message of a
+// refused --resume.
+std::string first_difference(const std::string& a, const std::string& b) {
+  std::istringstream sa(a), sb(b);
+  std::string la, lb;
+  while (true) {
+    const bool more_a = static_cast<bool>(std::getline(sa, la)), more_b = static_cast<bool>(std::getline(sb, lb));
+    if (!more_a && !more_b) return "";
+    if (!more_a) la = "(end)";
+    if (!more_b) lb = "(end)";
+    if (la != lb) return "'" + la + "' given, the run has '" + lb + "'";
+  }
+}
+
+int report_result(const slipstrip::RunResult& result, const std::string& out_path, bool quiet, bool tty) {
+  if (!quiet && tty) std::fprintf(stderr, "\n");
+  std::fprintf(stderr, "%s after %lld steps (dt = %.6g s), simulated %.6g s in %.2f s wall; output %s\n",
+               result.status.c_str(), result.steps, result.time_step, result.simulated_time,
+               result.wall_seconds, out_path.c_str());
+  if (!result.restart_point.empty())
+    std::fprintf(stderr, "restart point %s: continue with `slipstrip run --resume %s`\n",
+                 result.restart_point.c_str(), out_path.c_str());
+  if (result.status == "completed") return 0;
+  if (result.status == "interrupted") return signal_exit_code();
+  return 3;  // diverged
+}
+
+// `slipstrip run --resume RUN.h5 [CONFIG [--set ...]]`: the run continues
+// with the resolved config stored in RUN.h5.  A config (and --set) given as
+// well is only checked, never applied: it must resolve to exactly the stored
+// config, else exit 2 (so a scan or job script can pass its usual command line).
+int resume_command(const std::string& run_path, const std::string& config_path,
+                   const std::vector<std::string>& overrides, bool quiet, long long stop_after_steps) {
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+  const auto header = slipstrip::read_run_file_header(run_path);
+  if (header.status == "completed") {
+    std::fprintf(stderr, "%s: the run is already completed; nothing to resume\n", run_path.c_str());
+    return 0;
+  }
+  if (!config_path.empty()) {
+    const auto given = slipstrip::to_toml(slipstrip::load_config_file(config_path, overrides));
+    if (given != header.config_toml)
+      throw std::invalid_argument("--resume '" + run_path + "': config '" + config_path +
+                                  (overrides.empty() ? "" : "' with its --set overrides") +
+                                  "' differs from the run's stored config (" +
+                                  first_difference(given, header.config_toml) +
+                                  "); a resumed run always continues with the stored config, give "
+                                  "--resume alone");
+  } else if (!overrides.empty()) {
+    throw std::invalid_argument("--resume '" + run_path +
+                                "' with --set but no config: a resumed run continues with its stored "
+                                "config and cannot change it (give the original config and --set "
+                                "only to have them checked)");
+  }
+  const bool tty = isatty(fileno(stderr));
+  slipstrip::RunHooks hooks;
+  if (!quiet) hooks.progress = [tty](const slipstrip::RunProgress& p) { print_progress(p, tty); };
+  hooks.progress_interval = tty ? 0.25 : 5.0;
+  hooks.stop_requested = [] { return interrupt_signal != 0; };
+  hooks.stop_after_steps = stop_after_steps;
+  std::fprintf(stderr, "slipstrip %s (%s): resuming %s\n", slipstrip::code_version, slipstrip::git_hash,
+               run_path.c_str());
+  slipstrip::RunResult result;
+  try {
+    result = slipstrip::resume_simulation(run_path, hooks);
+  } catch (const slipstrip::SetupCancelled& e) {
+    std::fprintf(stderr, "interrupted by %s during the set-up (%s); %s and its restart point are unchanged\n",
+                 signal_name(interrupt_signal), e.what(), run_path.c_str());
+    return signal_exit_code();
+  }
+  std::fprintf(stderr, "resumed from step %lld\n", result.resumed_from_step);
+  return report_result(result, run_path, quiet, tty);
+}
+
 int run_command(const std::string& config_path, const std::vector<std::string>& overrides,
-                std::string out_path, bool quiet, bool overwrite, const slipstrip::ResourceLimits& limits) {
+                std::string out_path, bool quiet, bool overwrite, const slipstrip::ResourceLimits& limits,
+                long long stop_after_steps) {
   // Signals first: from here on SIGINT/SIGTERM stop the run within about a
   // second, set-up included.
   std::signal(SIGINT, on_interrupt);
@@ -175,6 +253,10 @@ int run_command(const std::string& config_path, const std::vector<std::string>& 
   if (!quiet) hooks.progress = [tty](const slipstrip::RunProgress& p) { print_progress(p, tty); };
   hooks.progress_interval = tty ? 0.25 : 5.0;
   hooks.stop_requested = [] { return interrupt_signal != 0; };
+  hooks.stop_after_steps = stop_after_steps;
+  // A new run: a restart point left by an earlier run of this name (replaced
+  // with --overwrite) must not be taken for this run's.
+  slipstrip::remove_checkpoint(out_path);
   std::fprintf(stderr, "slipstrip %s (%s): %s -> %s\n", slipstrip::code_version, slipstrip::git_hash,
                config_path.c_str(), out_path.c_str());
   slipstrip::RunResult result;
@@ -185,13 +267,7 @@ int run_command(const std::string& config_path, const std::vector<std::string>& 
                  signal_name(interrupt_signal), e.what());
     return signal_exit_code();
   }
-  if (!quiet && tty) std::fprintf(stderr, "\n");
-  std::fprintf(stderr, "%s after %lld steps (dt = %.6g s), simulated %.6g s in %.2f s wall; output %s\n",
-               result.status.c_str(), result.steps, result.time_step, result.simulated_time,
-               result.wall_seconds, out_path.c_str());
-  if (result.status == "completed") return 0;
-  if (result.status == "interrupted") return signal_exit_code();
-  return 3;  // diverged
+  return report_result(result, out_path, quiet, tty);
 }
 
 int stability_command(const std::string& config_path, const std::vector<std::string>& overrides,
@@ -346,8 +422,18 @@ int main(int argc, char** argv) {
   double alpha = 15.0;
 
   auto* run = app.add_subcommand("run", "Run a simulation from a TOML config and write one HDF5 file "
-                                        "(see docs/config.md and docs/output.md). Ctrl-C stops cleanly.");
-  run->add_option("config", config_path, "TOML config file")->required();
+                                        "(see docs/config.md and docs/output.md). Ctrl-C stops cleanly "
+                                        "and leaves a restart point for --resume.");
+  std::string resume_path;
+  long long stop_after_steps = -1;
+  run->add_option("config", config_path, "TOML config file (with --resume: optional, only checked)");
+  run->add_option("--resume", resume_path,
+                  "Continue the interrupted run RUN.h5 from its restart point RUN.h5.restart, appending "
+                  "to RUN.h5 with the config stored in it (docs/reliability.md)");
+  run->add_option("--stop-after-steps", stop_after_steps,
+                  "Stop as SIGTERM does (restart point, status interrupted, exit 143) once this many "
+                  "time steps from t = 0 are done (for tests of --resume)")
+      ->check(CLI::NonNegativeNumber);
   run->add_option("--set", overrides, "Override a config key: section.key=value (repeatable)");
   run->add_option("--out", out_path, "Output HDF5 file (default: <config name>.h5)");
   run->add_flag("--quiet", quiet, "No progress bar");
@@ -421,7 +507,17 @@ int main(int argc, char** argv) {
   // Our own messages name the cause; HDF5's stack dumps would bury them.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   try {
-    if (*run) return run_command(config_path, overrides, out_path, quiet, overwrite, limits);
+    if (*run) {
+      if (!resume_path.empty()) {
+        if (!out_path.empty() || overwrite)
+          throw std::invalid_argument("--resume '" + resume_path +
+                                      "' continues writing that file: --out and --overwrite do not apply");
+        return resume_command(resume_path, config_path, overrides, quiet, stop_after_steps);
+      }
+      if (config_path.empty())
+        throw std::invalid_argument("run: a config file is required (or --resume RUN.h5; see --help)");
+      return run_command(config_path, overrides, out_path, quiet, overwrite, limits, stop_after_steps);
+    }
     if (*stab) return stability_command(config_path, overrides, wavelengths, height_range, out_path, json);
     if (*ev) return events_command(run_path, alpha, out_path, csv_path);
     if (*bench) return slipstrip::run_bench(bench_options);

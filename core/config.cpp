@@ -45,7 +45,8 @@ constexpr std::string_view kTimeKeys[] = {"beta", "duration", "duration_transits
 constexpr std::string_view kOutputKeys[] = {"timeseries_interval", "snapshot_interval",
                                             "snapshot_slip_increment", "delta_th",
                                             "flush_interval", "kernel_cache", "stations",
-                                            "station_interval", "front_slip_rate"};
+                                            "station_interval", "front_slip_rate",
+                                            "checkpoint_interval"};
 
 constexpr SectionSchema kSchema[] = {
     {"geometry", kGeometryKeys}, {"material", kMaterialKeys},   {"loading", kLoadingKeys},
@@ -760,6 +761,12 @@ void read_output(const toml::table& root, double length, OutputConfig& o) {
       s.out_of_range("flush_interval", format_number(*v), "a wall-clock time > 0 [s]");
     o.flush_interval = *v;
   }
+  if (auto v = s.number("checkpoint_interval")) {
+    if (!(*v >= 0.0) || !std::isfinite(*v))
+      s.out_of_range("checkpoint_interval", format_number(*v),
+                     "0 (restart points only on SIGTERM/SIGINT) or a finite wall-clock time > 0 [s]");
+    o.checkpoint_interval = *v;
+  }
   if (auto v = s.text("kernel_cache")) o.kernel_cache = *v;
   if (auto v = s.numbers("stations")) {
     for (double x : *v)
@@ -1029,6 +1036,8 @@ std::string to_toml(const SimulationConfig& c) {
   number("snapshot_slip_increment", c.output.snapshot_slip_increment, "[m]; 0 = off");
   number("delta_th", c.output.delta_th, "[m] slip-sampling threshold; 0 = off");
   number("flush_interval", c.output.flush_interval, "[s of wall time]");
+  number("checkpoint_interval", c.output.checkpoint_interval,
+         "[s of wall time] between restart points (RUN.h5.restart); 0 = only on SIGTERM/SIGINT");
   {
     out << "stations = [";
     for (std::size_t i = 0; i < c.output.stations.size(); ++i)

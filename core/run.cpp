@@ -7,10 +7,12 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/checkpoint.hpp"
 #include "core/config.hpp"
 #include "core/run_output.hpp"
 #include "core/simulation.hpp"
 #include "core/stations.hpp"
+#include "slipstrip/version.hpp"
 
 namespace slipstrip {
 
@@ -33,11 +35,15 @@ double next_slip_trigger(double next, double mean_slip, double increment) {
   return next;
 }
 
-RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
-                         const RunHooks& hooks) {
+namespace {
+
+// The time loop of a new run (resume_from == nullptr) or of a resumed one.
+RunResult drive(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
+                const RunCheckpoint* resume_from) {
   using clock = std::chrono::steady_clock;
   // The set-up polls the same stop request as the time loop: a signal during
-  // a long kernel set-up ends it with SetupCancelled, before any file exists.
+  // a long kernel set-up ends it with SetupCancelled, before any file exists
+  // (or, on resume, before the run file is touched).
   // A local friction solve that fails already at t = 0 is not a divergence of
   // the run but a combination of [friction], [loading] and [initial] values
   // without a steady state to start from: an input error (exit code 2).
@@ -51,6 +57,7 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
     }
   }();
   Simulation& sim = *sim_owner;
+  if (resume_from) sim.restore_state(resume_from->simulation);
   // Half a step of slack so rounding never adds or drops a final step.  The
   // count must fit a long long (a huge duration once overflowed to "0 steps").
   const double step_count = std::ceil(config.time.duration / sim.time_step() - 0.5);
@@ -61,6 +68,7 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
                                 " s: the step count does not fit a 64-bit integer");
   const long long total_steps = static_cast<long long>(step_count);
   const auto& out_cfg = config.output;
+  const std::string config_toml = to_toml(config);
 
   SlipSamplingSetup sampling;
   sampling.delta_th = out_cfg.delta_th;
@@ -84,7 +92,12 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
                                {"b", "1", nodes.b},
                                {"characteristic_slip", "m", nodes.characteristic_slip}};
   }
-  RunOutput output(output_path, to_toml(config), sampling, options);
+  // A resumed run cuts every record of the file back to the restart point:
+  // whatever was written after it (before the kill) is written again, the same.
+  std::unique_ptr<RunOutput> output_owner =
+      resume_from ? std::make_unique<RunOutput>(output_path, resume_from->output, sampling, options)
+                  : std::make_unique<RunOutput>(output_path, config_toml, sampling, options);
+  RunOutput& output = *output_owner;
 
   // Stations (one buffer per field, sampled in turn) and rupture-front arrival times.
   StationSampler station_slip(out_cfg.stations, sim.dx(), sim.x().size()),
@@ -102,6 +115,7 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
   };
   std::vector<double> front_arrival(out_cfg.front_slip_rate > 0.0 ? sim.x().size() : 0,
                                     std::numeric_limits<double>::quiet_NaN());
+  if (resume_from) front_arrival = resume_from->output.rupture_front;  // sizes checked by RunOutput
   auto record_front = [&] {
     bool changed = false;
     const auto v = sim.slip_rate();
@@ -112,9 +126,6 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
       }
     if (changed) output.set_rupture_front(front_arrival);
   };
-  record_stations();
-  record_front();
-  double next_station = out_cfg.station_interval;
 
   RunResult result;
   result.time_step = sim.time_step();
@@ -124,15 +135,49 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
   auto write_snapshot = [&] {
     output.write_snapshot(sim.time(), sim.slip(), sim.slip_rate(), sim.state(), sim.shear_stress());
   };
-  output.append_timeseries(sim.time(), sim.max_slip_rate(), sim.mean_slip(), sim.mean_shear_stress());
-  const bool snapshots_on = out_cfg.snapshot_interval > 0.0 || out_cfg.snapshot_slip_increment > 0.0;
-  if (snapshots_on) write_snapshot();
+  double next_station = out_cfg.station_interval;
   double next_timeseries = out_cfg.timeseries_interval;
   double next_snapshot = out_cfg.snapshot_interval;
   double next_snapshot_slip = out_cfg.snapshot_slip_increment;
+  if (resume_from) {
+    // The records of t = 0 are in the file already; the triggers continue.
+    next_station = resume_from->next_station;
+    next_timeseries = resume_from->next_timeseries;
+    next_snapshot = resume_from->next_snapshot;
+    next_snapshot_slip = resume_from->next_snapshot_slip;
+    result.resumed_from_step = sim.step_index();
+  } else {
+    record_stations();
+    record_front();
+    output.append_timeseries(sim.time(), sim.max_slip_rate(), sim.mean_slip(), sim.mean_shear_stress());
+    const bool snapshots_on = out_cfg.snapshot_interval > 0.0 || out_cfg.snapshot_slip_increment > 0.0;
+    if (snapshots_on) write_snapshot();
+  }
+
+  // A restart point: the run file flushed (so its records end exactly at the
+  // cursors), then the state after the current step.  force: also when a
+  // reader holds the file (the run is stopping); otherwise a held file
+  // postpones the restart point to the next interval check.  Allocates: only
+  // every checkpoint_interval seconds and at the stop, never per step.
+  auto write_restart_point = [&](bool force) {
+    auto cursor = output.flush_for_checkpoint(force);
+    if (!cursor) return false;
+    RunCheckpoint checkpoint;
+    checkpoint.config_toml = config_toml;
+    checkpoint.git_hash = slipstrip::git_hash;
+    checkpoint.simulation = sim.save_state();
+    checkpoint.output = std::move(*cursor);
+    checkpoint.next_timeseries = next_timeseries;
+    checkpoint.next_snapshot = next_snapshot;
+    checkpoint.next_snapshot_slip = next_snapshot_slip;
+    checkpoint.next_station = next_station;
+    write_checkpoint(output_path, checkpoint);
+    result.restart_point = checkpoint_path(output_path);
+    return true;
+  };
 
   const auto start = clock::now();
-  auto last_flush = start, last_progress = start;
+  auto last_flush = start, last_progress = start, last_checkpoint = start;
   auto seconds_since = [](clock::time_point t) {
     return std::chrono::duration<double>(clock::now() - t).count();
   };
@@ -161,6 +206,9 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
       }
       // Wall-clock checks are cheap but not free: every 16 steps is plenty.
       if ((sim.step_index() & 15) == 0) {
+        if (out_cfg.checkpoint_interval > 0.0 && seconds_since(last_checkpoint) >= out_cfg.checkpoint_interval &&
+            write_restart_point(false))
+          last_checkpoint = last_flush = clock::now();
         if (seconds_since(last_flush) >= out_cfg.flush_interval) {
           output.flush();
           last_flush = clock::now();
@@ -170,7 +218,9 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
           last_progress = clock::now();
         }
       }
-      if (hooks.stop_requested && hooks.stop_requested()) {
+      if ((hooks.stop_requested && hooks.stop_requested()) ||
+          (hooks.stop_after_steps >= 0 && sim.step_index() >= hooks.stop_after_steps)) {
+        write_restart_point(/*force=*/true);
         result.status = "interrupted";
         break;
       }
@@ -187,7 +237,36 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
   if (hooks.progress)
     hooks.progress({sim.time(), duration, sim.step_index(), sim.max_slip_rate(), result.wall_seconds});
   output.close(result.status);
+  if (result.status != "interrupted") {
+    // Completed: nothing left to resume.  Diverged: a resume would diverge
+    // again, bit for bit.  Either way the restart point is dead weight.
+    remove_checkpoint(output_path);
+    result.restart_point.clear();
+  }
   return result;
+}
+
+}  // namespace
+
+RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
+                         const RunHooks& hooks) {
+  return drive(config, output_path, hooks, nullptr);
+}
+
+RunResult resume_simulation(const std::string& output_path, const RunHooks& hooks) {
+  const RunFileHeader header = read_run_file_header(output_path);
+  if (header.status == "completed")
+    throw std::invalid_argument("run file '" + output_path + "' is completed: nothing to resume");
+  if (header.status.rfind("diverged", 0) == 0)
+    throw std::invalid_argument("run file '" + output_path + "' has status '" + header.status +
+                                "': a resumed run would diverge again; nothing to resume");
+  const RunCheckpoint checkpoint = read_checkpoint(output_path);
+  if (checkpoint.config_toml != header.config_toml)
+    throw std::invalid_argument("restart point '" + checkpoint_path(output_path) +
+                                "' was written for another config than the run file '" + output_path +
+                                "' holds (not its restart point)");
+  const SimulationConfig config = load_config_string(header.config_toml);
+  return drive(config, output_path, hooks, &checkpoint);
 }
 
 }  // namespace slipstrip

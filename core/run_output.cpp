@@ -177,6 +177,36 @@ void require_positive(int value, const char* name) {
 RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
                      const SlipSamplingSetup& slip_sampling, RunOutputOptions options)
     : path_(path), node_count_(slip_sampling.x.size()), options_(options) {
+  initialise_buffers(slip_sampling);
+  try {
+    create_file(config_toml, slip_sampling);
+  } catch (const std::runtime_error& e) {
+    failed_ = closed_ = true;
+    throw OutputError("cannot create the run file '" + path + "': " + e.what());
+  }
+}
+
+RunOutput::RunOutput(const std::string& path, const RunOutputCursor& cursor,
+                     const SlipSamplingSetup& slip_sampling, RunOutputOptions options)
+    : path_(path), node_count_(slip_sampling.x.size()), options_(options) {
+  initialise_buffers(slip_sampling);
+  const auto per_node = [&](std::size_t size, std::size_t expected, const char* what) {
+    if (size != expected)
+      throw std::invalid_argument("restart point: " + std::string(what) + " has " + std::to_string(size) +
+                                  " values, the run has " + std::to_string(expected));
+  };
+  per_node(cursor.levels_reached.size(), slip_sampling_on_ ? node_count_ : 0, "levels_reached");
+  per_node(cursor.next_threshold.size(), slip_sampling_on_ ? node_count_ : 0, "next_threshold");
+  per_node(cursor.rupture_front.size(), rupture_front_.size(), "rupture_front");
+  try {
+    reopen_file(cursor);
+  } catch (const std::runtime_error& e) {
+    failed_ = closed_ = true;
+    throw std::invalid_argument("cannot resume the run file '" + path + "': " + e.what());
+  }
+}
+
+void RunOutput::initialise_buffers(const SlipSamplingSetup& slip_sampling) {
   if (node_count_ == 0)
     throw std::invalid_argument("SlipSamplingSetup.x: node positions are empty; need N >= 1 nodes");
   if (!(slip_sampling.delta_th >= 0.0) || !std::isfinite(slip_sampling.delta_th))
@@ -208,12 +238,6 @@ RunOutput::RunOutput(const std::string& path, const std::string& config_toml,
     next_threshold_.assign(node_count_, delta_th_);
   }
 
-  try {
-    create_file(config_toml, slip_sampling);
-  } catch (const std::runtime_error& e) {
-    failed_ = closed_ = true;
-    throw OutputError("cannot create the run file '" + path + "': " + e.what());
-  }
 }
 
 void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSetup& slip_sampling) {
@@ -424,6 +448,100 @@ bool RunOutput::flush() {
   return write_out(WriteTrigger::flush);
 }
 
+std::optional<RunOutputCursor> RunOutput::flush_for_checkpoint(bool force) {
+  if (closed_) throw std::logic_error("RunOutput::flush_for_checkpoint after close: " + path_);
+  if (!write_out(force ? WriteTrigger::forced : WriteTrigger::flush)) return std::nullopt;
+  RunOutputCursor cursor;
+  cursor.timeseries_rows = timeseries_rows_in_file_;
+  cursor.snapshots = snapshots_in_file_;
+  cursor.station_rows = station_rows_in_file_;
+  cursor.crossing_rows = levels_max_;
+  cursor.slip_recorded = slip_recorded_;
+  cursor.levels_reached.assign(levels_reached_.begin(), levels_reached_.end());
+  cursor.next_threshold = next_threshold_;
+  cursor.rupture_front = rupture_front_;
+  return cursor;
+}
+
+void RunOutput::reopen_file(const RunOutputCursor& cursor) {
+  Handle file = open_for_append(path_, false);
+  // Cuts an extendible dataset back to `rows`; fewer rows than the cursor
+  // means the file is not the one the restart point was taken from.
+  const auto cut = [](hid_t group, const char* name, hsize_t rows, hsize_t columns) {
+    Handle dset(H5Dopen2(group, name, H5P_DEFAULT), std::string("H5Dopen2(") + name + ")");
+    const hsize_t in_file = rows_of(dset);
+    if (in_file < rows)
+      throw std::runtime_error(std::string(name) + " has " + std::to_string(in_file) +
+                               " rows, fewer than the " + std::to_string(rows) +
+                               " of the restart point (not the file the restart point belongs to)");
+    const hsize_t dims[2] = {rows, columns};
+    check(H5Dset_extent(dset, dims), std::string("H5Dset_extent(") + name + ")");
+  };
+  {
+    Handle group(H5Gopen2(file, "timeseries", H5P_DEFAULT), "H5Gopen2(timeseries)");
+    for (const char* name : timeseries_names) cut(group, name, cursor.timeseries_rows, 0);
+  }
+  {
+    Handle group(H5Gopen2(file, "snapshots", H5P_DEFAULT), "H5Gopen2(snapshots)");
+    cut(group, "time", cursor.snapshots, 0);
+    for (const char* name : snapshot_names) cut(group, name, cursor.snapshots, node_count_);
+  }
+  if (station_count_ > 0) {
+    Handle group(H5Gopen2(file, "stations", H5P_DEFAULT), "H5Gopen2(stations)");
+    for (const char* name : {"time", "max_slip_rate", "moment_rate"}) cut(group, name, cursor.station_rows, 0);
+    for (const char* name : station_field_names) cut(group, name, cursor.station_rows, station_count_);
+  }
+  if (slip_sampling_on_) {
+    // Crossings are single elements (NaN = not reached): those of levels a
+    // node reached after the restart point are reset to NaN before the rows
+    // are cut, so no value of the lost steps survives in a chunk that stays.
+    Handle dset(H5Dopen2(file, "slip_sampling/crossing_time", H5P_DEFAULT), "H5Dopen2(crossing_time)");
+    const hsize_t in_file = rows_of(dset), n = node_count_;
+    if (in_file < cursor.crossing_rows)
+      throw std::runtime_error("crossing_time has " + std::to_string(in_file) + " rows, fewer than the " +
+                               std::to_string(cursor.crossing_rows) + " of the restart point");
+    const hsize_t first = *std::min_element(cursor.levels_reached.begin(), cursor.levels_reached.end());
+    if (in_file > first) {
+      const hsize_t rows = in_file - first;
+      std::vector<double> block(rows * n);
+      Handle file_space(H5Dget_space(dset), "H5Dget_space(crossing_time)");
+      const hsize_t start[2] = {first, 0}, count[2] = {rows, n};
+      check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr),
+            "H5Sselect_hyperslab(crossing_time)");
+      Handle memory_space(H5Screate_simple(2, count, nullptr), "H5Screate_simple");
+      check(H5Dread(dset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, block.data()),
+            "H5Dread(crossing_time)");
+      for (hsize_t r = 0; r < rows; ++r)
+        for (hsize_t i = 0; i < n; ++i)
+          if (first + r >= cursor.levels_reached[i]) block[r * n + i] = nan_value;
+      check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, block.data()),
+            "H5Dwrite(crossing_time)");
+    }
+    const hsize_t dims[2] = {cursor.crossing_rows, n};
+    check(H5Dset_extent(dset, dims), "H5Dset_extent(crossing_time)");
+  }
+  if (!rupture_front_.empty()) {
+    Handle dset(H5Dopen2(file, "rupture_front/arrival_time", H5P_DEFAULT), "H5Dopen2(arrival_time)");
+    check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, cursor.rupture_front.data()),
+          "H5Dwrite(arrival_time)");
+  }
+  hdf5::write_attribute(file, "status", std::string("running"));
+  hdf5::write_attribute(file, "end_time", std::string());
+  check(H5Fclose(file.release()), "H5Fclose(" + path_ + ")");
+
+  timeseries_rows_in_file_ = cursor.timeseries_rows;
+  snapshots_in_file_ = cursor.snapshots;
+  station_rows_in_file_ = cursor.station_rows;
+  crossing_rows_in_file_ = cursor.crossing_rows;
+  levels_max_ = cursor.crossing_rows;
+  slip_recorded_ = cursor.slip_recorded;
+  if (slip_sampling_on_) {
+    std::copy(cursor.levels_reached.begin(), cursor.levels_reached.end(), levels_reached_.begin());
+    next_threshold_ = cursor.next_threshold;
+  }
+  rupture_front_ = cursor.rupture_front;
+}
+
 void RunOutput::close(const std::string& status) {
   if (closed_) return;
   const bool allowed = status == "completed" || status == "interrupted" ||
@@ -451,7 +569,8 @@ Handle RunOutput::open_unless_reader_holds(WriteTrigger trigger) {
   if (!reader_holds_since_) reader_holds_since_ = now;
   // The run must not hang on a forgotten reader: past the timeout, and at
   // close, write anyway (that reader may see a mix of old and new data).
-  if (trigger == WriteTrigger::close || now - *reader_holds_since_ >= timeout)
+  if (trigger == WriteTrigger::close || trigger == WriteTrigger::forced ||
+      now - *reader_holds_since_ >= timeout)
     return open_for_append(path_, false);
   ++deferred_writes_;
   return {};

@@ -11,6 +11,7 @@
 // the file under that reader.
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -72,11 +73,33 @@ struct RunOutputOptions {
   double reader_lock_timeout = 30.0;
 };
 
+// Where the run file's records stand after a complete write-out: what a
+// restart point stores (core/checkpoint.hpp) so that a resumed run can cut the
+// file back to exactly this point, whatever was written after it.
+struct RunOutputCursor {
+  std::uint64_t timeseries_rows = 0;
+  std::uint64_t snapshots = 0;
+  std::uint64_t station_rows = 0;
+  std::uint64_t crossing_rows = 0;            // rows of crossing_time = highest level reached + 1
+  bool slip_recorded = false;                 // record_slip has checked the initial slip
+  std::vector<std::uint64_t> levels_reached;  // per node (slip sampling; empty when off)
+  std::vector<double> next_threshold;         // per node [m]
+  std::vector<double> rupture_front;          // per node [s] (empty without /rupture_front)
+};
+
 class RunOutput {
  public:
   // Creates (truncates) `path`, writes the root attributes (status "running")
   // and the empty groups, then closes the file again.
   RunOutput(const std::string& path, const std::string& config_toml,
+            const SlipSamplingSetup& slip_sampling, RunOutputOptions options = {});
+  // Resumes writing an existing run file from a restart point: every record
+  // is cut back to `cursor` (rows appended after it are removed, crossing
+  // times recorded after it are reset to the NaN fill, the rupture front is
+  // rewritten), status is set back to "running".  `slip_sampling` and
+  // `options` must be those of the run (same config).  A file that does not
+  // fit the cursor (missing datasets, fewer rows) throws std::invalid_argument.
+  RunOutput(const std::string& path, const RunOutputCursor& cursor,
             const SlipSamplingSetup& slip_sampling, RunOutputOptions options = {});
   RunOutput(const RunOutput&) = delete;
   RunOutput& operator=(const RunOutput&) = delete;
@@ -105,6 +128,11 @@ class RunOutput {
   // the write was deferred because a reader holds the file open (the rows stay
   // buffered for the next flush).
   bool flush();
+  // Writes every buffered row and returns the cursors of what the file now
+  // holds (for a restart point).  force = false behaves like flush() (nothing
+  // if a reader holds the file: returns no cursor); force = true writes anyway,
+  // as close() does.
+  std::optional<RunOutputCursor> flush_for_checkpoint(bool force);
   // status: "completed", "interrupted" or "diverged: <diagnostic>".  Flushes,
   // records status and end_time.  A second call is a no-op.
   void close(const std::string& status);
@@ -120,7 +148,9 @@ class RunOutput {
   std::size_t deferred_writes() const { return deferred_writes_; }
 
  private:
-  enum class WriteTrigger { buffer_full, flush, close };
+  enum class WriteTrigger { buffer_full, flush, forced, close };
+  void initialise_buffers(const SlipSamplingSetup& slip_sampling);
+  void reopen_file(const RunOutputCursor& cursor);
   // Opens, appends every buffer (and at close the final status), closes.
   // Returns false if deferred because a reader holds the file.
   bool write_out(WriteTrigger trigger, const std::string* final_status = nullptr);

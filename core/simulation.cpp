@@ -142,6 +142,38 @@ void Simulation::check_finite(const char* what) const {
   }
 }
 
+SimulationState Simulation::save_state() const {
+  SimulationState saved;
+  saved.time = time_;
+  saved.step_index = step_index_;
+  saved.slip = slip_;
+  saved.slip_rate = slip_rate_;
+  saved.state = state_;
+  saved.shear_stress = shear_stress_;
+  saved.history_stress = history_stress_;
+  saved.history = history_->save_state();
+  return saved;
+}
+
+void Simulation::restore_state(const SimulationState& saved) {
+  const std::pair<const std::vector<double>*, std::vector<double>*> fields[] = {
+      {&saved.slip, &slip_}, {&saved.slip_rate, &slip_rate_}, {&saved.state, &state_},
+      {&saved.shear_stress, &shear_stress_}, {&saved.history_stress, &history_stress_}};
+  const char* names[] = {"slip", "slip_rate", "state", "shear_stress", "history_stress"};
+  for (std::size_t f = 0; f < std::size(fields); ++f)
+    if (fields[f].first->size() != fields[f].second->size())
+      throw std::invalid_argument(std::string("saved simulation state: ") + names[f] + " has " +
+                                  std::to_string(fields[f].first->size()) + " values, this config has " +
+                                  std::to_string(nodes_) + " nodes");
+  if (!(saved.step_index >= 0) || !std::isfinite(saved.time))
+    throw std::invalid_argument("saved simulation state: step " + std::to_string(saved.step_index) +
+                                ", t = " + std::to_string(saved.time) + " s is not a valid time level");
+  history_->restore_state(saved.history);
+  for (const auto& [from, to] : fields) std::copy(from->begin(), from->end(), to->begin());
+  time_ = saved.time;
+  step_index_ = saved.step_index;
+}
+
 double Simulation::max_slip_rate() const {
   return *std::max_element(slip_rate_.begin(), slip_rate_.end());
 }

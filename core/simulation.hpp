@@ -22,6 +22,17 @@ struct SimulationError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Everything a Simulation carries from one step to the next: the interface
+// fields, the time, and the history operator's state.  What a restart point
+// holds (core/checkpoint.hpp); the other members are per-step scratch or are
+// rebuilt from the config.
+struct SimulationState {
+  double time = 0.0;
+  long long step_index = 0;
+  std::vector<double> slip, slip_rate, state, shear_stress, history_stress;
+  HistoryOperatorState history;
+};
+
 class Simulation {
  public:
   // `cancelled` is polled during the kernel and operator set-up (which takes
@@ -47,6 +58,13 @@ class Simulation {
   std::span<const double> slip_rate() const { return slip_rate_; }      // [m/s]
   std::span<const double> state() const { return state_; }              // phi [s]
   std::span<const double> shear_stress() const { return shear_stress_; }  // [Pa]
+
+  // Save (allocates: outside the time loop) and restore into a Simulation
+  // built from the same config; the restored one then steps bit for bit as
+  // the saved one would.  restore_state throws std::invalid_argument naming
+  // the field if a size does not match this config.
+  SimulationState save_state() const;
+  void restore_state(const SimulationState& saved);
 
   double max_slip_rate() const;
   double mean_slip() const;

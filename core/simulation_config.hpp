@@ -86,6 +86,9 @@ struct OutputConfig {
   double snapshot_slip_increment = 0.0;  // [output] snapshot_slip_increment [m] (mean slip); 0 = off
   double delta_th = 1e-8;            // [output] delta_th [m], slip-sampling threshold; 0 = off
   double flush_interval = 5.0;       // [output] flush_interval [s of wall time]
+  // [output] checkpoint_interval [s of wall time] between restart points
+  // (RUN.h5.restart, docs/output.md); 0 = only when SIGTERM/SIGINT stops the run.
+  double checkpoint_interval = 600.0;
   // [output] kernel_cache: directory where the strip kernels (normal-mode
   // phases and weights per Fourier mode) are cached, one HDF5 file per set of
   // inputs they depend on, so a scan computes them once; "" = no cache.

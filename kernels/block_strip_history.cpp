@@ -243,4 +243,38 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
   position_ = p;
 }
 
+HistoryOperatorState BlockStripHistory::save_state() const {
+  HistoryOperatorState state;
+  state.kind = "block strip";
+  state.counters.emplace_back("echo_cursor", static_cast<long long>(echo_cursor_));
+  state.counters.emplace_back("position", position_);
+  state.counters.emplace_back("block", block_);
+  state.add("mode_state", state_);
+  state.add("input", input_);
+  state.add("accumulator", accumulator_);
+  state.add("running_sum", running_sum_);
+  state.add("echo_line", echo_line_);
+  state.add("history", history_);
+  return state;
+}
+
+void BlockStripHistory::restore_state(const HistoryOperatorState& state) {
+  state.require_kind("block strip");
+  const long long cursor = state.counter("echo_cursor"), position = state.counter("position");
+  if (state.counter("block") != block_)
+    throw std::invalid_argument("block history state: block = " + std::to_string(state.counter("block")) +
+                                ", this operator's is " + std::to_string(block_));
+  if (cursor < 0 || static_cast<std::size_t>(cursor) >= echo_steps_ || position < 0 || position >= block_)
+    throw std::invalid_argument("block history state: echo_cursor = " + std::to_string(cursor) +
+                                " or position = " + std::to_string(position) + " out of range");
+  state.copy_to("mode_state", std::span<cplx>(state_));
+  state.copy_to("input", std::span<cplx>(input_));
+  state.copy_to("accumulator", std::span<cplx>(accumulator_));
+  state.copy_to("running_sum", std::span<cplx>(running_sum_));
+  state.copy_to("echo_line", std::span<cplx>(echo_line_));
+  state.copy_to("history", std::span<cplx>(history_));
+  echo_cursor_ = static_cast<std::size_t>(cursor);
+  position_ = static_cast<int>(position);
+}
+
 }  // namespace slipstrip

@@ -62,6 +62,11 @@ class BlockStripHistory final : public HistoryOperator {
   ModeOperatorStats stats() const override;
   void push(std::span<const std::complex<double>> slip_rate_spectrum) override;
   std::span<const std::complex<double>> history() const override { return history_; }
+  // The normal-mode states, the inputs and partial outputs of the current
+  // block, the running sums and the delay line (the per-thread scratch and
+  // the kernel spectra are not state: rebuilt from the config).
+  HistoryOperatorState save_state() const override;
+  void restore_state(const HistoryOperatorState& state) override;
 
   int block() const { return block_; }
 

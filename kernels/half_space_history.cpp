@@ -192,4 +192,33 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
   ++step_;
 }
 
+HistoryOperatorState HalfSpaceHistory::save_state() const {
+  HistoryOperatorState state;
+  state.kind = "half-space";
+  // The step count places the ring buffers' cursor (slot = step mod W_q).
+  state.counters.emplace_back("step", step_);
+  state.add("ring", ring_);
+  state.add("c_re", c_re_);
+  state.add("c_im", c_im_);
+  state.add("s_re", s_re_);
+  state.add("s_im", s_im_);
+  state.add("running_sum", running_sum_);
+  state.add("history", history_);
+  return state;
+}
+
+void HalfSpaceHistory::restore_state(const HistoryOperatorState& state) {
+  state.require_kind("half-space");
+  const long long step = state.counter("step");
+  if (step < 0) throw std::invalid_argument("half-space history state: step = " + std::to_string(step) + " < 0");
+  state.copy_to("ring", std::span<std::complex<double>>(ring_));
+  state.copy_to("c_re", std::span<double>(c_re_));
+  state.copy_to("c_im", std::span<double>(c_im_));
+  state.copy_to("s_re", std::span<double>(s_re_));
+  state.copy_to("s_im", std::span<double>(s_im_));
+  state.copy_to("running_sum", std::span<std::complex<double>>(running_sum_));
+  state.copy_to("history", std::span<std::complex<double>>(history_));
+  step_ = step;
+}
+
 }  // namespace slipstrip

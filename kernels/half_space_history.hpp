@@ -60,6 +60,8 @@ class HalfSpaceHistory final : public HistoryOperator {
   ModeOperatorStats stats() const override;
   void push(std::span<const std::complex<double>> slip_rate_spectrum) override;
   std::span<const std::complex<double>> history() const override { return history_; }
+  HistoryOperatorState save_state() const override;
+  void restore_state(const HistoryOperatorState& state) override;
 
   // Coefficients of mode q >= 1, as used by push().
   HalfSpaceModeKernel mode_kernel(int q) const;

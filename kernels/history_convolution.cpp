@@ -194,4 +194,88 @@ void StripHistory::push(std::span<const std::complex<double>> slip_rate_spectrum
   }
 }
 
+void HistoryOperatorState::add(const std::string& name, std::span<const double> values) {
+  arrays.emplace_back(name, std::vector<double>(values.begin(), values.end()));
+}
+
+void HistoryOperatorState::add(const std::string& name,
+                               std::span<const std::complex<double>> values) {
+  std::vector<double> flat(2 * values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    flat[2 * i] = values[i].real();
+    flat[2 * i + 1] = values[i].imag();
+  }
+  arrays.emplace_back(name, std::move(flat));
+}
+
+namespace {
+const std::vector<double>& find_array(const HistoryOperatorState& state, const std::string& name,
+                                      std::size_t expected_size) {
+  for (const auto& [key, values] : state.arrays) {
+    if (key != name) continue;
+    if (values.size() != expected_size)
+      throw std::invalid_argument("history operator state '" + state.kind + "': array '" + name +
+                                  "' has " + std::to_string(values.size()) + " values, this operator needs " +
+                                  std::to_string(expected_size) + " (a restart point of another config?)");
+    return values;
+  }
+  throw std::invalid_argument("history operator state '" + state.kind + "': array '" + name +
+                              "' is missing");
+}
+}  // namespace
+
+void HistoryOperatorState::copy_to(const std::string& name, std::span<double> target) const {
+  const auto& values = find_array(*this, name, target.size());
+  std::copy(values.begin(), values.end(), target.begin());
+}
+
+void HistoryOperatorState::copy_to(const std::string& name,
+                                   std::span<std::complex<double>> target) const {
+  const auto& values = find_array(*this, name, 2 * target.size());
+  for (std::size_t i = 0; i < target.size(); ++i) target[i] = {values[2 * i], values[2 * i + 1]};
+}
+
+long long HistoryOperatorState::counter(const std::string& name) const {
+  for (const auto& [key, value] : counters)
+    if (key == name) return value;
+  throw std::invalid_argument("history operator state '" + kind + "': counter '" + name +
+                              "' is missing");
+}
+
+void HistoryOperatorState::require_kind(const std::string& expected) const {
+  if (kind != expected)
+    throw std::invalid_argument("history operator state is of kind '" + kind + "', this run's operator is '" +
+                                expected + "' (a restart point of another config?)");
+}
+
+HistoryOperatorState StripHistory::save_state() const {
+  HistoryOperatorState state;
+  state.kind = "modal strip";
+  state.counters.emplace_back("echo_cursor", static_cast<long long>(echo_cursor_));
+  state.add("c_re", c_re_);
+  state.add("c_im", c_im_);
+  state.add("s_re", s_re_);
+  state.add("s_im", s_im_);
+  state.add("running_sum", running_sum_);
+  state.add("echo_line", echo_line_);
+  state.add("history", history_);
+  return state;
+}
+
+void StripHistory::restore_state(const HistoryOperatorState& state) {
+  state.require_kind("modal strip");
+  const long long cursor = state.counter("echo_cursor");
+  if (cursor < 0 || static_cast<std::size_t>(cursor) >= echo_steps_)
+    throw std::invalid_argument("history operator state: echo_cursor = " + std::to_string(cursor) +
+                                " outside 0.." + std::to_string(echo_steps_ - 1));
+  state.copy_to("c_re", std::span<double>(c_re_));
+  state.copy_to("c_im", std::span<double>(c_im_));
+  state.copy_to("s_re", std::span<double>(s_re_));
+  state.copy_to("s_im", std::span<double>(s_im_));
+  state.copy_to("running_sum", std::span<std::complex<double>>(running_sum_));
+  state.copy_to("echo_line", std::span<std::complex<double>>(echo_line_));
+  state.copy_to("history", std::span<std::complex<double>>(history_));
+  echo_cursor_ = static_cast<std::size_t>(cursor);
+}
+
 }  // namespace slipstrip

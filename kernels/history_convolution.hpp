@@ -17,6 +17,8 @@
 #include <functional>
 #include <span>
 #include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
@@ -84,6 +86,26 @@ struct ModeOperatorStats {
   std::size_t memory_bytes = 0;     // state + coefficients
 };
 
+// Everything push() changes in a history operator, as named arrays and
+// counters: what a restart point (checkpoint) must hold so that the restored
+// operator continues bit for bit.  Complex arrays are stored as interleaved
+// (re, im) doubles.  `kind` names the operator; restoring into another kind,
+// or arrays of another size (a different config), is refused.
+struct HistoryOperatorState {
+  std::string kind;
+  std::vector<std::pair<std::string, std::vector<double>>> arrays;
+  std::vector<std::pair<std::string, long long>> counters;
+
+  void add(const std::string& name, std::span<const double> values);
+  void add(const std::string& name, std::span<const std::complex<double>> values);
+  // Copies the array `name` into `target`; throws std::invalid_argument if it
+  // is missing or of another size.
+  void copy_to(const std::string& name, std::span<double> target) const;
+  void copy_to(const std::string& name, std::span<std::complex<double>> target) const;
+  long long counter(const std::string& name) const;
+  void require_kind(const std::string& expected) const;
+};
+
 // The history part of the traction per Fourier mode, as the time loop sees it:
 // feed the slip-rate perturbation spectrum at t_n, read the history part at
 // t_{n+1}.  Two implementations: StripHistory (finite H, exact) and
@@ -99,6 +121,11 @@ class HistoryOperator {
   // Feed v^_q(t_n); afterwards history() holds history_q(t_{n+1}).  No allocation.
   virtual void push(std::span<const std::complex<double>> slip_rate_spectrum) = 0;
   virtual std::span<const std::complex<double>> history() const = 0;
+  // The state after the last push (for checkpoints; allocates, so never in the
+  // time loop), and its restoration into an operator built from the same
+  // config: afterwards push() continues exactly as the saved operator would.
+  virtual HistoryOperatorState save_state() const = 0;
+  virtual void restore_state(const HistoryOperatorState& state) = 0;
 };
 
 class StripHistory final : public HistoryOperator {
@@ -115,7 +142,8 @@ class StripHistory final : public HistoryOperator {
   ModeOperatorStats stats() const override;
   void push(std::span<const std::complex<double>> slip_rate_spectrum) override;
   std::span<const std::complex<double>> history() const override { return history_; }
-
+  HistoryOperatorState save_state() const override;
+  void restore_state(const HistoryOperatorState& state) override;
 
  private:
   double dt_;

@@ -452,16 +452,34 @@ def execute_task(payload: dict) -> dict:
         for o in payload["overrides"]:
             cmd += ["--set", o]
         cmd += _kernel_cache_override(payload["overrides"], run_file.parent)
-        cmd += ["--out", str(run_file), "--quiet"]
-        # A file of an earlier attempt must not outlive this one: if this run
-        # fails before writing, an old "completed" file would pass for its result.
-        run_file.unlink(missing_ok=True)
-        _record_path(run_file).unlink(missing_ok=True)
         start = time.monotonic()
-        try:
-            returncode, out, err = _run_solver(cmd, env)
-        except OSError as e:
-            returncode, out, err = -1, "", f"cannot start {binary}: {e}"
+        returncode = None
+        if _has_restart_point(run_file):
+            # An interrupted run of this scan (Ctrl-C, a Slurm time limit):
+            # continue it from its restart point instead of redoing it.  The
+            # config and overrides are passed only to be checked: the solver
+            # refuses (exit 2) if they do not resolve to the run's stored config
+            # (the scan file was edited) or the restart point is unusable, and
+            # the run is then done again from t = 0.
+            _record_path(run_file).unlink(missing_ok=True)
+            try:
+                returncode, out, err = _run_solver(cmd + ["--resume", str(run_file), "--quiet"], env)
+            except OSError as e:
+                returncode, out, err = -1, "", f"cannot start {binary}: {e}"
+            if returncode == 2:
+                print(f"[scan] run {payload['index']}: {run_file.name} cannot be resumed "
+                      f"({_tail(err or out)}); running it again", file=sys.stderr)
+                returncode = None
+        if returncode is None:
+            # A file of an earlier attempt must not outlive this one: if this run
+            # fails before writing, an old "completed" file would pass for its result.
+            run_file.unlink(missing_ok=True)
+            _restart_point(run_file).unlink(missing_ok=True)
+            _record_path(run_file).unlink(missing_ok=True)
+            try:
+                returncode, out, err = _run_solver(cmd + ["--out", str(run_file), "--quiet"], env)
+            except OSError as e:
+                returncode, out, err = -1, "", f"cannot start {binary}: {e}"
         row["wall_time_s"] = time.monotonic() - start
         if returncode != 0:
             row["error"] = f"slipstrip run exited with code {returncode}: " + (_tail(err or out) or "(no message)")
@@ -488,6 +506,16 @@ def execute_task(payload: dict) -> dict:
         record["analysis_details"] = details
     _write_json(_record_path(run_file), record)
     return row
+
+
+def _restart_point(run_file: Path) -> Path:
+    """The solver's restart point of a run file (docs/output.md): RUN.h5.restart."""
+    return run_file.with_name(run_file.name + ".restart")
+
+
+def _has_restart_point(run_file: Path) -> bool:
+    """An interrupted run that `slipstrip run --resume` can continue."""
+    return _restart_point(run_file).is_file() and run_status(run_file) not in (None, "completed")
 
 
 def _run_solver(cmd: list[str], env: dict) -> tuple[int, str, str]:
