@@ -433,7 +433,7 @@ int main(int argc, char** argv) {
   run->add_option("--stop-after-steps", stop_after_steps,
                   "Stop as SIGTERM does (restart point, status interrupted, exit 143) once this many "
                   "time steps from t = 0 are done (for tests of --resume)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_positive);
   run->add_option("--set", overrides, "Override a config key: section.key=value (repeatable)");
   run->add_option("--out", out_path, "Output HDF5 file (default: <config name>.h5)");
   run->add_flag("--quiet", quiet, "No progress bar");

@@ -525,6 +525,12 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
     check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, cursor.rupture_front.data()),
           "H5Dwrite(arrival_time)");
   }
+  // An event catalog (`slipstrip events`, `analyze --write-events`) of the
+  // interrupted part describes a record that is about to change: dropped, as
+  // an uninterrupted run has none.
+  const htri_t has_events = H5Lexists(file, "events", H5P_DEFAULT);
+  check(has_events, "H5Lexists(events)");
+  if (has_events > 0) check(H5Ldelete(file, "events", H5P_DEFAULT), "H5Ldelete(events)");
   hdf5::write_attribute(file, "status", std::string("running"));
   hdf5::write_attribute(file, "end_time", std::string());
   check(H5Fclose(file.release()), "H5Fclose(" + path_ + ")");
