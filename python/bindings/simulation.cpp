@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -85,8 +86,9 @@ py::dict progress_dict(const RunProgress& p) {
 // from Ctrl-C, or anything the callback raises) stops the run cleanly -- the
 // file is closed with status "interrupted" -- and is then re-raised with the
 // RunResult attached as `run_result`.
-RunResult run(const slipstrip::SimulationConfig& config, const std::string& output_path,
-              py::object progress, double progress_interval) {
+// `drive` is run_simulation or resume_simulation with the hooks filled in here.
+RunResult run_with_hooks(const std::function<RunResult(const slipstrip::RunHooks&)>& drive,
+                         py::object progress, double progress_interval) {
   if (!(progress_interval >= 0))
     throw std::invalid_argument("progress_interval = " + std::to_string(progress_interval) +
                                 " is invalid: expected >= 0 seconds of wall time");
@@ -126,7 +128,7 @@ RunResult run(const slipstrip::SimulationConfig& config, const std::string& outp
   {
     py::gil_scoped_release release;
     try {
-      result = slipstrip::run_simulation(config, output_path, hooks);
+      result = drive(hooks);
     } catch (const slipstrip::SetupCancelled&) {
       if (!pending) throw;
       setup_cancelled = true;
@@ -148,6 +150,20 @@ RunResult run(const slipstrip::SimulationConfig& config, const std::string& outp
     throw py::error_already_set();
   }
   return result;
+}
+
+RunResult run(const slipstrip::SimulationConfig& config, const std::string& output_path,
+              py::object progress, double progress_interval) {
+  return run_with_hooks(
+      [&](const slipstrip::RunHooks& hooks) { return slipstrip::run_simulation(config, output_path, hooks); },
+      progress, progress_interval);
+}
+
+// Continues an interrupted run from its restart point (core/run.hpp).
+RunResult resume(const std::string& output_path, py::object progress, double progress_interval) {
+  return run_with_hooks(
+      [&](const slipstrip::RunHooks& hooks) { return slipstrip::resume_simulation(output_path, hooks); },
+      progress, progress_interval);
 }
 
 }  // namespace
@@ -199,5 +215,7 @@ void bind_simulation(py::module_& m) {
       });
 
   m.def("_run", &run, py::arg("config"), py::arg("output_path"), py::arg("progress") = py::none(),
+        py::arg("progress_interval") = 0.5);
+  m.def("_resume", &resume, py::arg("output_path"), py::arg("progress") = py::none(),
         py::arg("progress_interval") = 0.5);
 }

@@ -48,7 +48,7 @@ __all__ = [
     "Simulation", "SimulationError", "characteristic_roots", "critical_wavelength",
     "critical_wavelength_vs_height", "detect_events", "detect_events_in_file", "growth_rates",
     "half_space_response", "linearise_friction", "load_config", "most_unstable_root", "open_run",
-    "quasi_static_critical_wavelength", "read_event_catalog", "read_slip_sampling_info", "run",
+    "quasi_static_critical_wavelength", "read_event_catalog", "read_slip_sampling_info", "resume", "run",
     "solve_slip_rate", "characteristic_function",
     "strip_response", "strip_static_stiffness", "to_toml_text", "waiting_time_threshold",
     "write_event_catalog", "write_event_catalog_csv", "write_slip_sampling",
@@ -100,6 +100,17 @@ def run(config, out_path: str | os.PathLike, progress: Callable[[dict], Any] | N
     """
     cfg = load_config(config, overrides)
     return _slipstrip._run(cfg, os.fspath(out_path), progress, progress_interval)
+
+
+def resume(run_path: str | os.PathLike, progress: Callable[[dict], Any] | None = None,
+           progress_interval: float = 0.5) -> RunResult:
+    """Continue an interrupted run from its restart point RUN.h5.restart, with
+    the config stored in the run file, appending to it; the file ends bitwise
+    as an uninterrupted run's (docs/reliability.md, "Restart").  Ctrl-C and
+    progress behave as in run() (and leave a new restart point).  ValueError
+    if there is nothing to resume (no or unusable restart point, a completed
+    or diverged run)."""
+    return _slipstrip._resume(os.fspath(run_path), progress, progress_interval)
 
 
 # --- linear stability of steady sliding (friction/linear_stability.hpp) -----------

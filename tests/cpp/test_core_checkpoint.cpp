@@ -135,6 +135,7 @@ TEST_CASE("a saved state is refused by a simulation of another config") {
 }
 
 TEST_CASE("a missing or foreign restart point is an input error naming the file") {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // the garbage file's HDF5 error stack is expected
   const std::string run_path = temp_path("none.h5");
   CHECK_THROWS_WITH_AS(read_checkpoint(run_path), doctest::Contains("has no restart point"),
                        std::invalid_argument);
@@ -187,10 +188,13 @@ TEST_CASE("a resumed run file is cut back to the restart point, crossing times i
   const std::string reference = temp_path("reference.h5"), resumed = temp_path("resumed.h5");
   std::vector<double> front(4, std::numeric_limits<double>::quiet_NaN());
 
-  {  // Reference: 20 steps at once.
+  // The resumed part (3 steps) is shorter than the part lost after the
+  // restart point (9 steps), so anything of the lost steps that survived the
+  // cut would show.
+  {  // Reference: 11 steps at once.
     std::vector<double> slip(4, 0.0);
     RunOutput out(reference, "config", sampling, options);
-    feed(out, 0, 20, slip);
+    feed(out, 0, 11, slip);
     front[1] = 5e-3;
     out.set_rupture_front(front);
     out.close("completed");
@@ -217,10 +221,10 @@ TEST_CASE("a resumed run file is cut back to the restart point, crossing times i
     hdf5::Handle file(H5Fopen(resumed.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "open");
     CHECK(read_all(file, "timeseries/time").size() == 17);  // past the cursor before the resume
   }
-  {  // Resume from the cursor and write the remaining 12 steps.
+  {  // Resume from the cursor and write 3 steps.
     RunOutput out(resumed, cursor, sampling, options);
     std::vector<double> slip = slip_at_cursor;
-    feed(out, 8, 12, slip);
+    feed(out, 8, 3, slip);
     out.set_rupture_front(front);
     out.close("completed");
   }

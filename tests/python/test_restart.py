@@ -379,3 +379,18 @@ def test_scan_reruns_an_interrupted_run_whose_overrides_changed(cli, tmp_path, c
     with h5py.File(task.run_file, "r") as f:
         assert f.attrs["status"] == "completed"
         assert "a = 0.007" in f.attrs["config"]
+
+
+def test_python_resume_continues_a_cli_run(cli, tmp_path, slipstrip_module):
+    args = TINY + CASES["half-space"]
+    reference = reference_run(cli, tmp_path, args)
+    out = tmp_path / "run.h5"
+    r = run_cli(cli, "run", QUICKSTART, *args, "--out", out, "--quiet", "--stop-after-steps", 777)
+    assert r.returncode == 143, r.stderr
+    result = slipstrip_module.resume(out)
+    assert result.status == "completed" and result.steps == steps_of(reference)
+    assert not Path(str(out) + ".restart").exists()
+    assert_files_identical(reference, out)
+    with pytest.raises(ValueError, match="completed: nothing to resume"):
+        slipstrip_module.resume(out)
+
