@@ -515,7 +515,7 @@ int main(int argc, char** argv) {
         return resume_command(resume_path, config_path, overrides, quiet, stop_after_steps);
       }
       if (config_path.empty())
-        throw std::invalid_argument("run: a config file is required (or --resume RUN.h5; see --help)");
+        throw std::invalid_argument("run: config is required (a TOML config file; or --resume RUN.h5 to continue a run; see --help)");
       return run_command(config_path, overrides, out_path, quiet, overwrite, limits, stop_after_steps);
     }
     if (*stab) return stability_command(config_path, overrides, wavelengths, height_range, out_path, json);
