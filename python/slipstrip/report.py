@@ -35,6 +35,7 @@ import numpy as np
 from scipy import stats
 
 from . import analysis as an
+from . import transition
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -265,6 +266,24 @@ def peak_of_pT(T, grid_points: int = 512) -> float:
     return float(math.exp(g[np.argmax(np.log(np.maximum(kde(g), 1e-300)) - g)]))
 
 
+def local_peaks_of_pT(T, grid_points: int = 512, min_relative_height: float = 0.1) -> list[tuple[float, float]]:
+    """Every local maximum of the same density p(T) as `peak_of_pT`, as (T, height
+    relative to the highest), highest first; maxima lower than
+    `min_relative_height` are dropped.  A bimodal large-event p(T) (e.g. short
+    bursts plus events lasting ~2H/c_s) is then visible in the report instead of
+    being reduced to whichever mode happens to be higher."""
+    x = np.log(np.asarray(T, float)[np.asarray(T, float) > 0])
+    if x.size < an.MIN_FIT_EVENTS or np.ptp(x) == 0:
+        return []
+    kde = stats.gaussian_kde(x)
+    g = np.linspace(x.min() - 0.5, x.max() + 0.5, grid_points)
+    log_p = np.log(np.maximum(kde(g), 1e-300)) - g
+    inner = np.flatnonzero((log_p[1:-1] > log_p[:-2]) & (log_p[1:-1] > log_p[2:])) + 1
+    heights = np.exp(log_p[inner] - log_p[inner].max()) if inner.size else np.zeros(0)
+    peaks = [(float(math.exp(g[i])), float(h)) for i, h in zip(inner, heights) if h >= min_relative_height]
+    return sorted(peaks, key=lambda p: -p[1])
+
+
 def statistics_of(run: Run, workdir: Path, n_bootstrap: int = N_BOOTSTRAP) -> dict:
     """Transient cut, stationarity, fits and regime of one statistics run."""
     catalog = catalog_of(run, an.DEFAULT_ALPHA, workdir)
@@ -276,10 +295,15 @@ def statistics_of(run: Run, workdir: Path, n_bootstrap: int = N_BOOTSTRAP) -> di
     large = ~small
     res = {"run": run, "catalog": catalog, "part": part, "kept": kept, "stats": st, "obs": obs}
     res["pulse"] = an.periodic_pulse_of_run(run.path, catalog, run.info)
-    res["complex"] = bool(not res["pulse"]["periodic_pulse"] and small.sum() >= an.MIN_FIT_EVENTS
-                          and large.sum() >= an.MIN_FIT_EVENTS)
+    # One definition of "complexity" for the report and the transition map: the
+    # multi-observable classifier of transition.py (docs/transition.md), not a
+    # looser rule of its own (a run with 95 % of its slip in system-spanning
+    # ruptures is coarsened, however many small events it also has).
+    res["regime"] = transition.classify_run(run.path)
+    res["complex"] = res["regime"]["state"] == "complex"
     T_large = np.asarray(kept["T"], float)[large]
     res["T_peak"] = peak_of_pT(T_large)
+    res["T_local_peaks"] = local_peaks_of_pT(T_large)
     res["T_peak_err"] = bootstrap(T_large, peak_of_pT, n=n_bootstrap) if _finite(res["T_peak"]) else math.nan
     res["tau"] = 2 * run.info.H / run.info.c_s
     return res
@@ -675,7 +699,8 @@ class Report:
             self.add(sec, claim, paper_cell("fig3_peak_arrow"),
                      f"T_peak = {fmt(s['T_peak'] * 1e3, s['T_peak_err'] * 1e3)} ms = "
                      f"{fmt(r, s['T_peak_err'] / s['tau'])} (2H/c_s); 2H/c_s = {fmt(s['tau'] * 1e3)} ms; "
-                     f"{int(np.sum(s['obs']['u'] >= 1))} large events (mode of a kernel density of ln T, bootstrap error)",
+                     f"{int(np.sum(s['obs']['u'] >= 1))} large events (mode of a kernel density of ln T, bootstrap error)"
+                     + self._local_peaks_text(s),
                      verdict_factor(r), self.basis(n))
 
         def order(names, key, claim):
@@ -793,6 +818,20 @@ class Report:
             self._save(fig, "tpeak_fit.png")
             self.figure("T_peak of the large events against 2H/c_s, with the power-law fit", "tpeak_fit.png")
 
+    @staticmethod
+    def _local_peaks_text(s) -> str:
+        peaks = s.get("T_local_peaks") or []
+        if len(peaks) < 2:
+            return ""
+        return "; local maxima of p(T) at " + ", ".join(
+            f"{fmt(T / s['tau'])} (height {fmt(h)})" for T, h in peaks) + " (2H/c_s)"
+
+    @staticmethod
+    def _regime_text(s) -> str:
+        r = s["regime"]
+        return (f"state {r['state']} ({'converged' if r['converged'] else 'NOT converged'}, thirds "
+                f"{'/'.join(r['states_by_third'])}, agreement {fmt(r['agreement'])}; docs/transition.md)")
+
     def complexity_rows(self):
         sec = "Figs. 4, S10-S12: complexity retained"
         for name in ("fig4_slip_law", "s10_D_over_3", "s11_a_over_3", "s12"):
@@ -810,8 +849,8 @@ class Report:
                 e = combined_error(st[f"small_exponent_{obs}_err"], st[f"small_exponent_{obs}_bootstrap_err"])
                 parts.append(f"{obs}: {fmt(a, e)}")
                 verdicts.append(f"{obs} {verdict_sigma(a, e, PAPER[key].value)}")
-            value = (f"complex = {s['complex']} (periodic pulse {s['pulse']['periodic_pulse']}, "
-                     f"{st['n_events_small']} small / {st['n_events_large']} large events); " + ", ".join(parts))
+            value = (self._regime_text(s) + f"; {st['n_events_small']} small / {st['n_events_large']} large "
+                     f"events; " + ", ".join(parts))
             verdict = ("complexity " + ("agrees" if s["complex"] else "differs") + "; " + "; ".join(verdicts))
             self.add(sec, claim, paper, value, verdict, self.basis(name))
         claim = "slip law: large events span a larger part of the interface than with the aging law"
@@ -869,9 +908,9 @@ class Report:
                     verdict = (f"differs (a pulse only for t = {fmt(episodes['longest_start'] / tr)}-"
                                f"{fmt(episodes['longest_end'] / tr)} L/c_s, not in the late half)")
             elif name == "fig5_H02":
-                verdict = verdict_bool(not s["complex"], f"complex = {s['complex']}")
-                value += f"; complex = {s['complex']} ({s['stats']['n_events_small']} small / " \
-                         f"{s['stats']['n_events_large']} large events)"
+                verdict = verdict_bool(not s["complex"], f"state {s['regime']['state']}")
+                value += "; " + self._regime_text(s) + f"; {s['stats']['n_events_small']} small / " \
+                         f"{s['stats']['n_events_large']} large events"
             else:
                 verdict = verdict_bool(not p["periodic_pulse"])
             self.add(sec, claim, paper_cell(key), value, verdict, self.basis(name))

@@ -289,9 +289,84 @@ def classify_directory(paths) -> list[dict]:
         else:
             row.update(state=result["state"], converged=result["converged"], agreement=result["agreement"],
                        states_by_third="/".join(result["states_by_third"]),
-                       coarsening_length_last=result["coarsening_length_by_third"][-1])
+                       coarsening_length_last=result["coarsening_length_by_third"][-1],
+                       spanning_slip_fraction=result["observables"]["spanning_slip_fraction"],
+                       size_spread_decades=result["observables"]["size_spread_decades"])
         rows.append(row)
     return rows
+
+
+def transition_heights(rows: list[dict], threshold: float = SPANNING_COHERENT) -> list[dict]:
+    """Where complexity gives way to coarsening as H grows, per (friction, L):
+    the last upward crossing of `threshold` by the fraction of slip carried by
+    system-spanning ruptures (last third of each run), H* interpolated linearly
+    in log H between the two bracketing runs.  The same observable and threshold
+    as the `complex` / `spanning_ruptures` boundary of the classifier, but read
+    as a continuous order parameter, so H* is located between grid points.
+
+    Each result carries H*/L and H*/Lc(H*) (Lc interpolated the same way) with
+    their brackets: a transition that scales with L has the same H*/L for every
+    L; one that scales with Lc(H) has the same H*/Lc(H*)."""
+    out = []
+    groups = {}
+    for r in rows:
+        f = r.get("spanning_slip_fraction", math.nan)
+        if math.isfinite(r["height"]) and math.isfinite(f) and r.get("state") != "unreadable":
+            groups.setdefault((round(r["rate_weakening"], 6), r["length"]), []).append(r)
+    for (slope, L), mine in sorted(groups.items()):
+        mine.sort(key=lambda r: r["height"])
+        crossing = None
+        for lo, hi in zip(mine, mine[1:]):
+            if lo["spanning_slip_fraction"] < threshold <= hi["spanning_slip_fraction"]:
+                crossing = (lo, hi)
+        if crossing is None:
+            continue
+        lo, hi = crossing
+        w = (threshold - lo["spanning_slip_fraction"]) / (hi["spanning_slip_fraction"] - lo["spanning_slip_fraction"])
+        h_star = math.exp((1 - w) * math.log(lo["height"]) + w * math.log(hi["height"]))
+        lc_lo, lc_hi = lo.get("critical_length", math.nan), hi.get("critical_length", math.nan)
+        lc_star = (1 - w) * lc_lo + w * lc_hi
+        out.append({"rate_weakening": slope, "length": L, "height": h_star,
+                    "height_bracket": (lo["height"], hi["height"]),
+                    "height_over_length": h_star / L,
+                    "height_over_length_bracket": (lo["height"] / L, hi["height"] / L),
+                    "critical_length": lc_star,
+                    "height_over_critical_length": h_star / lc_star,
+                    "height_over_critical_length_bracket": (lo["height"] / lc_lo, hi["height"] / lc_hi)})
+    return out
+
+
+def plot_collapse(rows: list[dict], out_png, threshold: float = SPANNING_COHERENT) -> None:
+    """The continuous order parameter (fraction of slip in system-spanning
+    ruptures, last third of each run) against H/L and against H/Lc(H), one line
+    per interface length L, one panel row per friction point with at least two
+    L.  The abscissa on which the lines of different L fall on each other is the
+    one the transition scales with."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    usable = [r for r in rows if math.isfinite(r["height"]) and math.isfinite(r.get("spanning_slip_fraction", math.nan))]
+    slopes = sorted({round(r["rate_weakening"], 6) for r in usable
+                     if len({q["length"] for q in usable if round(q["rate_weakening"], 6) == round(r["rate_weakening"], 6)}) >= 2},
+                    reverse=True)
+    if not slopes:
+        return
+    fig, axes = plt.subplots(len(slopes), 2, figsize=(8.4, 3.2 * len(slopes)), squeeze=False)
+    for (ax_l, ax_c), slope in zip(axes, slopes):
+        mine = [r for r in usable if round(r["rate_weakening"], 6) == slope]
+        for L in sorted({r["length"] for r in mine}):
+            line = sorted((r for r in mine if r["length"] == L), key=lambda r: r["height"])
+            f = [r["spanning_slip_fraction"] for r in line]
+            ax_l.plot([r["height"] / L for r in line], f, "o-", label=f"L = {L:g} m")
+            ax_c.plot([r["height"] / r["critical_length"] for r in line], f, "o-", label=f"L = {L:g} m")
+        for ax, xl in ((ax_l, "H / L"), (ax_c, "H / Lc(H)")):
+            ax.axhline(threshold, color="0.5", ls=":", lw=0.8)
+            ax.set(xscale="log", xlabel=xl, ylabel="slip fraction in spanning ruptures", ylim=(-0.02, 1.02),
+                   title=f"|df_ss/d ln v| = {slope:.4f}")
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=100)
+    plt.close(fig)
 
 
 MARKERS = {"arrested": ("X", "k"), "steady": ("s", "0.6"), "periodic_pulse": ("o", "tab:blue"), "uniform_stick_slip": ("^", "tab:green"),
@@ -445,6 +520,8 @@ def main(argv: list[str]) -> int:
     p.add_argument("--csv", help="write one row per run")
     p.add_argument("--plot", help="write the state map (PNG)")
     p.add_argument("--table", help="write the map as Markdown tables (one per L)")
+    p.add_argument("--collapse", help="write the order parameter against H/L and H/Lc(H) (PNG)")
+    p.add_argument("--heights", help="write the transition heights H* per friction and L (CSV)")
     p.add_argument("--include-unfinished", action="store_true",
                    help="also classify runs whose status is not 'completed'")
     args = p.parse_args(argv)
@@ -487,4 +564,23 @@ def main(argv: list[str]) -> int:
         plot_map(rows, args.plot)
     if args.table:
         Path(args.table).write_text(state_grid_markdown(rows))
+    if args.collapse:
+        plot_collapse(rows, args.collapse)
+    stars = transition_heights(rows)
+    for t in stars:
+        print(f"|df/dlnv| = {t['rate_weakening']:.4f}  L = {t['length']:g} m: H* = {t['height']:.3g} m "
+              f"(between {t['height_bracket'][0]:g} and {t['height_bracket'][1]:g}); "
+              f"H*/L = {t['height_over_length']:.3g} ({t['height_over_length_bracket'][0]:.3g}-"
+              f"{t['height_over_length_bracket'][1]:.3g}); H*/Lc(H*) = {t['height_over_critical_length']:.3g} "
+              f"({t['height_over_critical_length_bracket'][0]:.3g}-{t['height_over_critical_length_bracket'][1]:.3g})")
+    if args.heights:
+        with open(args.heights, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["rate_weakening", "length", "height_star", "height_low", "height_high", "height_star_over_length",
+                        "critical_length_at_height_star", "height_star_over_critical_length",
+                        "height_over_critical_length_low", "height_over_critical_length_high"])
+            for t in stars:
+                w.writerow([t["rate_weakening"], t["length"], t["height"], *t["height_bracket"], t["height_over_length"],
+                            t["critical_length"], t["height_over_critical_length"],
+                            *t["height_over_critical_length_bracket"]])
     return 0

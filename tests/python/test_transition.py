@@ -260,3 +260,40 @@ def test_pulse_episodes_find_a_pulse_that_later_breaks_up():
     # A record of bursts only has no episode.
     none = analysis.pulse_episodes(t, bursts(t), V0, DX, window=0.005)
     assert not any(none["flags"]) and math.isnan(none["longest_start"])
+
+
+def test_transition_heights_tell_scaling_with_L_from_scaling_with_Lc():
+    # Synthetic map: the spanning-slip fraction is a function of H/L alone
+    # (it crosses the threshold 0.8 at H/L = 0.15 * 4**(1/4)), while Lc(H) is
+    # the same function of H for every L.  H*/L must then come out the same for
+    # L = 1, 2, 4, and H*/Lc(H*) must grow with L.
+    heights = [0.0125, 0.025, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0]
+
+    def fraction(h_over_L):
+        return 1.0 / (1.0 + (0.15 / h_over_L) ** 4)
+
+    def lc(h):
+        return 0.48 * h / (h + 0.05)
+
+    rows = [{"rate_weakening": 0.016, "length": L, "height": h, "state": "complex",
+             "spanning_slip_fraction": fraction(h / L), "critical_length": lc(h)}
+            for L in (1.0, 2.0, 4.0) for h in heights]
+    stars = transition.transition_heights(rows, threshold=0.8)
+    assert [t["length"] for t in stars] == [1.0, 2.0, 4.0]
+    exact = 0.15 * 4 ** 0.25  # fraction = 0.8 where (0.15 / x)**4 = 1/4
+    for t in stars:
+        lo, hi = t["height_over_length_bracket"]
+        assert lo < exact < hi
+        # log-linear interpolation of a smooth curve between grid points a
+        # factor 2-2.5 apart: within 15 % of the exact crossing.
+        assert t["height_over_length"] == pytest.approx(exact, rel=0.15)
+    ratios = [t["height_over_critical_length"] for t in stars]
+    assert ratios[1] > 1.5 * ratios[0] and ratios[2] > 1.5 * ratios[1]
+
+
+def test_transition_heights_ignore_runs_without_events_and_groups_without_crossing():
+    rows = [{"rate_weakening": 0.012, "length": 1.0, "height": h, "state": "spanning_ruptures",
+             "spanning_slip_fraction": 0.95, "critical_length": 0.5} for h in (0.05, 0.1, 0.2)]
+    rows.append({"rate_weakening": 0.012, "length": 1.0, "height": 0.4, "state": "other",
+                 "spanning_slip_fraction": math.nan, "critical_length": 0.5})
+    assert transition.transition_heights(rows) == []
