@@ -336,6 +336,21 @@ def transition_heights(rows: list[dict], threshold: float = SPANNING_COHERENT) -
     return out
 
 
+def transition_heights_markdown(stars: list[dict]) -> str:
+    """The transition heights as a Markdown table (written by `transition --table`
+    after the state grid, so the doc's numbers are regenerated with the map)."""
+    if not stars:
+        return "No upward crossing of the spanning-slip threshold in any (friction, L) group.\n"
+    lines = ["| \\|df_ss/d ln v\\| | L | H\\* (bracket) | H\\*/L (bracket) | Lc(H\\*) | H\\*/Lc(H\\*) (bracket) |",
+             "|---|---|---|---|---|---|"]
+    for t in sorted(stars, key=lambda t: (-t["rate_weakening"], t["length"])):
+        (h0, h1), (r0, r1) = t["height_bracket"], t["height_over_critical_length_bracket"]
+        lines.append(f"| {t['rate_weakening']:.4f} | {t['length']:g} m | {t['height']:.2g} m ({h0:g}–{h1:g}) | "
+                     f"{t['height_over_length']:.2g} ({h0 / t['length']:.3g}–{h1 / t['length']:.3g}) | "
+                     f"{t['critical_length']:.2g} m | {t['height_over_critical_length']:.2g} ({r0:.2g}–{r1:.2g}) |")
+    return "\n".join(lines) + "\n"
+
+
 def plot_collapse(rows: list[dict], out_png, threshold: float = SPANNING_COHERENT) -> None:
     """The continuous order parameter (fraction of slip in system-spanning
     ruptures, last third of each run) against H/L and against H/Lc(H), one line
@@ -528,7 +543,8 @@ def main(argv: list[str]) -> int:
     files = []
     for entry in map(Path, args.paths):
         if entry.is_dir():
-            files += sorted(entry.rglob("*.h5"))
+            # A scan directory also holds its strip-kernel cache (kernel_cache/), not runs.
+            files += sorted(f for f in entry.rglob("*.h5") if "kernel_cache" not in f.relative_to(entry).parts)
         elif entry.is_file():
             files.append(entry)
         else:
@@ -562,11 +578,13 @@ def main(argv: list[str]) -> int:
             w.writerows(rows)
     if args.plot:
         plot_map(rows, args.plot)
+    stars = transition_heights(rows)
     if args.table:
-        Path(args.table).write_text(state_grid_markdown(rows))
+        Path(args.table).write_text(state_grid_markdown(rows) + "\n**Transition heights** (last upward crossing of "
+                                    f"{SPANNING_COHERENT:g} by the spanning-slip fraction as H grows, "
+                                    "`transition_heights`):\n\n" + transition_heights_markdown(stars))
     if args.collapse:
         plot_collapse(rows, args.collapse)
-    stars = transition_heights(rows)
     for t in stars:
         print(f"|df/dlnv| = {t['rate_weakening']:.4f}  L = {t['length']:g} m: H* = {t['height']:.3g} m "
               f"(between {t['height_bracket'][0]:g} and {t['height_bracket'][1]:g}); "

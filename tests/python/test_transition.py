@@ -297,3 +297,12 @@ def test_transition_heights_ignore_runs_without_events_and_groups_without_crossi
     rows.append({"rate_weakening": 0.012, "length": 1.0, "height": 0.4, "state": "other",
                  "spanning_slip_fraction": math.nan, "critical_length": 0.5})
     assert transition.transition_heights(rows) == []
+
+
+def test_transition_heights_markdown_lists_every_crossing():
+    rows = [{"rate_weakening": 0.016, "length": L, "height": h, "state": "complex",
+             "spanning_slip_fraction": 0.1 if h < 0.15 * L else 0.95, "critical_length": 0.45}
+            for L in (1.0, 2.0) for h in (0.1, 0.2, 0.5)]
+    table = transition.transition_heights_markdown(transition.transition_heights(rows))
+    body = [line for line in table.splitlines() if line.startswith("| 0.0160")]
+    assert len(body) == 2 and "| 1 m |" in body[0] and "| 2 m |" in body[1]
