@@ -575,7 +575,9 @@ def main(argv: list[str]) -> int:
         with open(args.csv, "w", newline="") as f:
             w = csv.DictWriter(f, fieldnames=keys)
             w.writeheader()
-            w.writerows(rows)
+            # Directory/name only: the CSV is committed next to the docs, and an
+            # absolute path would name one machine's run directory.
+            w.writerows({**r, "file": f"{Path(r['file']).parent.name}/{Path(r['file']).name}"} for r in rows)
     if args.plot:
         plot_map(rows, args.plot)
     stars = transition_heights(rows)
