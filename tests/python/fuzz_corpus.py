@@ -27,6 +27,7 @@ damage operations); the test materialises and runs it.
 """
 from __future__ import annotations
 
+import signal
 import random
 import re
 from dataclasses import dataclass, field
@@ -517,7 +518,13 @@ def generate(repo: Path, layout: dict, seed: int = SEED, n_config: int = 480, n_
 # Running one case (in a worker process of the test's pool)
 # ---------------------------------------------------------------------------
 
-TIMEOUT = 20.0            # seconds per case
+# A hang is either a busy loop or a process blocked for ever.  The first is caught by
+# CPU time (RLIMIT_CPU: SIGXCPU, then SIGKILL), which does not depend on how loaded the
+# shared machine is; the second by a wall-clock backstop.  A wall limit alone misread
+# load as hangs: with load average ~9 on the 2-core machine, `analyze` cases (7 s of
+# CPU, mostly matplotlib) took 13-18 s of wall time against the former 20 s limit.
+CPU_LIMIT = 20            # CPU seconds per case
+TIMEOUT = 120.0           # wall seconds per case (blocked, not computing)
 MEMORY_LIMIT = 4 << 30    # bytes of address space per case (RLIMIT_AS)
 PASSING = ("completed", "input error", "diverged", "output error")
 
@@ -526,6 +533,7 @@ def _limit_resources():
     import resource
     resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
     resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+    resource.setrlimit(resource.RLIMIT_CPU, (CPU_LIMIT, CPU_LIMIT + 1))
 
 
 def _attr_value(spec: str):
@@ -683,6 +691,8 @@ def classify(case: Case, rc: int, stderr: str, timed_out: bool, subst: dict):
     output error (exit 4)."""
     if timed_out:
         return "hang (timeout)", False
+    if rc == -signal.SIGXCPU:
+        return "hang (CPU limit)", False
     if rc < 0:
         return f"signal {-rc}", False
     if "Traceback (most recent call last)" in stderr:
