@@ -524,6 +524,39 @@ def state_grid_markdown(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def _parse_csv_value(text: str):
+    if text in ("True", "False"):
+        return text == "True"
+    try:
+        return float(text)       # also "inf" and "nan"
+    except ValueError:
+        return text
+
+
+def read_map_csv(path) -> list[dict]:
+    """The rows of a map written by `--csv` (types restored: numbers, booleans, strings).
+
+    Why: a map is a record of classifications, and run files of a few GB each do not
+    outlive every machine.  Reading an earlier map back lets new runs join it without
+    re-running the old ones; each row still says which run file it came from."""
+    import csv
+    rows = []
+    with open(path, newline="") as f:
+        for raw in csv.DictReader(f):
+            row = {k: _parse_csv_value(v) for k, v in raw.items() if v != ""}
+            row["file"] = raw["file"]
+            if "nodes" in row:
+                row["nodes"] = int(row["nodes"])
+            rows.append(row)
+    return rows
+
+
+def _map_cell(row: dict) -> tuple:
+    """What makes two rows the same point of the map: friction, L, H and mesh."""
+    return (round(row["f0"], 9), round(row["a"], 9), round(row["b"], 9), row["length"], row["height"],
+            int(row["nodes"]))
+
+
 def main(argv: list[str]) -> int:
     import argparse
     import csv
@@ -531,7 +564,10 @@ def main(argv: list[str]) -> int:
     from pathlib import Path
     p = argparse.ArgumentParser(prog="python3 -m slipstrip transition",
                                 description="Classify the long-time state of run files (docs/transition.md).")
-    p.add_argument("paths", nargs="+", help="run files or directories holding them")
+    p.add_argument("paths", nargs="*", help="run files or directories holding them")
+    p.add_argument("--previous", action="append", default=[],
+                   help="an earlier map (CSV written by --csv) whose rows join the runs classified now; a run "
+                        "classified now replaces an earlier row of the same friction, L, H and N (repeatable)")
     p.add_argument("--csv", help="write one row per run")
     p.add_argument("--plot", help="write the state map (PNG)")
     p.add_argument("--table", help="write the map as Markdown tables (one per L)")
@@ -540,6 +576,8 @@ def main(argv: list[str]) -> int:
     p.add_argument("--include-unfinished", action="store_true",
                    help="also classify runs whose status is not 'completed'")
     args = p.parse_args(argv)
+    if not args.paths and not args.previous:
+        p.error("give run files, directories, or --previous CSV")
     files = []
     for entry in map(Path, args.paths):
         if entry.is_dir():
@@ -566,10 +604,22 @@ def main(argv: list[str]) -> int:
         files = finished
     rows = classify_directory(files)
     add_critical_lengths(rows)
+    fresh = {_map_cell(r) for r in rows if "f0" in r}
+    previous = []
+    for csv_path in args.previous:
+        try:
+            earlier = read_map_csv(csv_path)
+        except (OSError, KeyError, ValueError) as err:
+            print(f"error: --previous {csv_path}: {err}", file=sys.stderr)
+            return 2
+        previous += [r for r in earlier if _map_cell(r) not in fresh]
     for r in rows:
         print(f"{Path(r['file']).name:40s} H/L = {r['height'] / r['length']:<8.4g} "
               f"|df/dlnv| = {r['rate_weakening']:.4f}  Lc(H) = {r['critical_length']:<7.3g} {r['state']:18s} "
               f"{'converged' if r['converged'] else 'NOT converged'}  agreement {r['agreement']:.2f}")
+    if previous:
+        print(f"{len(previous)} rows from {', '.join(args.previous)} (classified earlier)")
+    rows = previous + rows
     if args.csv:
         keys = sorted({k for r in rows for k in r})
         with open(args.csv, "w", newline="") as f:

@@ -204,6 +204,23 @@ def test_pipeline_end_to_end_on_tiny_runs(cli, repo, tmp_path):
     assert sorted(float(row["height"]) for row in rows) == [0.05, math.inf]
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
+    # --previous: the map read back from its CSV alone gives the same CSV and table
+    # (types survive the round trip), and a run classified now replaces its earlier row.
+    again_csv, again_table = tmp_path / "again.csv", tmp_path / "again.md"
+    assert transition.main(["--previous", str(csv_path), "--csv", str(again_csv), "--table", str(again_table)]) == 0
+    assert again_csv.read_text() == csv_path.read_text()
+    assert again_table.read_text() == text
+    stale = tmp_path / "stale.csv"
+    stale.write_text(csv_path.read_text().replace(",completed", ",stale-status"))
+    mixed_csv = tmp_path / "mixed.csv"
+    assert transition.main([str(files[0]), "--previous", str(stale), "--csv", str(mixed_csv)]) == 0
+    mixed = {row["file"]: row["status"] for row in csv.DictReader(mixed_csv.open())}
+    assert len(mixed) == 2
+    assert mixed[f"{files[0].parent.name}/{files[0].name}"] == "completed"      # classified now
+    assert mixed[f"{files[1].parent.name}/{files[1].name}"] == "stale-status"   # kept from the CSV
+    with pytest.raises(SystemExit):
+        transition.main([])                                                      # nothing to map
+
 
 def test_transition_scan_follows_the_friction_family_and_scales_snapshots_with_L():
     """configs/scans/transition.toml: its friction points lie on the straight line in
