@@ -35,6 +35,7 @@ import numpy as np
 from scipy import stats
 
 from . import analysis as an
+from . import runfile
 from . import transition
 
 REPO = Path(__file__).resolve().parents[2]
@@ -163,11 +164,10 @@ def open_run_file(rundir: Path, name: str, allow_incomplete: bool = False) -> Ru
     if not path.is_file():
         raise MissingRun(f"{shown} missing")
     try:
-        with an._open_h5(path) as f:
-            attrs = {k: an._as_str(f.attrs[k]) for k in ("status", "config", "start_time", "end_time", "git_hash")
-                     if k in f.attrs}
-            if "config" not in attrs or "timeseries" not in f:
-                raise MissingRun(f"{shown} unreadable: not a slipstrip run file (no config or /timeseries)")
+        attrs = {k: str(v) for k, v in runfile.read_attrs(path).items()
+                 if k in ("status", "config", "start_time", "end_time", "git_hash")}
+        if "config" not in attrs or not runfile.has_group(path, "timeseries"):
+            raise MissingRun(f"{shown} unreadable: not a slipstrip run file (no config or /timeseries)")
         info = an.read_run_info(path)
     except MissingRun:
         raise
@@ -215,7 +215,7 @@ def wave_speeds(config: dict) -> dict:
 def catalog_of(run: Run, alpha: float, workdir: Path) -> dict:
     """/events of the run file if made with this alpha, else a fresh detection
     into workdir (the run file is never written)."""
-    with an._open_h5(run.path) as f:
+    with runfile.open_h5(run.path) as f:
         stored = float(f["events"].attrs["alpha"]) if "events" in f else None
     if stored is not None and stored == float(alpha) and run.status == "completed":
         return an.read_catalog(run.path)
@@ -612,7 +612,7 @@ class Report:
             run = self.runs[name]
             ws = wave_speeds(run.config)
             tau = 2 * run.info.H / run.info.c_s
-            with an._open_h5(run.path) as f:
+            with runfile.open_h5(run.path) as f:
                 t, x, v = f["snapshots/time"][:], f["snapshots/x"][:], f["snapshots/slip_rate"][:]
             x0 = float(run.config.get("initial", {}).get("local_center", run.info.L / 2))
             ev = nucleation_event(t, x, v, run.info.v0, x0, run.info.L, ws["c_d"])
@@ -1064,7 +1064,7 @@ class Report:
 
     def _space_slip_figure(self, run, t_cut, window_D=400.0, max_rows=1500):
         """v(x, delta)/v0 over window_D of mean slip after the transient cut (Fig. 1b)."""
-        with an._open_h5(run.path) as f:
+        with runfile.open_h5(run.path) as f:
             ct = f["slip_sampling/crossing_time"]
             n_levels = ct.shape[0]
             j0 = int(min(max(1, run.info.v0 * t_cut / run.info.delta_th), max(1, n_levels - 2)))

@@ -1,17 +1,15 @@
 """Tests of python/slipstrip/analysis.py (slip-event statistics and figures).
 
-The module is loaded by file path so that these tests do not depend on
-slipstrip/__init__.py (which may import a compiled extension).  The end-to-end
+The module is imported from the package (it reads run files through
+slipstrip.runfile).  The end-to-end
 tests need the CLI binary ($SLIPSTRIP_BIN, `slipstrip` on PATH, or
 build/slipstrip) and are skipped without it.
 
 Run: /usr/bin/python3 -m pytest tests/python/test_analysis.py
 """
-import importlib.util
 import json
 import math
 import subprocess
-import sys
 from pathlib import Path
 
 import h5py
@@ -19,11 +17,9 @@ import numpy as np
 import pytest
 from scipy import stats
 
+from slipstrip import analysis
+
 REPO = Path(__file__).resolve().parents[2]
-_spec = importlib.util.spec_from_file_location("slipstrip_analysis", REPO / "python" / "slipstrip" / "analysis.py")
-analysis = importlib.util.module_from_spec(_spec)
-sys.modules[_spec.name] = analysis  # dataclasses look their module up while the class is built
-_spec.loader.exec_module(analysis)
 
 
 def pareto_sample(rng, exponent, xmin, n):
