@@ -1,9 +1,9 @@
 """Slip-event statistics and figures (paper Figs. 1b-e, 2b-d, S3-S9).
 
 Input is one run file (docs/output.md) with a slip-event catalog in group
-/events (docs/events.md).  The catalog is produced by the C++ detector through
-the CLI (`slipstrip events`); this module never re-derives catalog numbers
-itself.  The one exception is the event-coloured space-slip map (Fig. S4b),
+/events (docs/events.md).  The catalog is produced by the C++ detector, called
+in this process through the bindings (`run_event_detection`, the same calls as
+`slipstrip events`); this module never re-derives catalog numbers itself.  The one exception is the event-coloured space-slip map (Fig. S4b),
 whose colours come from `group_nodal_slips`, a numpy re-implementation of the
 grouping used for plotting only (a test checks that it finds the same number
 of events as the C++ detector).
@@ -23,8 +23,6 @@ import dataclasses
 import json
 import math
 import os
-import shutil
-import subprocess
 import sys
 import tempfile
 import tomllib
@@ -135,35 +133,21 @@ def read_catalog(path: str | os.PathLike) -> dict:
 
 
 # ---------------------------------------------------------------------------
-# Event detection through the C++ CLI
+# Event detection: the C++ detector through the bindings, in this process
 # ---------------------------------------------------------------------------
-
-def find_slipstrip_binary() -> str | None:
-    """$SLIPSTRIP_BIN, else `slipstrip` on PATH, else build/slipstrip of this checkout."""
-    explicit = os.environ.get("SLIPSTRIP_BIN")
-    if explicit:
-        return explicit if os.access(explicit, os.X_OK) else None
-    found = shutil.which("slipstrip")
-    if found:
-        return found
-    default = Path(__file__).resolve().parents[2] / "build" / "slipstrip"
-    return str(default) if os.access(default, os.X_OK) else None
-
 
 def run_event_detection(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
                         out: str | os.PathLike | None = None) -> str:
-    """Runs `slipstrip events RUN --alpha A [--out OUT]`; returns the file holding /events."""
-    binary = find_slipstrip_binary()
-    if binary is None:
-        raise FileNotFoundError("slipstrip binary not found (set SLIPSTRIP_BIN, put it on PATH, "
-                                "or build build/slipstrip in this checkout)")
-    cmd = [binary, "events", str(run_path), "--alpha", repr(float(alpha))]
-    if out is not None:
-        cmd += ["--out", str(out)]
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    if proc.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}): {proc.stderr.strip()}")
-    return str(out if out is not None else run_path)
+    """Detects slip events in /slip_sampling of `run_path` and writes the
+    catalog as /events of `out` (default: the run file itself, replacing its
+    /events); returns the file holding /events.  The same C++ calls as
+    `slipstrip events RUN --alpha A [--out OUT]` (bindings, in-process), so
+    the file is the CLI's byte for byte.  RuntimeError if the run file cannot
+    be read or the target cannot be written."""
+    from . import _slipstrip
+    target = os.fspath(out if out is not None else run_path)
+    _slipstrip.detect_events_into_file(os.fspath(run_path), target, alpha=float(alpha))
+    return target
 
 
 def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
@@ -180,7 +164,7 @@ def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
         try:
             run_event_detection(run_path, alpha)
             return read_catalog(run_path)
-        except RuntimeError:
+        except (RuntimeError, OSError):
             pass  # e.g. read-only run file: fall back to a separate catalog file
     if workdir is not None:
         out = Path(workdir) / f"events_alpha{alpha:g}.h5"

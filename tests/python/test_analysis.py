@@ -1,9 +1,9 @@
 """Tests of python/slipstrip/analysis.py (slip-event statistics and figures).
 
 The module is imported from the package (it reads run files through
-slipstrip.runfile).  The end-to-end
-tests need the CLI binary ($SLIPSTRIP_BIN, `slipstrip` on PATH, or
-build/slipstrip) and are skipped without it.
+slipstrip.runfile and detects events through the bindings).  The end-to-end
+tests make their run with the CLI binary (the `cli` fixture of conftest.py)
+and are skipped without it.
 
 Run: /usr/bin/python3 -m pytest tests/python/test_analysis.py
 """
@@ -290,19 +290,49 @@ def test_summarize_run_few_events_returns_nans(tmp_path):
 
 
 # ---------------------------------------------------------------------------
-# End to end through the CLI
+# End to end on a run made by the CLI
 # ---------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
-def quick_run(tmp_path_factory):
-    binary = analysis.find_slipstrip_binary()
-    if binary is None:
-        pytest.skip("slipstrip binary not found (SLIPSTRIP_BIN, PATH, build/slipstrip)")
+def quick_run(cli, tmp_path_factory):
     path = tmp_path_factory.mktemp("run") / "quick.h5"
-    subprocess.run([binary, "run", str(REPO / "configs" / "quickstart.toml"),
+    subprocess.run([str(cli), "run", str(REPO / "configs" / "quickstart.toml"),
                     "--set", "time.duration_transits=20", "--out", str(path), "--quiet"],
                    check=True, capture_output=True)
     return path
+
+
+def _events_group(path):
+    """/events of a file: every dataset's bytes and every attribute, for bitwise comparison."""
+    with h5py.File(path, "r") as f:
+        g = f["events"]
+        data = {k: (g[k].dtype.str, g[k][()].tobytes()) for k in g}
+        attrs = {k: np.asarray(v).tobytes() if not isinstance(v, (str, bytes)) else v for k, v in g.attrs.items()}
+    return data, attrs
+
+
+@pytest.mark.parametrize("into", ["run file", "--out file"])
+def test_in_process_detection_equals_the_cli(quick_run, cli, tmp_path, into):
+    """run_event_detection (bindings, in-process) writes the same /events as `slipstrip events`."""
+    by_cli, by_bindings = tmp_path / "cli.h5", tmp_path / "bindings.h5"
+    for copy in (by_cli, by_bindings):
+        copy.write_bytes(quick_run.read_bytes())
+    if into == "run file":
+        r = subprocess.run([str(cli), "events", str(by_cli), "--alpha", "30"], capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        assert analysis.run_event_detection(by_bindings, 30.0) == str(by_bindings)
+        cli_file, bindings_file = by_cli, by_bindings
+    else:
+        cli_file, bindings_file = tmp_path / "cli_events.h5", tmp_path / "bindings_events.h5"
+        r = subprocess.run([str(cli), "events", str(by_cli), "--alpha", "30", "--out", str(cli_file)],
+                           capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        assert analysis.run_event_detection(by_bindings, 30.0, bindings_file) == str(bindings_file)
+    cli_data, cli_attrs = _events_group(cli_file)
+    data, attrs = _events_group(bindings_file)
+    assert cli_attrs["n_events"] == attrs["n_events"] and len(cli_data["t_start"][1]) > 0
+    assert data == cli_data
+    assert attrs == cli_attrs
 
 
 def test_numpy_grouping_matches_cpp_catalog(quick_run, tmp_path):
