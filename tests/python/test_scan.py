@@ -1,4 +1,4 @@
-"""Parameter scans (python/slipstrip/scan.py, docs/scans.md).
+"""Parameter scans (python/slipstrip/scan/, docs/scans.md).
 
 Runs real, tiny `slipstrip run`s (configs/quickstart.toml with N = 64 nodes
 for 2 L/c_s, ~0.2 s each) and checks the summary table against the run files
@@ -28,17 +28,10 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 def _load_scan_module():
+    # The package (python/slipstrip/scan/): the scan detects events and analyses
+    # runs in-process, so it needs the package with its bindings.
     sys.path.insert(0, str(REPO / "python"))
-    try:
-        return importlib.import_module("slipstrip.scan")
-    except Exception:
-        # The package's __init__ may not import (yet): load the file itself, under
-        # a top-level name that pickle finds without importing the package.
-        spec = importlib.util.spec_from_file_location("slipstrip_scan", REPO / "python/slipstrip/scan.py")
-        module = importlib.util.module_from_spec(spec)
-        sys.modules["slipstrip_scan"] = module
-        spec.loader.exec_module(module)
-        return module
+    return importlib.import_module("slipstrip.scan")
 
 
 scan = _load_scan_module()
