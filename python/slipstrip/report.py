@@ -30,7 +30,6 @@ import tempfile
 import tomllib
 from pathlib import Path
 
-import h5py
 import numpy as np
 from scipy import stats
 
@@ -153,7 +152,8 @@ class Run:
         return (t1 - t0).total_seconds()
 
     @property
-    def transit(self) -> float:
+    def length_transit_time(self) -> float:
+        """L / c_s [s]"""
         return self.info.L / self.info.c_s
 
 
@@ -883,7 +883,7 @@ class Report:
                 continue
             p = s["pulse"]
             ps = p["periodic_pulse_spacetime"]
-            tr = s["run"].transit
+            tr = s["run"].length_transit_time
             value = (f"periodic_pulse = {p['periodic_pulse']} (criterion: {p['periodic_pulse_basis']})")
             if ps.get("determined"):
                 value += (f"; late half: min max-slip-rate {fmt(ps['min_max_slip_rate_v0'])} v0, slipping width "
@@ -924,7 +924,7 @@ class Report:
             st = an.read_spacetime(s["run"].path, max_rows=6000)
             cache["value"] = None if st is None else an.pulse_episodes(
                 st[0], st[2], s["run"].info.v0, s["run"].info.L / st[2].shape[1],
-                window=an.PULSE_EPISODE_WINDOW_TRANSITS * s["run"].transit)
+                window=an.PULSE_EPISODE_WINDOW_TRANSITS * s["run"].length_transit_time)
         return cache["value"]
 
     def _fig5_figure(self, s):
@@ -937,7 +937,7 @@ class Report:
         z = _downsample(np.log10(np.maximum(np.abs(v), 1e-6 * run.info.v0) / run.info.v0), 500, 400)
         fig, ax = plt.subplots(figsize=(4.6, 3.8))
         im = ax.imshow(z, origin="lower", aspect="auto", cmap="viridis", vmin=-2,
-                       extent=(0, 1, t[0] / run.transit, t[-1] / run.transit))
+                       extent=(0, 1, t[0] / run.length_transit_time, t[-1] / run.length_transit_time))
         fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
         episodes = self._pulse_episodes(s)
         for (t0, t1), flag in zip(episodes["windows"] if episodes else [], episodes["flags"] if episodes else []):
@@ -946,7 +946,7 @@ class Report:
                            color="r")
         onset = s["pulse"]["periodic_pulse_spacetime"].get("onset_time", math.nan)
         if _finite(onset):
-            ax.axhline(onset / run.transit, color="w", ls="--", lw=0.8, label="pulse onset (criterion)")
+            ax.axhline(onset / run.length_transit_time, color="w", ls="--", lw=0.8, label="pulse onset (criterion)")
             ax.legend(fontsize=6)
         ax.set_xlabel("$x/L$")
         ax.set_ylabel("$t c_s/L$")
@@ -957,14 +957,14 @@ class Report:
         zooms = []
         if episodes and _finite(episodes["longest_start"]):
             mid = 0.5 * (episodes["longest_start"] + episodes["longest_end"])
-            zooms.append(("pulse stretch", mid - 5 * run.transit, mid + 5 * run.transit))
-        zooms.append(("end of the run", t[-1] - 10 * run.transit, t[-1]))
+            zooms.append(("pulse stretch", mid - 5 * run.length_transit_time, mid + 5 * run.length_transit_time))
+        zooms.append(("end of the run", t[-1] - 10 * run.length_transit_time, t[-1]))
         fig, axes = plt.subplots(1, len(zooms), figsize=(4.2 * len(zooms), 3.6), squeeze=False)
         for ax, (label, t0, t1) in zip(axes[0], zooms):
             rows = (t >= t0) & (t <= t1)
             zz = np.log10(np.maximum(np.abs(v[rows]), 1e-6 * run.info.v0) / run.info.v0)
             im = ax.imshow(_downsample(zz, 400, 400), origin="lower", aspect="auto", cmap="viridis", vmin=-2,
-                           vmax=1.5, extent=(0, 1, t[rows][0] / run.transit, t[rows][-1] / run.transit))
+                           vmax=1.5, extent=(0, 1, t[rows][0] / run.length_transit_time, t[rows][-1] / run.length_transit_time))
             ax.set(xlabel="$x/L$", ylabel="$t c_s/L$", title=label)
         fig.colorbar(im, ax=axes[0, -1], label=r"$\log_{10}(v/v_0)$")
         self._save(fig, "fig5_zoom.png")
@@ -982,9 +982,9 @@ class Report:
             st = part["stationarity"]
             cut = part["cut"]
             self.stationarity_rows.append([
-                name, f"{fmt(cut['t_cut'])} s = {fmt(cut['t_cut'] / run.transit)} L/c_s "
+                name, f"{fmt(cut['t_cut'])} s = {fmt(cut['t_cut'] / run.length_transit_time)} L/c_s "
                       f"({cut['batches_dropped_rate']}/{cut['batches_dropped_slip']} of {cut['n_batches']} batches)",
-                f"{fmt(run.info.duration / run.transit)} L/c_s", str(len(part["catalog"]["t_start"])),
+                f"{fmt(run.info.duration / run.length_transit_time)} L/c_s", str(len(part["catalog"]["t_start"])),
                 f"{st['n_first']} / {st['n_last']}",
                 *(fmt(st[k]["pvalue"], digits=2) for k in ("u", "T", "M0")),
                 "yes" if part["stationary"] else "no",
@@ -993,7 +993,7 @@ class Report:
             if name != "reference":
                 continue
             sb = part["stationarity_blocks"]
-            value = (f"cut {fmt(cut['t_cut'] / run.transit)} L/c_s of {fmt(run.info.duration / run.transit)}; "
+            value = (f"cut {fmt(cut['t_cut'] / run.length_transit_time)} L/c_s of {fmt(run.info.duration / run.length_transit_time)}; "
                      "first vs last fifth of what is kept, block-permutation KS p (serially dependent events, "
                      f"{sb['n_blocks']} blocks): " +
                      ", ".join(f"{k} {fmt(sb[k]['pvalue'], digits=2)}" for k in ("u", "T", "M0")) +
@@ -1202,7 +1202,7 @@ class Report:
             w = r.wall_seconds
             total += w if _finite(w) else 0.0
             out.append(f"| RUNDIR/{name}.h5 | {RUNS[name]} | {r.status} | {fmt(r.info.duration)} s = "
-                       f"{fmt(r.info.duration / r.transit)} L/c_s | {_hms(w)} | {r.info.n_nodes} | {r.git_hash} | "
+                       f"{fmt(r.info.duration / r.length_transit_time)} L/c_s | {_hms(w)} | {r.info.n_nodes} | {r.git_hash} | "
                        f"{material_label(r.config)} |")
         out += ["", f"Total wall time of the runs listed: {_hms(total)}.", "",
                 f"Machine: {_machine()}.", "",

@@ -219,7 +219,7 @@ class RunFile:
     code_version, git_hash, units (dataset path -> units), timeseries (dict of
     arrays, read on each access), snapshots (lazy), slip_sampling (lazy, or
     None), events (catalog dict, or None).  Derived: length, height, nodes,
-    driving_velocity, shear_wave_speed, transit_time (L / c_s)."""
+    driving_velocity, shear_wave_speed, length_transit_time (L / c_s)."""
 
     def __init__(self, path: str | os.PathLike):
         self.path = os.fspath(path)
@@ -293,8 +293,10 @@ class RunFile:
         return float(np.sqrt(self._cfg("material", "shear_modulus") / self._cfg("material", "density")))
 
     @property
-    def transit_time(self) -> float:
-        """L / c_s [s]"""
+    def length_transit_time(self) -> float:
+        """L / c_s [s]: a shear wave's transit of the period L, the time unit of the
+        paper's figures (time.duration_transits).  Not the 2H/c_s of
+        scan.height_round_trip_time."""
         return self.length / self.shear_wave_speed
 
     # --- data ----------------------------------------------------------------------

@@ -434,10 +434,10 @@ def test_duration_pdf_of_log_uniform_sample():
     assert density == pytest.approx(expected, rel=0.05)
 
 
-def test_transit_time_from_resolved_config():
+def test_height_round_trip_time_from_resolved_config():
     text = 'geometry = {height = 0.1}\nmaterial = {shear_modulus = 9e9, density = 1200.0}\n'
-    assert scan.transit_time(text) == pytest.approx(2 * 0.1 / math.sqrt(9e9 / 1200.0), rel=1e-15)
-    assert scan.transit_time('geometry = {height = "inf"}\nmaterial = {shear_modulus = 9e9, density = 300.0}\n') \
+    assert scan.height_round_trip_time(text) == pytest.approx(2 * 0.1 / math.sqrt(9e9 / 1200.0), rel=1e-15)
+    assert scan.height_round_trip_time('geometry = {height = "inf"}\nmaterial = {shear_modulus = 9e9, density = 300.0}\n') \
         == math.inf
 
 

@@ -147,8 +147,11 @@ def duration_pdf(durations, n_bins: int = 20):
     return centres[keep], density[keep]
 
 
-def transit_time(config_text: str) -> float:
-    """2H/c_s of a resolved config (the /attrs `config` text of a run file); inf for a half-space."""
+def height_round_trip_time(config_text: str) -> float:
+    """2H/c_s [s]: a shear wave's round trip across the strip height (interface to
+    the loaded boundary and back), of a resolved config (the root attribute
+    `config` of a run file); inf for a half-space.  Not the L/c_s of
+    RunFile.length_transit_time."""
     cfg = tomllib.loads(config_text)
     height = cfg["geometry"]["height"]
     height = math.inf if isinstance(height, str) else float(height)
@@ -188,7 +191,7 @@ def plot_duration_pdfs(summary_dir: str | os.PathLike, out_png: str | os.PathLik
         line, = ax.loglog(centres, density, "o-", ms=3, label=label)
         if len(centres) == 0:
             line.set_visible(False)
-        arrows.append((transit_time(config), line.get_color()))
+        arrows.append((height_round_trip_time(config), line.get_color()))
     ax.set_xlabel("event duration T [s]")
     ax.set_ylabel("p(T) [1/s]")
     ax.set_title("Event durations; arrows: 2H/c_s")
