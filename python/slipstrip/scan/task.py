@@ -10,9 +10,11 @@ this process (slipstrip.run / slipstrip.resume):
   * SIGTERM: Slurm ends a task at its time limit (and on scancel) with
     SIGTERM.  The CLI's own handler stops the run at a whole step, writes a
     restart point and the status "interrupted", and exits 143; a relaunched
-    scan then resumes the run (`has_restart_point` below).  In a Python
-    process a SIGTERM ends the interpreter without any of that: the bindings
-    only turn SIGINT into a clean stop.
+    scan then resumes the run (`has_restart_point` below).  A Python process
+    ends on SIGTERM without any of that: the bindings stop a run cleanly only
+    when an interpreter signal handler raises (SIGINT -> KeyboardInterrupt),
+    and a SIGTERM handler of our own would have to redo the CLI's handling
+    (set-up cancelled, exit 143) in Python.
   * crashes: a solver that dies (abort in a library, the kernel's OOM
     killer, a segfault) takes only its own run down; the row says so and
     the other runs go on.  In-process, it would end the whole scan.
@@ -28,9 +30,11 @@ this process (slipstrip.run / slipstrip.resume):
     4 disk full, 143 interrupted) and the solver's stderr the message, both
     kept in the row.
 
-Since the process is the solver itself, a Python process in between (a
-ProcessPoolExecutor worker calling the bindings) would add nothing but a
-second interpreter per run: the executors (executors.py) run this function
+A ProcessPoolExecutor worker calling the bindings would give the isolation
+and the thread count, but not the SIGTERM handling, the checks or the exit
+codes, and would cost an interpreter per run; and on Ctrl-C its idle workers
+die with the pool (BrokenProcessPool).  So the process is the solver itself,
+and the executors (executors.py) run this function
 in threads of concurrent.futures (each waits on its solver, the GIL is free
 meanwhile), in Dask workers, or once per Slurm array task.  Everything after
 the run is in-process through the bindings and the package: event detection
