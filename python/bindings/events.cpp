@@ -7,6 +7,8 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <hdf5.h>
+
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -155,6 +157,27 @@ ev::SlipSamplingInfo make_info(std::size_t n_nodes, double delta_th, double dx, 
   return info;
 }
 
+// HDF5 prints its error stack to stderr on every thread that has not turned
+// that off (h5py turns it off on the main thread only), so a damaged run file
+// read from a scan's worker thread would bury the one-line cause that our
+// exception already carries.  For the duration of one call, on the calling
+// thread, the printing is off (as in the CLI, apps/slipstrip_main.cpp); the
+// thread's previous setting is restored afterwards.
+class QuietHdf5Errors {
+ public:
+  QuietHdf5Errors() {
+    H5Eget_auto2(H5E_DEFAULT, &print_, &client_data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, print_, client_data_); }
+  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
+  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
+
+ private:
+  H5E_auto2_t print_ = nullptr;
+  void* client_data_ = nullptr;
+};
+
 using CrossingArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 void check_matrix(const CrossingArray& a) {
@@ -175,6 +198,7 @@ void bind_events(py::module_& m) {
         ev::EventCatalog c;
         {
           py::gil_scoped_release release;
+          const QuietHdf5Errors quiet;
           c = ev::detect_events_in_file(path.string(), options);
         }
         return catalog_to_dict(std::move(c));
@@ -195,6 +219,7 @@ void bind_events(py::module_& m) {
         ev::EventCatalog c;
         {
           py::gil_scoped_release release;
+          const QuietHdf5Errors quiet;
           c = ev::detect_events_in_file(run_path.string(), options);
           ev::write_event_catalog(target, c);
         }

@@ -335,6 +335,27 @@ def test_in_process_detection_equals_the_cli(quick_run, cli, tmp_path, into):
     assert attrs == cli_attrs
 
 
+def test_in_process_detection_of_a_damaged_file_raises_without_hdf5_stack(quick_run, tmp_path, capfd):
+    """From a worker thread (as in a scan), a truncated run file gives one
+    exception naming the cause and no HDF5 error stack on stderr."""
+    import threading
+    damaged = tmp_path / "truncated.h5"
+    damaged.write_bytes(quick_run.read_bytes()[:3000])
+    errors = []
+
+    def detect():
+        try:
+            analysis.run_event_detection(damaged, 15.0, tmp_path / "events.h5")
+        except RuntimeError as err:
+            errors.append(str(err))
+
+    worker = threading.Thread(target=detect)
+    worker.start()
+    worker.join()
+    assert len(errors) == 1 and "truncated" in errors[0]
+    assert "HDF5-DIAG" not in capfd.readouterr().err
+
+
 def test_numpy_grouping_matches_cpp_catalog(quick_run, tmp_path):
     out = tmp_path / "cat.h5"
     analysis.run_event_detection(quick_run, 15.0, out)
