@@ -148,8 +148,8 @@ def duration_pdf(durations, n_bins: int = 20):
 
 
 def height_round_trip_time(config_text: str) -> float:
-    """2H/c_s [s]: a shear wave's round trip across the strip height (interface to
-    the loaded boundary and back), of a resolved config (the root attribute
+    """2H/c_s [s]: a shear wave's round trip across the strip height (from the
+    interface to the strip's far boundary and back), of a resolved config (the root attribute
     `config` of a run file); inf for a half-space.  Not the L/c_s of
     RunFile.length_transit_time."""
     cfg = tomllib.loads(config_text)
