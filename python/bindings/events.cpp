@@ -7,10 +7,13 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <hdf5.h>
+
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -154,6 +157,27 @@ ev::SlipSamplingInfo make_info(std::size_t n_nodes, double delta_th, double dx, 
   return info;
 }
 
+// HDF5 prints its error stack to stderr on every thread that has not turned
+// that off (h5py turns it off on the main thread only), so a damaged run file
+// read from a scan's worker thread would bury the one-line cause that our
+// exception already carries.  For the duration of one call, on the calling
+// thread, the printing is off (as in the CLI, apps/slipstrip_main.cpp); the
+// thread's previous setting is restored afterwards.
+class QuietHdf5Errors {
+ public:
+  QuietHdf5Errors() {
+    H5Eget_auto2(H5E_DEFAULT, &print_, &client_data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, print_, client_data_); }
+  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
+  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
+
+ private:
+  H5E_auto2_t print_ = nullptr;
+  void* client_data_ = nullptr;
+};
+
 using CrossingArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 void check_matrix(const CrossingArray& a) {
@@ -174,6 +198,7 @@ void bind_events(py::module_& m) {
         ev::EventCatalog c;
         {
           py::gil_scoped_release release;
+          const QuietHdf5Errors quiet;
           c = ev::detect_events_in_file(path.string(), options);
         }
         return catalog_to_dict(std::move(c));
@@ -181,6 +206,30 @@ void bind_events(py::module_& m) {
       py::arg("path"), py::arg("alpha") = 15.0, py::arg("min_extent_dx") = 2.0, py::arg("min_mean_slip_dth") = 2.0,
       py::arg("exclude_first_last") = true, py::arg("block_rows") = 256,
       "Detect slip events from /slip_sampling of an HDF5 file (streamed).  Returns a catalog dict.");
+  // What `slipstrip events RUN [--out OUT]` does (apps/slipstrip_main.cpp),
+  // in-process: detection and the /events write both in C++, so the file
+  // written is the CLI's byte for byte and the arrays never cross into Python
+  // and back.
+  m.def(
+      "detect_events_into_file",
+      [](const std::filesystem::path& run_path, const std::optional<std::filesystem::path>& out_path, double alpha,
+         double min_extent_dx, double min_mean_slip_dth, bool exclude_first_last, std::size_t block_rows) {
+        const auto options = make_options(alpha, min_extent_dx, min_mean_slip_dth, exclude_first_last, block_rows);
+        const std::string target = out_path ? out_path->string() : run_path.string();
+        ev::EventCatalog c;
+        {
+          py::gil_scoped_release release;
+          const QuietHdf5Errors quiet;
+          c = ev::detect_events_in_file(run_path.string(), options);
+          ev::write_event_catalog(target, c);
+        }
+        return catalog_to_dict(std::move(c));
+      },
+      py::arg("run_path"), py::arg("out_path") = py::none(), py::arg("alpha") = 15.0, py::arg("min_extent_dx") = 2.0,
+      py::arg("min_mean_slip_dth") = 2.0, py::arg("exclude_first_last") = true, py::arg("block_rows") = 256,
+      "Detect slip events from /slip_sampling of run_path and write the catalog as /events of out_path "
+      "(default: the run file itself, replacing its /events), as `slipstrip events` does.  Returns the "
+      "catalog dict.");
   m.def(
       "detect_events",
       [](CrossingArray crossing_time, double delta_th, double dx, double v0, double mu, py::object x, double D,

@@ -27,6 +27,7 @@ from ._slipstrip import (  # noqa: F401  (re-exported)
     SimulationError,
     detect_events,
     detect_events_in_file,
+    detect_events_into_file,
     half_space_response,
     read_event_catalog,
     read_slip_sampling_info,
@@ -46,7 +47,7 @@ git_hash = _slipstrip.git_hash
 __all__ = [
     "Config", "ConfigError", "ElasticMaterial", "LocalSolveFailure", "RunFile", "RunResult",
     "Simulation", "SimulationError", "characteristic_roots", "critical_wavelength",
-    "critical_wavelength_vs_height", "detect_events", "detect_events_in_file", "growth_rates",
+    "critical_wavelength_vs_height", "detect_events", "detect_events_in_file", "detect_events_into_file", "growth_rates",
     "half_space_response", "linearise_friction", "load_config", "most_unstable_root", "open_run",
     "quasi_static_critical_wavelength", "read_event_catalog", "read_slip_sampling_info", "resume", "run",
     "solve_slip_rate", "characteristic_function",

@@ -1,9 +1,9 @@
 """Slip-event statistics and figures (paper Figs. 1b-e, 2b-d, S3-S9).
 
 Input is one run file (docs/output.md) with a slip-event catalog in group
-/events (docs/events.md).  The catalog is produced by the C++ detector through
-the CLI (`slipstrip events`); this module never re-derives catalog numbers
-itself.  The one exception is the event-coloured space-slip map (Fig. S4b),
+/events (docs/events.md).  The catalog is produced by the C++ detector, called
+in this process through the bindings (`run_event_detection`, the same calls as
+`slipstrip events`); this module never re-derives catalog numbers itself.  The one exception is the event-coloured space-slip map (Fig. S4b),
 whose colours come from `group_nodal_slips`, a numpy re-implementation of the
 grouping used for plotting only (a test checks that it finds the same number
 of events as the C++ detector).
@@ -23,8 +23,6 @@ import dataclasses
 import json
 import math
 import os
-import shutil
-import subprocess
 import sys
 import tempfile
 import tomllib
@@ -33,6 +31,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 from scipy import optimize, stats
+
+from .runfile import decode_attr, open_h5
 
 DEFAULT_ALPHA = 15.0
 SENSITIVITY_ALPHAS = (8.0, 15.0, 30.0, 60.0)
@@ -92,8 +92,8 @@ class RunInfo:
 
 
 def read_run_info(path: str | os.PathLike) -> RunInfo:
-    with _open_h5(path) as f:
-        config = tomllib.loads(_as_str(f.attrs["config"])) if "config" in f.attrs else {}
+    with open_h5(path) as f:
+        config = tomllib.loads(decode_attr(f.attrs["config"])) if "config" in f.attrs else {}
         ss = f["slip_sampling"].attrs if "slip_sampling" in f else {}
         geometry = config.get("geometry", {})
         material = config.get("material", {})
@@ -121,66 +121,33 @@ def read_run_info(path: str | os.PathLike) -> RunInfo:
                        delta_th=float(ss.get("delta_th", math.nan)), n_nodes=n, duration=duration)
 
 
-def _open_h5(path, attempts: int = 100, wait: float = 0.05) -> h5py.File:
-    """h5py.File(path, "r"), retried for a few seconds while a running solver
-    holds its write lock (it flushes for a few ms at a time)."""
-    import time
-    for i in range(attempts):
-        try:
-            return h5py.File(path, "r")
-        except OSError as err:
-            if "lock" not in str(err) or i == attempts - 1:
-                raise
-            time.sleep(wait)
-    raise AssertionError("unreachable")
-
-
-def _as_str(value) -> str:
-    return value.decode() if isinstance(value, bytes) else str(value)
-
-
 def read_catalog(path: str | os.PathLike) -> dict:
     """/events of `path` as {field: ndarray} plus 'attrs' (dict)."""
-    with _open_h5(path) as f:
+    with open_h5(path) as f:
         if "events" not in f:
             raise KeyError(f"{path}: no group /events (run `slipstrip events {path}` first)")
         g = f["events"]
         catalog = {k: np.asarray(g[k][:]) for k in CATALOG_FIELDS if k in g}
-        catalog["attrs"] = {k: (_as_str(v) if isinstance(v, (bytes, str)) else v.item() if hasattr(v, "item") else v)
-                            for k, v in g.attrs.items()}
+        catalog["attrs"] = {k: decode_attr(v) for k, v in g.attrs.items()}
     return catalog
 
 
 # ---------------------------------------------------------------------------
-# Event detection through the C++ CLI
+# Event detection: the C++ detector through the bindings, in this process
 # ---------------------------------------------------------------------------
-
-def find_slipstrip_binary() -> str | None:
-    """$SLIPSTRIP_BIN, else `slipstrip` on PATH, else build/slipstrip of this checkout."""
-    explicit = os.environ.get("SLIPSTRIP_BIN")
-    if explicit:
-        return explicit if os.access(explicit, os.X_OK) else None
-    found = shutil.which("slipstrip")
-    if found:
-        return found
-    default = Path(__file__).resolve().parents[2] / "build" / "slipstrip"
-    return str(default) if os.access(default, os.X_OK) else None
-
 
 def run_event_detection(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
                         out: str | os.PathLike | None = None) -> str:
-    """Runs `slipstrip events RUN --alpha A [--out OUT]`; returns the file holding /events."""
-    binary = find_slipstrip_binary()
-    if binary is None:
-        raise FileNotFoundError("slipstrip binary not found (set SLIPSTRIP_BIN, put it on PATH, "
-                                "or build build/slipstrip in this checkout)")
-    cmd = [binary, "events", str(run_path), "--alpha", repr(float(alpha))]
-    if out is not None:
-        cmd += ["--out", str(out)]
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    if proc.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}): {proc.stderr.strip()}")
-    return str(out if out is not None else run_path)
+    """Detects slip events in /slip_sampling of `run_path` and writes the
+    catalog as /events of `out` (default: the run file itself, replacing its
+    /events); returns the file holding /events.  The same C++ calls as
+    `slipstrip events RUN --alpha A [--out OUT]` (bindings, in-process), so
+    the file is the CLI's byte for byte.  RuntimeError if the run file cannot
+    be read or the target cannot be written."""
+    from . import _slipstrip
+    target = os.fspath(out if out is not None else run_path)
+    _slipstrip.detect_events_into_file(os.fspath(run_path), target, alpha=float(alpha))
+    return target
 
 
 def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
@@ -189,7 +156,7 @@ def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
     made with this alpha; else detection is run into a catalog file in
     `workdir` (or a temporary one).  Only with write_into_run=True, and when
     the run file has no /events yet, is the catalog added to the run file."""
-    with _open_h5(run_path) as f:
+    with open_h5(run_path) as f:
         stored_alpha = float(f["events"].attrs["alpha"]) if "events" in f else None
     if stored_alpha is not None and stored_alpha == float(alpha):
         return read_catalog(run_path)
@@ -197,7 +164,7 @@ def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
         try:
             run_event_detection(run_path, alpha)
             return read_catalog(run_path)
-        except RuntimeError:
+        except (RuntimeError, OSError):
             pass  # e.g. read-only run file: fall back to a separate catalog file
     if workdir is not None:
         out = Path(workdir) / f"events_alpha{alpha:g}.h5"
@@ -774,7 +741,7 @@ def pulse_episodes(time, slip_rate, v0: float, dx: float, window: float) -> dict
 def read_spacetime(path, max_rows: int | None = None):
     """(time, x, slip_rate) of /snapshots; None without enough snapshots.
     max_rows > 0 strides the rows evenly."""
-    with _open_h5(path) as f:
+    with open_h5(path) as f:
         if "snapshots" not in f or f["snapshots/time"].shape[0] < 2:
             return None
         t = f["snapshots/time"][:]
@@ -793,7 +760,7 @@ def periodic_pulse_decision(by_events: dict, by_timeseries: dict, by_spacetime: 
 def periodic_pulse_of_run(path, catalog: dict, info: RunInfo) -> dict:
     """All three periodic-pulse criteria of one run file and the decision."""
     by_events = periodic_pulse_from_catalog(catalog, info)
-    with _open_h5(path) as f:
+    with open_h5(path) as f:
         by_ts = (periodic_pulse_from_timeseries(f["timeseries/time"][:], f["timeseries/max_slip_rate"][:], info.v0)
                  if "timeseries" in f else {"flag": False})
     st = read_spacetime(path)
@@ -950,7 +917,7 @@ def _stride(n: int, target: int) -> int:
 def plot_space_time(path, info: RunInfo, out_dir: Path, pdf: bool = False, max_rows: int = 2000) -> list[str]:
     """log10(|v|/v0) in the x/L -- t c_s/L plane from /snapshots (Figs. 2a, S3a)."""
     plt = _plt()
-    with _open_h5(path) as f:
+    with open_h5(path) as f:
         t = f["snapshots/time"][:]
         step = _stride(t.size, max_rows)
         v = f["snapshots/slip_rate"][::step]
@@ -967,7 +934,7 @@ def plot_space_time(path, info: RunInfo, out_dir: Path, pdf: bool = False, max_r
 
 
 def _read_crossing_time(path):
-    with _open_h5(path) as f:
+    with open_h5(path) as f:
         g = f["slip_sampling"]
         ct = g["crossing_time"][:]
         x = g["x"][:] if "x" in g else np.arange(ct.shape[1]) * float(g.attrs["dx"])
@@ -1091,7 +1058,7 @@ def plot_event_fields(path, catalog: dict, index: int, info: RunInfo, out_dir: P
     plt = _plt()
     t0 = float(catalog["t_start"][index])
     t1 = t0 + float(catalog["T"][index])
-    with _open_h5(path) as f:
+    with open_h5(path) as f:
         ts = f["snapshots/time"][:]
         before = np.nonzero(ts <= t0)[0]
         after = np.nonzero(ts >= t1)[0]
@@ -1150,7 +1117,7 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
     summary["catalog_counts"] = {k: catalog["attrs"].get(k) for k in (
         "n_nodal_slips", "n_events_detected", "n_events_excluded_first_last", "n_events_below_thresholds",
         "n_events")}
-    with _open_h5(path) as f:
+    with open_h5(path) as f:
         has_snap = "snapshots" in f and f["snapshots/time"].shape[0] > 0
         has_ss = "slip_sampling" in f
     summary.update(periodic_pulse_of_run(path, catalog, info))

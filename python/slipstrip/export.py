@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import analysis
+from . import runfile
 
 FMT = "%.15e"
 
@@ -56,12 +56,12 @@ def export_seas(run_path, out_dir) -> list[Path]:
     import tomllib
     out_dir = Path(out_dir)
     written = []
-    with analysis._open_h5(run_path) as h5:
+    with runfile.open_h5(run_path) as h5:
         if "stations" not in h5:
             raise KeyError(f"{run_path}: no /stations (set [output] stations = [x1, ...] in the config)")
-        attrs = {k: analysis._as_str(v) for k, v in h5.attrs.items() if k in
+        attrs = {k: str(runfile.decode_attr(v)) for k, v in h5.attrs.items() if k in
                  ("code_version", "git_hash", "start_time", "status")}
-        config = tomllib.loads(analysis._as_str(h5.attrs["config"]))
+        config = tomllib.loads(str(runfile.decode_attr(h5.attrs["config"])))
         g = h5["stations"]
         x = g["x"][:]
         t = g["time"][:]

@@ -30,11 +30,11 @@ import tempfile
 import tomllib
 from pathlib import Path
 
-import h5py
 import numpy as np
 from scipy import stats
 
 from . import analysis as an
+from . import runfile
 from . import transition
 
 REPO = Path(__file__).resolve().parents[2]
@@ -152,7 +152,8 @@ class Run:
         return (t1 - t0).total_seconds()
 
     @property
-    def transit(self) -> float:
+    def length_transit_time(self) -> float:
+        """L / c_s [s]"""
         return self.info.L / self.info.c_s
 
 
@@ -163,11 +164,10 @@ def open_run_file(rundir: Path, name: str, allow_incomplete: bool = False) -> Ru
     if not path.is_file():
         raise MissingRun(f"{shown} missing")
     try:
-        with an._open_h5(path) as f:
-            attrs = {k: an._as_str(f.attrs[k]) for k in ("status", "config", "start_time", "end_time", "git_hash")
-                     if k in f.attrs}
-            if "config" not in attrs or "timeseries" not in f:
-                raise MissingRun(f"{shown} unreadable: not a slipstrip run file (no config or /timeseries)")
+        attrs = {k: str(v) for k, v in runfile.read_attrs(path).items()
+                 if k in ("status", "config", "start_time", "end_time", "git_hash")}
+        if "config" not in attrs or not runfile.has_group(path, "timeseries"):
+            raise MissingRun(f"{shown} unreadable: not a slipstrip run file (no config or /timeseries)")
         info = an.read_run_info(path)
     except MissingRun:
         raise
@@ -215,7 +215,7 @@ def wave_speeds(config: dict) -> dict:
 def catalog_of(run: Run, alpha: float, workdir: Path) -> dict:
     """/events of the run file if made with this alpha, else a fresh detection
     into workdir (the run file is never written)."""
-    with an._open_h5(run.path) as f:
+    with runfile.open_h5(run.path) as f:
         stored = float(f["events"].attrs["alpha"]) if "events" in f else None
     if stored is not None and stored == float(alpha) and run.status == "completed":
         return an.read_catalog(run.path)
@@ -612,7 +612,7 @@ class Report:
             run = self.runs[name]
             ws = wave_speeds(run.config)
             tau = 2 * run.info.H / run.info.c_s
-            with an._open_h5(run.path) as f:
+            with runfile.open_h5(run.path) as f:
                 t, x, v = f["snapshots/time"][:], f["snapshots/x"][:], f["snapshots/slip_rate"][:]
             x0 = float(run.config.get("initial", {}).get("local_center", run.info.L / 2))
             ev = nucleation_event(t, x, v, run.info.v0, x0, run.info.L, ws["c_d"])
@@ -883,7 +883,7 @@ class Report:
                 continue
             p = s["pulse"]
             ps = p["periodic_pulse_spacetime"]
-            tr = s["run"].transit
+            tr = s["run"].length_transit_time
             value = (f"periodic_pulse = {p['periodic_pulse']} (criterion: {p['periodic_pulse_basis']})")
             if ps.get("determined"):
                 value += (f"; late half: min max-slip-rate {fmt(ps['min_max_slip_rate_v0'])} v0, slipping width "
@@ -924,7 +924,7 @@ class Report:
             st = an.read_spacetime(s["run"].path, max_rows=6000)
             cache["value"] = None if st is None else an.pulse_episodes(
                 st[0], st[2], s["run"].info.v0, s["run"].info.L / st[2].shape[1],
-                window=an.PULSE_EPISODE_WINDOW_TRANSITS * s["run"].transit)
+                window=an.PULSE_EPISODE_WINDOW_TRANSITS * s["run"].length_transit_time)
         return cache["value"]
 
     def _fig5_figure(self, s):
@@ -937,7 +937,7 @@ class Report:
         z = _downsample(np.log10(np.maximum(np.abs(v), 1e-6 * run.info.v0) / run.info.v0), 500, 400)
         fig, ax = plt.subplots(figsize=(4.6, 3.8))
         im = ax.imshow(z, origin="lower", aspect="auto", cmap="viridis", vmin=-2,
-                       extent=(0, 1, t[0] / run.transit, t[-1] / run.transit))
+                       extent=(0, 1, t[0] / run.length_transit_time, t[-1] / run.length_transit_time))
         fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
         episodes = self._pulse_episodes(s)
         for (t0, t1), flag in zip(episodes["windows"] if episodes else [], episodes["flags"] if episodes else []):
@@ -946,7 +946,7 @@ class Report:
                            color="r")
         onset = s["pulse"]["periodic_pulse_spacetime"].get("onset_time", math.nan)
         if _finite(onset):
-            ax.axhline(onset / run.transit, color="w", ls="--", lw=0.8, label="pulse onset (criterion)")
+            ax.axhline(onset / run.length_transit_time, color="w", ls="--", lw=0.8, label="pulse onset (criterion)")
             ax.legend(fontsize=6)
         ax.set_xlabel("$x/L$")
         ax.set_ylabel("$t c_s/L$")
@@ -957,14 +957,14 @@ class Report:
         zooms = []
         if episodes and _finite(episodes["longest_start"]):
             mid = 0.5 * (episodes["longest_start"] + episodes["longest_end"])
-            zooms.append(("pulse stretch", mid - 5 * run.transit, mid + 5 * run.transit))
-        zooms.append(("end of the run", t[-1] - 10 * run.transit, t[-1]))
+            zooms.append(("pulse stretch", mid - 5 * run.length_transit_time, mid + 5 * run.length_transit_time))
+        zooms.append(("end of the run", t[-1] - 10 * run.length_transit_time, t[-1]))
         fig, axes = plt.subplots(1, len(zooms), figsize=(4.2 * len(zooms), 3.6), squeeze=False)
         for ax, (label, t0, t1) in zip(axes[0], zooms):
             rows = (t >= t0) & (t <= t1)
             zz = np.log10(np.maximum(np.abs(v[rows]), 1e-6 * run.info.v0) / run.info.v0)
             im = ax.imshow(_downsample(zz, 400, 400), origin="lower", aspect="auto", cmap="viridis", vmin=-2,
-                           vmax=1.5, extent=(0, 1, t[rows][0] / run.transit, t[rows][-1] / run.transit))
+                           vmax=1.5, extent=(0, 1, t[rows][0] / run.length_transit_time, t[rows][-1] / run.length_transit_time))
             ax.set(xlabel="$x/L$", ylabel="$t c_s/L$", title=label)
         fig.colorbar(im, ax=axes[0, -1], label=r"$\log_{10}(v/v_0)$")
         self._save(fig, "fig5_zoom.png")
@@ -982,9 +982,9 @@ class Report:
             st = part["stationarity"]
             cut = part["cut"]
             self.stationarity_rows.append([
-                name, f"{fmt(cut['t_cut'])} s = {fmt(cut['t_cut'] / run.transit)} L/c_s "
+                name, f"{fmt(cut['t_cut'])} s = {fmt(cut['t_cut'] / run.length_transit_time)} L/c_s "
                       f"({cut['batches_dropped_rate']}/{cut['batches_dropped_slip']} of {cut['n_batches']} batches)",
-                f"{fmt(run.info.duration / run.transit)} L/c_s", str(len(part["catalog"]["t_start"])),
+                f"{fmt(run.info.duration / run.length_transit_time)} L/c_s", str(len(part["catalog"]["t_start"])),
                 f"{st['n_first']} / {st['n_last']}",
                 *(fmt(st[k]["pvalue"], digits=2) for k in ("u", "T", "M0")),
                 "yes" if part["stationary"] else "no",
@@ -993,7 +993,7 @@ class Report:
             if name != "reference":
                 continue
             sb = part["stationarity_blocks"]
-            value = (f"cut {fmt(cut['t_cut'] / run.transit)} L/c_s of {fmt(run.info.duration / run.transit)}; "
+            value = (f"cut {fmt(cut['t_cut'] / run.length_transit_time)} L/c_s of {fmt(run.info.duration / run.length_transit_time)}; "
                      "first vs last fifth of what is kept, block-permutation KS p (serially dependent events, "
                      f"{sb['n_blocks']} blocks): " +
                      ", ".join(f"{k} {fmt(sb[k]['pvalue'], digits=2)}" for k in ("u", "T", "M0")) +
@@ -1064,7 +1064,7 @@ class Report:
 
     def _space_slip_figure(self, run, t_cut, window_D=400.0, max_rows=1500):
         """v(x, delta)/v0 over window_D of mean slip after the transient cut (Fig. 1b)."""
-        with an._open_h5(run.path) as f:
+        with runfile.open_h5(run.path) as f:
             ct = f["slip_sampling/crossing_time"]
             n_levels = ct.shape[0]
             j0 = int(min(max(1, run.info.v0 * t_cut / run.info.delta_th), max(1, n_levels - 2)))
@@ -1202,7 +1202,7 @@ class Report:
             w = r.wall_seconds
             total += w if _finite(w) else 0.0
             out.append(f"| RUNDIR/{name}.h5 | {RUNS[name]} | {r.status} | {fmt(r.info.duration)} s = "
-                       f"{fmt(r.info.duration / r.transit)} L/c_s | {_hms(w)} | {r.info.n_nodes} | {r.git_hash} | "
+                       f"{fmt(r.info.duration / r.length_transit_time)} L/c_s | {_hms(w)} | {r.info.n_nodes} | {r.git_hash} | "
                        f"{material_label(r.config)} |")
         out += ["", f"Total wall time of the runs listed: {_hms(total)}.", "",
                 f"Machine: {_machine()}.", "",

@@ -1,5 +1,12 @@
 """Read a run file (docs/output.md) without holding it open.
 
+This module is the package's one reader of run files: everything else
+(analysis, report, transition, export, scan) opens them with `open_h5` and
+decodes attributes with `decode_attr` or the small readers below
+(`read_attrs`, `read_config`, `read_status`, ...), so that the lock retry
+and the attribute decoding (HDF5 strings arrive as bytes or str, numbers as
+NumPy scalars) exist once.
+
 The writer defers its flushes while a reader holds the file (HDF5 file
 locks), so RunFile opens the file only for the duration of each read and
 closes it again.  Everything is read on demand; nothing is cached except the
@@ -7,6 +14,8 @@ small root attributes, which `refresh()` re-reads.
 """
 from __future__ import annotations
 
+import datetime
+import math
 import os
 import time
 import tomllib
@@ -15,15 +24,19 @@ from typing import Any
 import h5py
 import numpy as np
 
-__all__ = ["RunFile", "LazyDataset", "open_run"]
+__all__ = ["RunFile", "LazyDataset", "open_run", "open_h5", "decode_attr", "read_attrs", "read_config_text",
+           "read_config", "read_status", "wall_seconds", "has_group", "read_event_count"]
 
 TIMESERIES = ("time", "max_slip_rate", "mean_slip", "mean_shear_stress")
 SNAPSHOT_FIELDS = ("slip", "slip_rate", "state", "shear_stress")
+# Root attributes start_time / end_time (docs/output.md): UTC, 1 s resolution.
+DATE_FORMAT = "%Y-%m-%dT%H:%M:%SZ"
 
 
-def _open(path: str, attempts: int = 40, wait: float = 0.05) -> h5py.File:
-    # During a write-out (a few ms) the writer holds an exclusive lock and
-    # opening fails with "unable to lock file": retry briefly.
+def open_h5(path: str | os.PathLike, attempts: int = 100, wait: float = 0.05) -> h5py.File:
+    """h5py.File(path, "r"), retried for up to attempts * wait seconds while a
+    running solver holds its write lock: during a write-out (a few ms) the
+    writer holds an exclusive lock and opening fails with "unable to lock file"."""
     for i in range(attempts):
         try:
             return h5py.File(path, "r")
@@ -34,12 +47,67 @@ def _open(path: str, attempts: int = 40, wait: float = 0.05) -> h5py.File:
     raise AssertionError("unreachable")
 
 
-def _attr(value: Any) -> Any:
+def decode_attr(value: Any) -> Any:
+    """An HDF5 attribute as plain Python: bytes -> str, NumPy scalar -> int/float/bool."""
     if isinstance(value, bytes):
         return value.decode()
     if isinstance(value, np.generic):
         return value.item()
     return value
+
+
+def read_attrs(path: str | os.PathLike, group: str = "/") -> dict[str, Any]:
+    """The attributes of `group` (default: the root), decoded."""
+    with open_h5(path) as f:
+        return {k: decode_attr(v) for k, v in f[group].attrs.items()}
+
+
+def read_config_text(path: str | os.PathLike) -> str:
+    """The resolved config (root attribute `config`, TOML text); KeyError if absent."""
+    with open_h5(path) as f:
+        if "config" not in f.attrs:
+            raise KeyError(f"{os.fspath(path)}: no root attribute 'config' (not a slipstrip run file)")
+        return str(decode_attr(f.attrs["config"]))
+
+
+def read_config(path: str | os.PathLike) -> dict:
+    """The resolved config as a dict; KeyError if absent."""
+    return tomllib.loads(read_config_text(path))
+
+
+def read_status(path: str | os.PathLike) -> str | None:
+    """Root attribute `status` ("running", "completed", "interrupted", "diverged: ...");
+    None if there is no readable run file or it has no status."""
+    try:
+        with open_h5(path) as f:
+            status = f.attrs.get("status")
+    except (OSError, KeyError):
+        return None
+    return None if status is None else str(decode_attr(status))
+
+
+def wall_seconds(path: str | os.PathLike) -> float:
+    """end_time - start_time [s] of a run file (1 s resolution); NaN if unknown."""
+    try:
+        attrs = read_attrs(path)
+        start, end = (datetime.datetime.strptime(str(attrs[k]), DATE_FORMAT) for k in ("start_time", "end_time"))
+    except (OSError, KeyError, ValueError, TypeError):
+        return math.nan
+    return (end - start).total_seconds()
+
+
+def has_group(path: str | os.PathLike, name: str) -> bool:
+    with open_h5(path) as f:
+        return name in f
+
+
+def read_event_count(path: str | os.PathLike) -> float:
+    """n_events attribute of the /events catalog (kept events), NaN if absent."""
+    try:
+        with open_h5(path) as f:
+            return int(f["events"].attrs["n_events"])
+    except (OSError, KeyError):
+        return math.nan
 
 
 class LazyDataset:
@@ -52,9 +120,9 @@ class LazyDataset:
         self.name = name
 
     def _meta(self):
-        with _open(self.path) as f:
+        with open_h5(self.path) as f:
             d = f[self.name]
-            return d.shape, d.dtype, _attr(d.attrs.get("units", ""))
+            return d.shape, d.dtype, decode_attr(d.attrs.get("units", ""))
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -72,7 +140,7 @@ class LazyDataset:
         return self.shape[0]
 
     def __getitem__(self, key) -> np.ndarray:
-        with _open(self.path) as f:
+        with open_h5(self.path) as f:
             return f[self.name][key]
 
     def __array__(self, dtype=None, copy=None):
@@ -92,7 +160,7 @@ class _Group:
         self.name = name
 
     def keys(self) -> list[str]:
-        with _open(self.path) as f:
+        with open_h5(self.path) as f:
             return list(f[self.name].keys())
 
     def __contains__(self, key: str) -> bool:
@@ -105,8 +173,8 @@ class _Group:
 
     @property
     def attrs(self) -> dict[str, Any]:
-        with _open(self.path) as f:
-            return {k: _attr(v) for k, v in f[self.name].attrs.items()}
+        with open_h5(self.path) as f:
+            return {k: decode_attr(v) for k, v in f[self.name].attrs.items()}
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} {self.name}: {', '.join(self.keys())}>"
@@ -151,7 +219,7 @@ class RunFile:
     code_version, git_hash, units (dataset path -> units), timeseries (dict of
     arrays, read on each access), snapshots (lazy), slip_sampling (lazy, or
     None), events (catalog dict, or None).  Derived: length, height, nodes,
-    driving_velocity, shear_wave_speed, transit_time (L / c_s)."""
+    driving_velocity, shear_wave_speed, length_transit_time (L / c_s)."""
 
     def __init__(self, path: str | os.PathLike):
         self.path = os.fspath(path)
@@ -161,8 +229,8 @@ class RunFile:
 
     def refresh(self) -> "RunFile":
         """Re-read the root attributes (status changes while a run goes on)."""
-        with _open(self.path) as f:
-            self.attrs = {k: _attr(v) for k, v in f.attrs.items()}
+        with open_h5(self.path) as f:
+            self.attrs = {k: decode_attr(v) for k, v in f.attrs.items()}
             self._groups = set(f.keys())
         text = self.attrs.get("config", "")
         self.config = tomllib.loads(text) if text else {}
@@ -185,10 +253,10 @@ class RunFile:
     def units(self) -> dict[str, str]:
         """Dataset path -> units attribute, e.g. units["timeseries/time"] == "s"."""
         out: dict[str, str] = {}
-        with _open(self.path) as f:
+        with open_h5(self.path) as f:
             def visit(name, obj):
                 if isinstance(obj, h5py.Dataset) and "units" in obj.attrs:
-                    out[name] = _attr(obj.attrs["units"])
+                    out[name] = decode_attr(obj.attrs["units"])
             f.visititems(visit)
         return out
 
@@ -225,14 +293,16 @@ class RunFile:
         return float(np.sqrt(self._cfg("material", "shear_modulus") / self._cfg("material", "density")))
 
     @property
-    def transit_time(self) -> float:
-        """L / c_s [s]"""
+    def length_transit_time(self) -> float:
+        """L / c_s [s]: a shear wave's transit of the period L, the time unit of the
+        paper's figures (time.duration_transits).  Not the 2H/c_s of
+        scan.height_round_trip_time."""
         return self.length / self.shear_wave_speed
 
     # --- data ----------------------------------------------------------------------
     @property
     def timeseries(self) -> dict[str, np.ndarray]:
-        with _open(self.path) as f:
+        with open_h5(self.path) as f:
             g = f["timeseries"]
             return {k: g[k][()] for k in g.keys()}
 
@@ -247,7 +317,7 @@ class RunFile:
     @property
     def events(self) -> dict[str, Any] | None:
         """The /events catalog (see slipstrip.read_event_catalog), None if absent."""
-        with _open(self.path) as f:
+        with open_h5(self.path) as f:
             present = "events" in f
         if not present:
             return None

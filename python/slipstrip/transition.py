@@ -54,7 +54,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import analysis
+from . import analysis, runfile
 
 STEADY_MAX_RATE = 3.0          # [v0] below this everywhere and always: steady sliding
 ARRESTED_MAX_RATE = 0.1        # [v0] below this everywhere and always: locked, not sliding
@@ -243,7 +243,7 @@ def read_record(path, max_rows: int = 4000) -> WindowRecord:
     """The three records of a run file (the catalog if `slipstrip events` has run)."""
     info = analysis.read_run_info(path)
     st = analysis.read_spacetime(path, max_rows=max_rows)
-    with analysis._open_h5(path) as f:
+    with runfile.open_h5(path) as f:
         ts_t = f["timeseries/time"][:] if "timeseries" in f else np.zeros(0)
         ts_v = f["timeseries/max_slip_rate"][:] if "timeseries" in f else np.zeros(0)
         has_events = "events" in f
@@ -264,10 +264,8 @@ def classify_run(path) -> dict:
 # ---------------------------------------------------------------------------
 
 def _run_parameters(path) -> dict:
-    import tomllib
-    with analysis._open_h5(path) as f:
-        config = tomllib.loads(analysis._as_str(f.attrs["config"]))
-        status = analysis._as_str(f.attrs.get("status", ""))
+    config = runfile.read_config(path)
+    status = runfile.read_status(path) or ""
     g, fr = config["geometry"], config["friction"]
     H = g["height"]
     H = math.inf if isinstance(H, str) else float(H)
@@ -390,8 +388,7 @@ MARKERS = {"arrested": ("X", "k"), "steady": ("s", "0.6"), "periodic_pulse": ("o
 
 
 def _run_config_text(path) -> str:
-    with analysis._open_h5(path) as f:
-        return analysis._as_str(f.attrs["config"])
+    return runfile.read_config_text(path)
 
 
 def add_critical_lengths(rows: list[dict]) -> None:

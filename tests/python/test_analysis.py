@@ -1,17 +1,15 @@
 """Tests of python/slipstrip/analysis.py (slip-event statistics and figures).
 
-The module is loaded by file path so that these tests do not depend on
-slipstrip/__init__.py (which may import a compiled extension).  The end-to-end
-tests need the CLI binary ($SLIPSTRIP_BIN, `slipstrip` on PATH, or
-build/slipstrip) and are skipped without it.
+The module is imported from the package (it reads run files through
+slipstrip.runfile and detects events through the bindings).  The end-to-end
+tests make their run with the CLI binary (the `cli` fixture of conftest.py)
+and are skipped without it.
 
 Run: /usr/bin/python3 -m pytest tests/python/test_analysis.py
 """
-import importlib.util
 import json
 import math
 import subprocess
-import sys
 from pathlib import Path
 
 import h5py
@@ -19,11 +17,9 @@ import numpy as np
 import pytest
 from scipy import stats
 
+from slipstrip import analysis
+
 REPO = Path(__file__).resolve().parents[2]
-_spec = importlib.util.spec_from_file_location("slipstrip_analysis", REPO / "python" / "slipstrip" / "analysis.py")
-analysis = importlib.util.module_from_spec(_spec)
-sys.modules[_spec.name] = analysis  # dataclasses look their module up while the class is built
-_spec.loader.exec_module(analysis)
 
 
 def pareto_sample(rng, exponent, xmin, n):
@@ -294,19 +290,70 @@ def test_summarize_run_few_events_returns_nans(tmp_path):
 
 
 # ---------------------------------------------------------------------------
-# End to end through the CLI
+# End to end on a run made by the CLI
 # ---------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
-def quick_run(tmp_path_factory):
-    binary = analysis.find_slipstrip_binary()
-    if binary is None:
-        pytest.skip("slipstrip binary not found (SLIPSTRIP_BIN, PATH, build/slipstrip)")
+def quick_run(cli, tmp_path_factory):
     path = tmp_path_factory.mktemp("run") / "quick.h5"
-    subprocess.run([binary, "run", str(REPO / "configs" / "quickstart.toml"),
+    subprocess.run([str(cli), "run", str(REPO / "configs" / "quickstart.toml"),
                     "--set", "time.duration_transits=20", "--out", str(path), "--quiet"],
                    check=True, capture_output=True)
     return path
+
+
+def _events_group(path):
+    """/events of a file: every dataset's bytes and every attribute, for bitwise comparison."""
+    with h5py.File(path, "r") as f:
+        g = f["events"]
+        data = {k: (g[k].dtype.str, g[k][()].tobytes()) for k in g}
+        attrs = {k: np.asarray(v).tobytes() if not isinstance(v, (str, bytes)) else v for k, v in g.attrs.items()}
+    return data, attrs
+
+
+@pytest.mark.parametrize("into", ["run file", "--out file"])
+def test_in_process_detection_equals_the_cli(quick_run, cli, tmp_path, into):
+    """run_event_detection (bindings, in-process) writes the same /events as `slipstrip events`."""
+    by_cli, by_bindings = tmp_path / "cli.h5", tmp_path / "bindings.h5"
+    for copy in (by_cli, by_bindings):
+        copy.write_bytes(quick_run.read_bytes())
+    if into == "run file":
+        r = subprocess.run([str(cli), "events", str(by_cli), "--alpha", "30"], capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        assert analysis.run_event_detection(by_bindings, 30.0) == str(by_bindings)
+        cli_file, bindings_file = by_cli, by_bindings
+    else:
+        cli_file, bindings_file = tmp_path / "cli_events.h5", tmp_path / "bindings_events.h5"
+        r = subprocess.run([str(cli), "events", str(by_cli), "--alpha", "30", "--out", str(cli_file)],
+                           capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        assert analysis.run_event_detection(by_bindings, 30.0, bindings_file) == str(bindings_file)
+    cli_data, cli_attrs = _events_group(cli_file)
+    data, attrs = _events_group(bindings_file)
+    assert cli_attrs["n_events"] == attrs["n_events"] and len(cli_data["t_start"][1]) > 0
+    assert data == cli_data
+    assert attrs == cli_attrs
+
+
+def test_in_process_detection_of_a_damaged_file_raises_without_hdf5_stack(quick_run, tmp_path, capfd):
+    """From a worker thread (as in a scan), a truncated run file gives one
+    exception naming the cause and no HDF5 error stack on stderr."""
+    import threading
+    damaged = tmp_path / "truncated.h5"
+    damaged.write_bytes(quick_run.read_bytes()[:3000])
+    errors = []
+
+    def detect():
+        try:
+            analysis.run_event_detection(damaged, 15.0, tmp_path / "events.h5")
+        except RuntimeError as err:
+            errors.append(str(err))
+
+    worker = threading.Thread(target=detect)
+    worker.start()
+    worker.join()
+    assert len(errors) == 1 and "truncated" in errors[0]
+    assert "HDF5-DIAG" not in capfd.readouterr().err
 
 
 def test_numpy_grouping_matches_cpp_catalog(quick_run, tmp_path):

@@ -55,7 +55,7 @@ def test_open_run_matches_h5py(ss, tiny_run):
     assert run.events is None
     # L / c_s from the config: c_s = sqrt(mu / rho).
     m = run.config["material"]
-    assert run.transit_time == pytest.approx(run.length / math.sqrt(m["shear_modulus"] / m["density"]), rel=1e-15)
+    assert run.length_transit_time == pytest.approx(run.length / math.sqrt(m["shear_modulus"] / m["density"]), rel=1e-15)
 
 
 def test_open_run_does_not_hold_the_file(ss, tiny_run):

@@ -298,19 +298,10 @@ def test_checkpoint_interval_is_validated(cli, tmp_path):
 
 
 def _load_scan_module():
-    # As tests/python/test_scan.py: the package, or the file itself when the
-    # package's __init__ does not import (bindings not built).
+    # As tests/python/test_scan.py: the package python/slipstrip/scan/.
     import importlib
-    import importlib.util
     sys.path.insert(0, str(REPO / "python"))
-    try:
-        return importlib.import_module("slipstrip.scan")
-    except Exception:
-        spec = importlib.util.spec_from_file_location("slipstrip_scan", REPO / "python/slipstrip/scan.py")
-        module = importlib.util.module_from_spec(spec)
-        sys.modules["slipstrip_scan"] = module
-        spec.loader.exec_module(module)
-        return module
+    return importlib.import_module("slipstrip.scan")
 
 
 def test_scan_relaunch_resumes_an_interrupted_run(cli, tmp_path, capfd, monkeypatch):
@@ -331,7 +322,7 @@ def test_scan_relaunch_resumes_an_interrupted_run(cli, tmp_path, capfd, monkeypa
     cmd = [str(cli), "run", str(spec.base_config)]
     for o in task.overrides:
         cmd += ["--set", o]
-    cmd += scan._kernel_cache_override(task.overrides, task.run_file.parent)
+    cmd += scan.kernel_cache_override(task.overrides, task.run_file.parent)
     r = subprocess.run(cmd + ["--out", str(task.run_file), "--quiet", "--stop-after-steps", "700"],
                        capture_output=True, text=True)
     assert r.returncode == 143, r.stderr
@@ -367,7 +358,7 @@ def test_scan_reruns_an_interrupted_run_whose_overrides_changed(cli, tmp_path, c
     cmd = [str(cli), "run", str(QUICKSTART)]
     for o in task.overrides:
         cmd += ["--set", o]
-    cmd += scan._kernel_cache_override(task.overrides, out)
+    cmd += scan.kernel_cache_override(task.overrides, out)
     r = subprocess.run(cmd + ["--out", str(task.run_file), "--quiet", "--stop-after-steps", "100"],
                        capture_output=True, text=True)
     assert r.returncode == 143, r.stderr

@@ -1,4 +1,4 @@
-"""Parameter scans (python/slipstrip/scan.py, docs/scans.md).
+"""Parameter scans (python/slipstrip/scan/, docs/scans.md).
 
 Runs real, tiny `slipstrip run`s (configs/quickstart.toml with N = 64 nodes
 for 2 L/c_s, ~0.2 s each) and checks the summary table against the run files
@@ -28,17 +28,10 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 def _load_scan_module():
+    # The package (python/slipstrip/scan/): the scan detects events and analyses
+    # runs in-process, so it needs the package with its bindings.
     sys.path.insert(0, str(REPO / "python"))
-    try:
-        return importlib.import_module("slipstrip.scan")
-    except Exception:
-        # The package's __init__ may not import (yet): load the file itself, under
-        # a top-level name that pickle finds without importing the package.
-        spec = importlib.util.spec_from_file_location("slipstrip_scan", REPO / "python/slipstrip/scan.py")
-        module = importlib.util.module_from_spec(spec)
-        sys.modules["slipstrip_scan"] = module
-        spec.loader.exec_module(module)
-        return module
+    return importlib.import_module("slipstrip.scan")
 
 
 scan = _load_scan_module()
@@ -441,10 +434,10 @@ def test_duration_pdf_of_log_uniform_sample():
     assert density == pytest.approx(expected, rel=0.05)
 
 
-def test_transit_time_from_resolved_config():
+def test_height_round_trip_time_from_resolved_config():
     text = 'geometry = {height = 0.1}\nmaterial = {shear_modulus = 9e9, density = 1200.0}\n'
-    assert scan.transit_time(text) == pytest.approx(2 * 0.1 / math.sqrt(9e9 / 1200.0), rel=1e-15)
-    assert scan.transit_time('geometry = {height = "inf"}\nmaterial = {shear_modulus = 9e9, density = 300.0}\n') \
+    assert scan.height_round_trip_time(text) == pytest.approx(2 * 0.1 / math.sqrt(9e9 / 1200.0), rel=1e-15)
+    assert scan.height_round_trip_time('geometry = {height = "inf"}\nmaterial = {shear_modulus = 9e9, density = 300.0}\n') \
         == math.inf
 
 
