@@ -26,8 +26,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The largest node count accepted: keeps N and N/2+1 spectral modes far from
 // int overflow and any run within memory of one machine.
 constexpr std::int64_t kMaxNodes = std::int64_t{1} << 24;
-// Below this a slip-sampling threshold makes every node write one crossing
-// time per femtometre of slip.
+// A nonzero slip-sampling threshold below a picometre is a typo: every node
+// writes one crossing time per delta_th of slip.
 constexpr double kMinDeltaTh = 1e-12;
 
 // ---------------------------------------------------------------------------
@@ -195,7 +195,7 @@ constexpr ConfigKey kKeys[] = {
      .help = "N interface nodes, dx = L/N", .comment = "N, dx = L/N",
      .bind = integer_member<&C::geometry, &GeometryConfig::nodes>()},
     {.section = "geometry", .name = "dx", .unit = "m", .noun = "a node spacing",
-     .allowed = positive, .rule_text = "L/dx a whole number (to 1e-9 relative), 8 ... 16777216",
+     .allowed = positive, .rule_text = "L/dx a whole number (to 1e-9 relative) in the range of `nodes`",
      .help = "node spacing L/N", .alternative_to = "nodes",
      .bind = {.set_real = [](C& c, double dx) {
        c.geometry.nodes = static_cast<int>(std::round(c.geometry.length / dx));

@@ -95,6 +95,8 @@ py::list config_schema() {
 }  // namespace
 
 void bind_config(py::module_& m) {
+  // Keyword defaults are the struct's (the config defaults, Table S1).
+  const ElasticMaterial defaults;
   py::class_<ElasticMaterial>(m, "ElasticMaterial",
                               "Isotropic elastic bulk of the two strips (SI units).")
       .def(py::init([](double shear_modulus, double poisson_ratio, double density, const std::string& plane) {
@@ -105,8 +107,9 @@ void bind_config(py::module_& m) {
              mat.plane = parse_plane(plane);
              return mat;
            }),
-           py::arg("shear_modulus") = 9e9, py::arg("poisson_ratio") = 0.33, py::arg("density") = 1200.0,
-           py::arg("plane") = "strain")
+           py::arg("shear_modulus") = defaults.shear_modulus,
+           py::arg("poisson_ratio") = defaults.poisson_ratio, py::arg("density") = defaults.density,
+           py::arg("plane") = plane_name(defaults.plane))
       .def_readwrite("shear_modulus", &ElasticMaterial::shear_modulus, "mu [Pa]")
       .def_readwrite("poisson_ratio", &ElasticMaterial::poisson_ratio, "nu [-]")
       .def_readwrite("density", &ElasticMaterial::density, "rho [kg/m^3]")
