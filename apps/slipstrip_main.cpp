@@ -27,6 +27,7 @@
 #include "apps/bench.hpp"
 #include "core/checkpoint.hpp"
 #include "core/config.hpp"
+#include "core/config_schema.hpp"
 #include "core/resource_estimate.hpp"
 #include "core/run.hpp"
 #include "core/run_output.hpp"
@@ -391,6 +392,46 @@ int forward_to_python(const std::string& command, const std::vector<std::string>
   return 1;
 }
 
+// docs/config.md's key tables are generated from the config schema
+// (core/config_schema.hpp): rewrite them in place, or with --check report
+// (exit 1) that the file differs from what the schema gives.
+int config_docs_command(const std::string& path, bool check) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument("config-docs: cannot read '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string current = text.str();
+  const std::string updated = slipstrip::update_config_docs(current);
+  if (check) {
+    if (updated == current) return 0;
+    std::istringstream want(updated), have(current);
+    std::string want_line, have_line;
+    int line = 1;
+    while (std::getline(want, want_line) && std::getline(have, have_line) && want_line == have_line)
+      ++line;
+    std::fprintf(stderr,
+                 "error: %s is out of date with the config schema (core/config_schema.cpp), first "
+                 "at line %d: run `slipstrip config-docs %s`\n",
+                 path.c_str(), line, path.c_str());
+    return 1;
+  }
+  if (updated != current) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << updated;
+    out.close();
+    if (!out) throw std::runtime_error("config-docs: cannot write '" + path + "'");
+  }
+  return 0;
+}
+
+// The config's spelling of the history algorithms (core/simulation_config.hpp).
+std::map<std::string, slipstrip::HistoryAlgorithm> history_algorithms_by_name() {
+  std::map<std::string, slipstrip::HistoryAlgorithm> out;
+  for (std::size_t i = 0; i < std::size(slipstrip::kHistoryAlgorithmNames); ++i)
+    out.emplace(slipstrip::kHistoryAlgorithmNames[i], static_cast<slipstrip::HistoryAlgorithm>(i));
+  return out;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"slipstrip: spectral boundary-integral solver for frictional sliding between two "
                "elastic strips of height H (rate-and-state friction). SI units throughout."};
@@ -482,14 +523,17 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   bench->add_option("--history", bench_options.history,
                     "Strip history algorithm: auto, modal or block (same operator)")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, slipstrip::HistoryAlgorithm>{
-              {"auto", slipstrip::HistoryAlgorithm::automatic},
-              {"modal", slipstrip::HistoryAlgorithm::modal},
-              {"block", slipstrip::HistoryAlgorithm::block}},
-          CLI::ignore_case));
+      ->transform(CLI::CheckedTransformer(history_algorithms_by_name(), CLI::ignore_case));
   bench->add_option("--max-gib", bench_options.max_operator_gib,
                     "Skip cases whose estimated history-operator memory exceeds this [GiB]");
+
+  std::string docs_path = "docs/config.md";
+  bool docs_check = false;
+  auto* docs = app.add_subcommand("config-docs", "Regenerate the key tables of docs/config.md from the "
+                                                 "config schema (core/config_schema.cpp)");
+  docs->add_option("file", docs_path, "The Markdown file holding the generated blocks")
+      ->capture_default_str();
+  docs->add_flag("--check", docs_check, "Change nothing; exit 1 if the file is out of date");
 
   for (const char* name : {"analyze", "scan", "plot", "export", "report", "transition"}) {
     auto* py = app.add_subcommand(name, std::string("Python: python3 -m slipstrip ") + name +
@@ -521,6 +565,7 @@ int main(int argc, char** argv) {
     if (*stab) return stability_command(config_path, overrides, wavelengths, height_range, out_path, json);
     if (*ev) return events_command(run_path, alpha, out_path, csv_path);
     if (*bench) return slipstrip::run_bench(bench_options);
+    if (*docs) return config_docs_command(docs_path, docs_check);
     for (const char* name : {"analyze", "scan", "plot", "export", "report", "transition"})
       if (auto* py = app.get_subcommand(name); *py) return forward_to_python(name, py->remaining());
   } catch (const std::invalid_argument& e) {

@@ -1,8 +1,9 @@
 #pragma once
 // TOML configuration of one run: parse, validate, override, write back.
 //
-// Every key, its unit, default and allowed range are listed in docs/config.md.
-// All validation happens here, before any computation starts, so a bad file
+// Every key, its unit, default and allowed range are declared once in the
+// config schema (core/config_schema.hpp) and listed in docs/config.md, which is
+// generated from it.  All validation happens here, before any computation starts, so a bad file
 // fails in milliseconds with a message that names the key, the value given
 // and what is allowed -- never hours into a run.
 #include <stdexcept>

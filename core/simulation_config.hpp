@@ -1,10 +1,12 @@
 #pragma once
 // The fully resolved description of one run.  Every field is in SI units and
-// maps one-to-one onto a TOML key (docs/config.md); core/config.cpp parses,
-// validates and writes it back as TOML for the output file's metadata.
+// maps one-to-one onto a TOML key; the defaults below are the defaults of the
+// config.  The keys themselves (unit, range, help) are declared once in
+// core/config_schema.cpp, from which parsing, to_toml and docs/config.md follow.
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/interface_law.hpp"
@@ -35,6 +37,7 @@ struct LoadingConfig {
 //   ramp : g = 0 for t<0, (1 - cos(pi t / T))/2 for 0<=t<T, 1 after   (C1 ramp)
 //   bump : g = sin^4(pi t / T) for 0<=t<T, 0 otherwise                  (C3 bump)
 enum class TimeProfile { ramp, bump };
+inline constexpr std::string_view kTimeProfileNames[] = {"ramp", "bump"};  // index = enumerator
 
 struct InterfaceConfig {
   InterfaceLaw law = InterfaceLaw::rate_and_state;  // [interface] law
@@ -73,6 +76,7 @@ struct InitialConfig {
 //   auto  : block when a Fourier mode has >= 128 normal modes, else modal
 // The half-space has its own operator and ignores this key.
 enum class HistoryAlgorithm { automatic, modal, block };
+inline constexpr std::string_view kHistoryAlgorithmNames[] = {"auto", "modal", "block"};  // index = enumerator
 
 struct TimeConfig {
   HistoryAlgorithm history = HistoryAlgorithm::automatic;  // [time] history

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <span>
 #include <string>
 
 namespace slipstrip {
@@ -71,39 +72,43 @@ double regularized_log_crossover(const FrictionParameters& p, double state) {
 
 }  // namespace
 
+namespace {
+
+std::string joined(std::span<const std::string_view> names) {
+  std::string out;
+  for (const auto name : names) out += (out.empty() ? "" : ", ") + std::string(name);
+  return out;
+}
+
+template <typename Enum, std::size_t N>
+Enum parse_enum(std::string_view name, const std::string_view (&names)[N], std::string_view key) {
+  for (std::size_t i = 0; i < N; ++i)
+    if (names[i] == name) return static_cast<Enum>(i);
+  throw std::invalid_argument(std::string(key) + " = '" + std::string(name) +
+                              "' is invalid: allowed values are " + joined(names));
+}
+
+template <typename Enum, std::size_t N>
+std::string_view enum_text(Enum value, const std::string_view (&names)[N], std::string_view key) {
+  const auto i = static_cast<std::size_t>(value);
+  if (i >= N)
+    throw std::invalid_argument(std::string(key) + ": unknown enumerator " + std::to_string(i));
+  return names[i];
+}
+
+}  // namespace
+
 StrengthLaw parse_strength_law(std::string_view name) {
-  if (name == "paper") return StrengthLaw::paper;
-  if (name == "dieterich_ruina") return StrengthLaw::dieterich_ruina;
-  if (name == "regularized") return StrengthLaw::regularized;
-  throw std::invalid_argument("friction.law = '" + std::string(name) +
-                              "' is invalid: allowed values are paper, dieterich_ruina, regularized");
+  return parse_enum<StrengthLaw>(name, kStrengthLawNames, "friction.law");
 }
 
 StateLaw parse_state_law(std::string_view name) {
-  if (name == "aging") return StateLaw::aging;
-  if (name == "slip") return StateLaw::slip;
-  throw std::invalid_argument("state.law = '" + std::string(name) +
-                              "' is invalid: allowed values are aging, slip");
+  return parse_enum<StateLaw>(name, kStateLawNames, "state.law");
 }
 
-std::string_view to_string(StrengthLaw law) {
-  switch (law) {
-    case StrengthLaw::paper: return "paper";
-    case StrengthLaw::dieterich_ruina: return "dieterich_ruina";
-    case StrengthLaw::regularized: return "regularized";
-  }
-  throw std::invalid_argument("friction.law: unknown enumerator " +
-                              std::to_string(static_cast<int>(law)));
-}
+std::string_view to_string(StrengthLaw law) { return enum_text(law, kStrengthLawNames, "friction.law"); }
 
-std::string_view to_string(StateLaw law) {
-  switch (law) {
-    case StateLaw::aging: return "aging";
-    case StateLaw::slip: return "slip";
-  }
-  throw std::invalid_argument("state.law: unknown enumerator " +
-                              std::to_string(static_cast<int>(law)));
-}
+std::string_view to_string(StateLaw law) { return enum_text(law, kStateLawNames, "state.law"); }
 
 void validate(const FrictionParameters& friction) {
   // Enumerators outside the declared set (e.g. from a cast) are rejected here.

@@ -20,6 +20,20 @@ enum class StrengthLaw { paper, dieterich_ruina, regularized };
 //   slip  : dphi/dt = -(|v| phi / D) ln(|v| phi / D)               (Eq. 2 of the paper)
 enum class StateLaw { aging, slip };
 
+// The one spelling of each enumerator (index = enumerator value), shared by
+// parse/to_string below, the config schema (core/config_schema.cpp) and the
+// Python binding.
+inline constexpr std::string_view kStrengthLawNames[] = {"paper", "dieterich_ruina", "regularized"};
+inline constexpr std::string_view kStateLawNames[] = {"aging", "slip"};
+
+// Generous bounds of the dimensionless coefficients f0, a, b: real ones are
+// O(0.01-1); beyond 10 the strength (and the local solve at t = 0) is
+// meaningless.  Applied to scalar config keys and to every node of a profile.
+inline constexpr double kMaxFrictionCoefficient = 10.0;
+// Generous range of the characteristic slip D [m] (docs/config.md, "Ranges").
+inline constexpr double kMinCharacteristicSlip = 1e-12;
+inline constexpr double kMaxCharacteristicSlip = 1.0;
+
 struct FrictionParameters {
   StrengthLaw strength_law = StrengthLaw::paper;
   StateLaw state_law = StateLaw::aging;

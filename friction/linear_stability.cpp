@@ -1,6 +1,7 @@
 #include "friction/linear_stability.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -12,6 +13,12 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 
+std::string shortest(double x) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, x).ptr;
+  return std::string(buffer, end);
+}
+
 void require_positive(double value, const char* name) {
   if (!(value > 0.0))
     throw std::invalid_argument(std::string("linear stability: ") + name + " = " +
@@ -22,9 +29,10 @@ void validate(const SteadySliding& sliding) {
   require_positive(sliding.material.shear_modulus, "material.shear_modulus");
   require_positive(sliding.material.density, "material.density");
   const double nu = sliding.material.poisson_ratio;
-  if (!(nu > -1.0 && nu < 0.5))
+  if (!poisson_ratio_allowed(nu))
     throw std::invalid_argument("linear stability: material.poisson_ratio = " + std::to_string(nu) +
-                                " is not allowed; it must lie in (-1, 0.5)");
+                                " is not allowed; it must lie in (" + shortest(kMinPoissonRatio) +
+                                ", " + shortest(kMaxPoissonRatio) + ")");
   require_positive(sliding.strip_height, "strip_height");
   require_positive(sliding.normal_stress, "normal_stress");
   require_positive(sliding.driving_velocity, "driving_velocity");

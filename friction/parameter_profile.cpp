@@ -3,6 +3,7 @@
 #include "friction/parameter_profile.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -18,21 +19,35 @@ std::string format_double(double x) {
 }
 
 // The per-node rules: those of validate(FrictionParameters) and the
-// "physically generous" ranges of docs/config.md (the ones core/config.cpp
-// applies to a scalar value), so a profile cannot smuggle in a value a scalar
-// key would refuse.
+// "physically generous" ranges of docs/config.md, with the bounds of
+// friction_law.hpp that the config schema applies to a scalar value, so a
+// profile cannot smuggle in a value a scalar key would refuse.
 struct NodeRule {
   const char* key;
   double low;         // allowed: low < value (strict) or low <= value
   bool low_strict;
   double high;        // value <= high
-  const char* allowed;
+  std::string allowed;
 };
-constexpr NodeRule kF0Rule{"friction.f0", 0.0, true, 10.0, "0 < f0 <= 10 (dimensionless)"};
-constexpr NodeRule kARule{"friction.a", 0.0, false, 10.0, "0 <= a <= 10 (dimensionless)"};
-constexpr NodeRule kBRule{"friction.b", 0.0, false, 10.0, "0 <= b <= 10 (dimensionless)"};
-constexpr NodeRule kDRule{"friction.characteristic_slip", 1e-12, false, 1.0,
-                          "a slip distance D between 1e-12 and 1 [m]"};
+
+std::string shortest(double x) {
+  char buffer[32];
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, x).ptr);
+}
+
+// "0 < f0 <= 10 (dimensionless)"
+NodeRule coefficient_rule(const char* key, const char* symbol, bool positive,
+                          std::string_view note = "(dimensionless)") {
+  return {key, 0.0, positive, kMaxFrictionCoefficient,
+          "0 " + std::string(positive ? "<" : "<=") + " " + symbol + " <= " +
+              shortest(kMaxFrictionCoefficient) + " " + std::string(note)};
+}
+
+NodeRule slip_distance_rule() {
+  return {"friction.characteristic_slip", kMinCharacteristicSlip, false, kMaxCharacteristicSlip,
+          "a slip distance D between " + shortest(kMinCharacteristicSlip) + " and " +
+              shortest(kMaxCharacteristicSlip) + " [m]"};
+}
 
 void check_nodes(std::span<const double> values, const NodeRule& rule, double dx) {
   for (std::size_t i = 0; i < values.size(); ++i) {
@@ -118,14 +133,14 @@ FrictionNodeValues resolve_friction_nodes(const FrictionParameters& scalars,
                          node_values(scalars.b, profiles.b, nodes, dx, "friction.b"),
                          node_values(scalars.characteristic_slip, profiles.characteristic_slip,
                                      nodes, dx, "friction.characteristic_slip")};
-  check_nodes(out.f0, kF0Rule, dx);
-  check_nodes(out.a, kARule, dx);
-  check_nodes(out.b, kBRule, dx);
-  check_nodes(out.characteristic_slip, kDRule, dx);
+  check_nodes(out.f0, coefficient_rule("friction.f0", "f0", true), dx);
+  check_nodes(out.a, coefficient_rule("friction.a", "a", false), dx);
+  check_nodes(out.b, coefficient_rule("friction.b", "b", false), dx);
+  check_nodes(out.characteristic_slip, slip_distance_rule(), dx);
   // The regularized law divides by a (exp(psi/a)).
   if (scalars.strength_law == StrengthLaw::regularized)
-    check_nodes(out.a, {"friction.a", 0.0, true, 10.0, "0 < a <= 10 for friction.law = \"regularized\""},
-                dx);
+    check_nodes(out.a,
+                coefficient_rule("friction.a", "a", true, "for friction.law = \"regularized\""), dx);
   return out;
 }
 

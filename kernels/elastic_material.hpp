@@ -4,10 +4,22 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace slipstrip {
 
 enum class PlaneCondition { strain, stress };
+// The one spelling of each PlaneCondition (index = enumerator value), used by
+// the config schema and the Python binding.
+inline constexpr std::string_view kPlaneConditionNames[] = {"strain", "stress"};
+
+// Allowed Poisson ratios: 0 < nu < 0.5 (both exclusive).  nu -> 0.5 makes the
+// plane-strain c_d (and wave_speed_ratio_squared) infinite; nu <= 0 is
+// excluded as unphysical for the rocks and polymers this models.  The config
+// validator and linear stability both check this one range.
+inline constexpr double kMinPoissonRatio = 0.0;
+inline constexpr double kMaxPoissonRatio = 0.5;
+inline bool poisson_ratio_allowed(double nu) { return nu > kMinPoissonRatio && nu < kMaxPoissonRatio; }
 
 struct ElasticMaterial {
   double shear_modulus = 9e9;   // mu [Pa]

@@ -17,6 +17,10 @@
 
 namespace slipstrip {
 
+double strip_passivity_beta_limit(double speed_ratio_squared) {
+  return 1.0 / (std::numbers::pi * (1.0 - 1.0 / speed_ratio_squared));
+}
+
 std::vector<double> minimum_norm_point(std::span<const double> C_flat, std::span<const double> b,
                                        int n) {
   const int rows = static_cast<int>(b.size());

@@ -16,6 +16,22 @@
 
 namespace slipstrip {
 
+// --- Time-step limits of passivity (beta = c_s dt / dx) ----------------------
+//
+// Strip operator: the static stiffness of the strip's normal modes above the
+// Nyquist frequency pi/dt must be absorbed by the resolved passive modes.  The
+// exact condition (docs/theory.md section 6.4) is dt S(k,0)/2 <= eta at the
+// grid's Nyquist wavenumber, i.e. beta <= 1 / (pi (1 - c_s^2/c_d^2)).
+double strip_passivity_beta_limit(double speed_ratio_squared);
+// Measured limit for every H/dx tried (0.5 ... 200): beta = 0.45 fails in
+// plane strain at nu = 0.33 and 0.4 never does; the config applies the smaller
+// of this and strip_passivity_beta_limit.
+inline constexpr double kStripBetaLimit = 0.4;
+// Half-space operator: the correction of the first 8 sampled weights that
+// restores Re Z_d >= 0 exists up to c_s k dt ~ 1.11 at the Nyquist mode (plane
+// strain, nu = 0.33), i.e. beta ~ 0.355 (docs/theory.md section 8.4).
+inline constexpr double kHalfSpaceBetaLimit = 0.35;
+
 // x minimising |x|^2 subject to  C x >= b  (C: rows x n, row-major, n small).
 // Dual active-set method of Goldfarb and Idnani specialised to an identity
 // Hessian.  Throws std::runtime_error if the constraints are inconsistent.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/config.hpp"
+#include "core/config_schema.hpp"
 #include "kernels/elastic_material.hpp"
 
 namespace py = pybind11;
@@ -18,17 +19,84 @@ using slipstrip::SimulationConfig;
 
 namespace {
 
+// Plane conditions by their one spelling (kernels/elastic_material.hpp).
 PlaneCondition parse_plane(const std::string& name) {
-  if (name == "strain") return PlaneCondition::strain;
-  if (name == "stress") return PlaneCondition::stress;
-  throw std::invalid_argument("plane = '" + name + "' is invalid: allowed values are 'strain' and 'stress'");
+  std::string allowed;
+  for (std::size_t i = 0; i < std::size(slipstrip::kPlaneConditionNames); ++i) {
+    if (slipstrip::kPlaneConditionNames[i] == name) return static_cast<PlaneCondition>(i);
+    allowed += (i ? " and '" : "'") + std::string(slipstrip::kPlaneConditionNames[i]) + "'";
+  }
+  throw std::invalid_argument("plane = '" + name + "' is invalid: allowed values are " + allowed);
 }
 
-const char* plane_name(PlaneCondition p) { return p == PlaneCondition::strain ? "strain" : "stress"; }
+std::string plane_name(PlaneCondition p) {
+  return std::string(slipstrip::kPlaneConditionNames[static_cast<std::size_t>(p)]);
+}
+
+// A TOML value as the Python value tomllib gives for it.
+py::object python_value(const toml::node& node) {
+  if (const auto* t = node.as_table()) {
+    py::dict out;
+    for (const auto& [key, value] : *t) out[py::str(std::string(key.str()))] = python_value(value);
+    return out;
+  }
+  if (const auto* a = node.as_array()) {
+    py::list out;
+    for (const auto& value : *a) out.append(python_value(value));
+    return out;
+  }
+  if (const auto* s = node.as_string()) return py::str(s->get());
+  if (const auto* i = node.as_integer()) return py::int_(i->get());
+  if (const auto* f = node.as_floating_point()) return py::float_(f->get());
+  if (const auto* b = node.as_boolean()) return py::bool_(b->get());
+  throw std::logic_error("config value of a type the schema never writes");
+}
+
+const char* type_name(slipstrip::KeyType type) {
+  switch (type) {
+    case slipstrip::KeyType::number: return "number";
+    case slipstrip::KeyType::number_or_inf: return "number_or_inf";
+    case slipstrip::KeyType::integer: return "integer";
+    case slipstrip::KeyType::choice: return "choice";
+    case slipstrip::KeyType::text: return "text";
+    case slipstrip::KeyType::numbers: return "numbers";
+    case slipstrip::KeyType::friction_parameter: return "friction_parameter";
+  }
+  return "unknown";
+}
+
+// The schema for Python (introspection, GUIs, checks): one dict per key.
+py::list config_schema() {
+  const SimulationConfig defaults;
+  py::list out;
+  for (const auto& k : slipstrip::config_keys()) {
+    py::dict d;
+    d["section"] = std::string(k.section);
+    d["name"] = std::string(k.name);
+    d["type"] = type_name(k.type);
+    d["unit"] = std::string(k.unit);
+    d["default"] = k.alternative_to.empty()
+                       ? python_value(*slipstrip::config_to_table(defaults)[k.section][k.name].node())
+                       : py::none();
+    d["allowed"] = k.allowed.bounded() || !k.allowed_message.empty() ? py::object(py::str(slipstrip::allowed_text(k)))
+                                                                     : py::object(py::none());
+    d["help"] = std::string(k.help);
+    d["alternative_to"] = k.alternative_to.empty() ? py::object(py::none())
+                                                    : py::object(py::str(std::string(k.alternative_to)));
+    py::list choices;
+    if (k.choices)
+      for (const auto name : k.choices()) choices.append(std::string(name));
+    d["choices"] = choices;
+    out.append(d);
+  }
+  return out;
+}
 
 }  // namespace
 
 void bind_config(py::module_& m) {
+  // Keyword defaults are the struct's (the config defaults, Table S1).
+  const ElasticMaterial defaults;
   py::class_<ElasticMaterial>(m, "ElasticMaterial",
                               "Isotropic elastic bulk of the two strips (SI units).")
       .def(py::init([](double shear_modulus, double poisson_ratio, double density, const std::string& plane) {
@@ -39,8 +107,9 @@ void bind_config(py::module_& m) {
              mat.plane = parse_plane(plane);
              return mat;
            }),
-           py::arg("shear_modulus") = 9e9, py::arg("poisson_ratio") = 0.33, py::arg("density") = 1200.0,
-           py::arg("plane") = "strain")
+           py::arg("shear_modulus") = defaults.shear_modulus,
+           py::arg("poisson_ratio") = defaults.poisson_ratio, py::arg("density") = defaults.density,
+           py::arg("plane") = plane_name(defaults.plane))
       .def_readwrite("shear_modulus", &ElasticMaterial::shear_modulus, "mu [Pa]")
       .def_readwrite("poisson_ratio", &ElasticMaterial::poisson_ratio, "nu [-]")
       .def_readwrite("density", &ElasticMaterial::density, "rho [kg/m^3]")
@@ -67,6 +136,8 @@ void bind_config(py::module_& m) {
       .def("_assign", [](SimulationConfig& self, const SimulationConfig& other) { self = other; })
       .def("to_toml", [](const SimulationConfig& c) { return slipstrip::to_toml(c); },
            "The resolved config as TOML text (every key; reads back to the same values).")
+      .def("_as_dict", [](const SimulationConfig& c) { return python_value(slipstrip::config_to_table(c)); },
+           "The resolved config as {section: {key: value}}, the values tomllib reads from to_toml().")
       .def_property_readonly("length", [](const SimulationConfig& c) { return c.geometry.length; }, "L [m]")
       .def_property_readonly("height", [](const SimulationConfig& c) { return c.geometry.height; },
                              "H [m] of each strip (inf = half-space)")
@@ -79,6 +150,9 @@ void bind_config(py::module_& m) {
       .def_property_readonly("delta_th", [](const SimulationConfig& c) { return c.output.delta_th; }, "[m]")
       .def_property_readonly("material", [](const SimulationConfig& c) { return c.material; });
 
+  m.def("config_schema", &config_schema,
+        "Every config key (core/config_schema.cpp) as a dict: section, name, type, unit, default, "
+        "allowed, help, alternative_to, choices.");
   m.def("load_config_file", &slipstrip::load_config_file, py::arg("path"),
         py::arg("overrides") = std::vector<std::string>{},
         "Read, override ('section.key=value') and validate a TOML file.  Raises ConfigError.");

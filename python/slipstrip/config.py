@@ -1,7 +1,8 @@
 """Run configuration: load from a TOML file, TOML text or a Python dict, apply
 overrides, and read the resolved values back as a dict.
 
-All parsing and validation happens in C++ (core/config.cpp), so errors carry
+All parsing and validation happens in C++ (core/config.cpp, from the key
+table of core/config_schema.cpp), so errors carry
 exactly the messages of the command-line program (e.g. the suggestion for a
 misspelt key).  A dict is turned into TOML text here and then parsed by the
 same C++ code.
@@ -12,12 +13,11 @@ import json
 import math
 import os
 import re
-import tomllib
 from typing import Any, Iterable, Mapping
 
 from . import _slipstrip
 
-__all__ = ["Config", "load_config", "to_toml_text", "overrides_from"]
+__all__ = ["Config", "load_config", "to_toml_text", "overrides_from", "config_schema"]
 
 _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
 
@@ -101,6 +101,13 @@ def overrides_from(overrides: Mapping[str, Any] | Iterable[str] | str | None) ->
     return [str(o) for o in overrides]
 
 
+def config_schema() -> list[dict[str, Any]]:
+    """Every config key as declared in the C++ schema (core/config_schema.cpp):
+    dicts with section, name, type, unit, default, allowed, help,
+    alternative_to and choices, in the order of to_toml."""
+    return _slipstrip.config_schema()
+
+
 def _looks_like_toml_text(text: str) -> bool:
     # A path never contains a newline; a one-line TOML document has '=' or '['.
     return "\n" in text or "=" in text or text.strip().startswith("[") or text.strip() == ""
@@ -140,8 +147,10 @@ class Config(_slipstrip._Config):
         return self.to_toml()
 
     def as_dict(self) -> dict[str, dict[str, Any]]:
-        """The resolved config as a nested dict {section: {key: value}} (a fresh copy)."""
-        return tomllib.loads(self.to_toml())
+        """The resolved config as a nested dict {section: {key: value}} (a fresh copy),
+        built from the config schema (core/config_schema.cpp): the same values
+        tomllib reads from to_toml()."""
+        return self._as_dict()
 
     def __getitem__(self, section: str) -> dict[str, Any]:
         return self.as_dict()[section]
