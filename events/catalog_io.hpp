@@ -7,13 +7,13 @@
 #include <span>
 #include <string>
 
-#include "core/hdf5_handle.hpp"
+#include "io/hdf5.hpp"
 #include "events/event_detection.hpp"
 
 namespace slipstrip::events {
 
 // Streams /slip_sampling/crossing_time from an open file in row blocks
-// (hyperslab reads), so the matrix is never loaded whole.
+// (io::read_rows), so the matrix is never loaded whole.
 class Hdf5CrossingTimes final : public CrossingTimeSource {
  public:
   explicit Hdf5CrossingTimes(const std::string& path);
@@ -22,10 +22,8 @@ class Hdf5CrossingTimes final : public CrossingTimeSource {
   void read_rows(std::size_t j0, std::size_t j1, std::span<double> block) const override;
 
  private:
-  std::string path_;
-  hdf5::Handle file_;
-  hdf5::Handle dataset_;
-  hdf5::Handle file_space_;
+  io::Handle file_;
+  io::Handle dataset_;
   std::size_t n_levels_ = 0;
   std::size_t n_nodes_ = 0;
 };
