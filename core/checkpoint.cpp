@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <hdf5.h>
-#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -171,26 +170,15 @@ void write_checkpoint(const std::string& run_path, const RunCheckpoint& checkpoi
     // point that names them (matters for a power loss, not for a kill: the
     // page cache survives a killed process).
     sync_path(run_path, O_RDONLY);
-    const std::string dir = directory_of(target);
-    struct statvfs fs {};
-    if (::statvfs(dir.c_str(), &fs) == 0) {
-      // Refused before writing: HDF5 running out of space half-way is what
-      // crashed at exit before (docs/reliability.md).
-      const double available = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
-      const double needed = static_cast<double>(state_bytes(checkpoint)) + 1024.0 * 1024.0;
-      if (available < needed) {
-        char text[200];
-        std::snprintf(text, sizeof text,
-                      "No space left on device (%.0f bytes free in '%s', the restart point needs about %.0f)",
-                      available, dir.c_str(), needed);
-        throw std::runtime_error(text);
-      }
-    }
+    // Refused before writing: HDF5 running out of space half-way is what
+    // crashed at exit before (docs/reliability.md).
+    require_free_space(target, static_cast<double>(state_bytes(checkpoint)) + 1024.0 * 1024.0,
+                       "the restart point");
     write_file(temporary, checkpoint);
     sync_path(temporary, O_RDONLY);
     if (std::rename(temporary.c_str(), target.c_str()) != 0)
       throw std::runtime_error("rename(" + temporary + ", " + target + "): " + std::strerror(errno));
-    sync_path(dir, O_RDONLY | O_DIRECTORY);
+    sync_path(directory_of(target), O_RDONLY | O_DIRECTORY);
   } catch (const std::runtime_error& e) {
     std::remove(temporary.c_str());
     throw OutputError("writing the restart point '" + target + "' failed: " + e.what() +

@@ -17,6 +17,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "events/catalog_io.hpp"
 #include "io/attributes.hpp"
 #include "io/datasets.hpp"
 #include "io/hdf5.hpp"
@@ -235,12 +236,15 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
   }
   if (slip_sampling_on_) {
     const Handle group = io::create_group(file, "slip_sampling");
-    io::write_attribute(group, "delta_th", slip_sampling.delta_th);
-    io::write_attribute(group, "dx", slip_sampling.dx);
-    io::write_attribute(group, "v0", slip_sampling.v0);
-    io::write_attribute(group, "mu", slip_sampling.mu);
-    io::write_attribute(group, "D", slip_sampling.D);
-    io::write_attribute(group, "L", slip_sampling.L);
+    // The attributes the event detection reads back (events/catalog_io.hpp).
+    events::SlipSamplingInfo info;
+    info.delta_th = slip_sampling.delta_th;
+    info.dx = slip_sampling.dx;
+    info.v0 = slip_sampling.v0;
+    info.mu = slip_sampling.mu;
+    info.D = slip_sampling.D;
+    info.L = slip_sampling.L;
+    events::write_slip_sampling_attributes(group, info);
     write_fixed_vector(group, "x", slip_sampling.x, "m");
     // Uncompressed, so that chunks updated by several write-outs stay in
     // place.  64 levels x 256 nodes (128 KiB): a write-out touches the chunks
@@ -517,16 +521,25 @@ bool RunOutput::write_out(WriteTrigger trigger, const std::string* final_status)
   }
 }
 
+void require_free_space(const std::string& path, double bytes_needed, const std::string& what) {
+  const std::filesystem::path file(path);
+  const std::string dir = file.has_parent_path() ? file.parent_path().string() : ".";
+  struct statvfs fs {};
+  if (::statvfs(dir.c_str(), &fs) != 0) return;  // cannot tell: let the write itself report
+  const double available = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
+  if (available < bytes_needed) {
+    char text[300];
+    std::snprintf(text, sizeof text, "No space left on device (%.0f bytes free in '%s', %s needs about %.0f)",
+                  available, dir.c_str(), what.c_str(), bytes_needed);
+    throw std::runtime_error(text);
+  }
+}
+
 void RunOutput::check_free_space() const {
   // A write-out that runs out of space half-way leaves HDF5 metadata that
   // points past the end of the file (measured on a full tmpfs: the status
   // attribute became unreadable and the process crashed at exit).  Refusing
   // before writing keeps the file exactly as the previous write-out left it.
-  const std::filesystem::path file(path_);
-  const std::string dir = file.has_parent_path() ? file.parent_path().string() : ".";
-  struct statvfs fs {};
-  if (::statvfs(dir.c_str(), &fs) != 0) return;  // cannot tell: let the write itself report
-  const double available = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
   double needed = 8.0 * (timeseries_buffer_.size() + snapshot_time_buffer_.size() +
                          snapshot_field_buffer_.size() + station_buffer_.size());
   if (levels_max_ > crossing_rows_in_file_) {
@@ -535,13 +548,7 @@ void RunOutput::check_free_space() const {
     needed += chunk_rows * std::ceil(node_count_ / 256.0) * 64.0 * std::min<double>(node_count_, 256) * 8.0;
   }
   needed += 256.0 * 1024.0;  // metadata, B-tree nodes, attributes
-  if (available < needed) {
-    char text[200];
-    std::snprintf(text, sizeof text,
-                  "No space left on device (%.0f bytes free in '%s', a write-out needs about %.0f)",
-                  available, dir.c_str(), needed);
-    throw std::runtime_error(text);
-  }
+  require_free_space(path_, needed, "a write-out");
 }
 
 bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* final_status) {

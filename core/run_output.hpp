@@ -54,6 +54,13 @@ struct OutputError : std::runtime_error {
 // and end_time of a run file, the written_at of a restart point.
 std::string utc_now_iso8601();
 
+// Throws std::runtime_error "No space left on device (<free> bytes free in
+// '<directory>', <what> needs about <bytes_needed>)" if the file system that
+// holds `path` has less free space; does nothing if it cannot tell.  Writers
+// refuse before writing: HDF5 running out of space half-way leaves metadata
+// pointing past the end of the file (docs/reliability.md).
+void require_free_space(const std::string& path, double bytes_needed, const std::string& what);
+
 // One per-node parameter of the interface law (e.g. friction.a at every
 // node), written once when the file is created.
 struct NodeParameter {

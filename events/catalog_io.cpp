@@ -91,6 +91,15 @@ EventCatalog detect_events_in_file(const std::string& path, const EventDetection
   return detect_events(source, info, options);
 }
 
+void write_slip_sampling_attributes(hid_t group, const SlipSamplingInfo& info) {
+  io::write_attribute(group, "delta_th", info.delta_th);
+  io::write_attribute(group, "dx", info.dx);
+  io::write_attribute(group, "v0", info.v0);
+  io::write_attribute(group, "mu", info.mu);
+  io::write_attribute(group, "D", info.D);
+  io::write_attribute(group, "L", info.L);
+}
+
 void write_slip_sampling(const std::string& path, const SlipSamplingInfo& info,
                          std::span<const double> crossing_time, std::size_t n_levels) {
   const std::size_t n = info.x.size();
@@ -101,12 +110,7 @@ void write_slip_sampling(const std::string& path, const SlipSamplingInfo& info,
   io::Handle file = io::create_file(path);
   {
     const io::Handle group = io::create_group(file, kSlipGroup);
-    io::write_attribute(group, "delta_th", info.delta_th);
-    io::write_attribute(group, "dx", info.dx);
-    io::write_attribute(group, "v0", info.v0);
-    io::write_attribute(group, "mu", info.mu);
-    io::write_attribute(group, "D", info.D);
-    io::write_attribute(group, "L", info.L);
+    write_slip_sampling_attributes(group, info);
     write_field(group, "x", info.x, "m");
 
     // Chunked by whole rows, like the solver appends them, so row-block reads

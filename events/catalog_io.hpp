@@ -34,6 +34,11 @@ SlipSamplingInfo read_slip_sampling_info(const std::string& path);
 // Reads /slip_sampling of `path` (streaming) and detects events.
 EventCatalog detect_events_in_file(const std::string& path, const EventDetectionOptions& options = {});
 
+// The attributes of a /slip_sampling group (delta_th, dx, v0, mu, D, L): one
+// definition for the solver's run file (core/run_output.cpp) and for
+// write_slip_sampling.
+void write_slip_sampling_attributes(hid_t group, const SlipSamplingInfo& info);
+
 // Creates (truncates) `path` holding only /slip_sampling; crossing_time is
 // row-major [n_levels, info.x.size()].  For tests and synthetic input.
 void write_slip_sampling(const std::string& path, const SlipSamplingInfo& info,

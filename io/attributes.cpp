@@ -35,13 +35,8 @@ void remove_attribute_if_present(hid_t object, const std::string& name) {
 
 std::vector<std::string> attribute_names(hid_t object) {
   std::vector<std::string> names;
-  check(H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, nullptr,
-                    [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
-                      static_cast<std::vector<std::string>*>(data)->emplace_back(name);
-                      return 0;
-                    },
-                    &names),
-        "H5Aiterate2", object);
+  check(H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, nullptr, append_name<H5A_info_t>, &names), "H5Aiterate2",
+        object);
   return names;
 }
 

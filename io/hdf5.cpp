@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "io/strings.hpp"
+
 namespace slipstrip::io {
 
 std::string last_error_cause() {
@@ -176,13 +178,7 @@ void remove_member_if_present(hid_t parent, const std::string& name) {
 
 std::vector<std::string> member_names(hid_t group) {
   std::vector<std::string> names;
-  check(H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, nullptr,
-                   [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
-                     static_cast<std::vector<std::string>*>(data)->emplace_back(name);
-                     return 0;
-                   },
-                   &names),
-        "H5Literate", group);
+  check(H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, nullptr, append_name<H5L_info_t>, &names), "H5Literate", group);
   return names;
 }
 

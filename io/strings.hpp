@@ -1,7 +1,7 @@
 #pragma once
 // Internal to io/: the one string encoding (variable-length UTF-8) shared by
-// string attributes and string datasets, and the reader that also accepts
-// fixed-length and ASCII strings.
+// string attributes and string datasets, the reader that also accepts
+// fixed-length and ASCII strings, and the collector of member and attribute names.
 #include <span>
 #include <string>
 #include <vector>
@@ -9,6 +9,15 @@
 #include "io/hdf5.hpp"
 
 namespace slipstrip::io {
+
+// Iteration callback of H5Literate (Info = H5L_info_t) and H5Aiterate2
+// (Info = H5A_info_t) that appends each name to the std::vector<std::string>
+// passed as `names`.
+template <class Info>
+herr_t append_name(hid_t, const char* name, const Info*, void* names) {
+  static_cast<std::vector<std::string>*>(names)->emplace_back(name);
+  return 0;
+}
 
 // A variable-length, NUL-terminated UTF-8 string type.
 Handle utf8_string_type();
