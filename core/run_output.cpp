@@ -17,14 +17,16 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/hdf5_handle.hpp"
+#include "events/catalog_io.hpp"
+#include "io/attributes.hpp"
+#include "io/datasets.hpp"
+#include "io/hdf5.hpp"
 #include "slipstrip/version.hpp"
 
 namespace slipstrip {
 namespace {
 
-using hdf5::check;
-using hdf5::Handle;
+using io::Handle;
 
 constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
 
@@ -46,7 +48,9 @@ constexpr const char* units_table =
     "state (contact age phi): s\n"
     "shear_stress, mean_shear_stress, mu: Pa\n";
 
-std::string now_iso8601() {
+}  // namespace
+
+std::string utc_now_iso8601() {
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   std::tm utc{};
   gmtime_r(&now, &utc);
@@ -55,15 +59,7 @@ std::string now_iso8601() {
   return text;
 }
 
-// File locks are what keep a reader consistent: h5py holds a shared flock on
-// the file while it is open, and the writer asks for an exclusive one, so it
-// never changes the file under an open reader.  ignore_when_disabled: on file
-// systems without flock support the lock is skipped instead of failing.
-Handle file_access_list(bool use_locking) {
-  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), "H5Pcreate(file access)");
-  check(H5Pset_file_locking(fapl, use_locking, true), "H5Pset_file_locking");
-  return fapl;
-}
+namespace {
 
 // True if another process holds a lock on `path` (a reader has it open).
 bool locked_by_other_process(const std::string& path) {
@@ -75,95 +71,39 @@ bool locked_by_other_process(const std::string& path) {
 }
 
 // Opens for appending; an invalid Handle means a reader holds the file (only
-// possible with use_locking).  Any other failure throws.
+// possible with use_locking).  Any other failure throws.  File locks are what
+// keep a reader consistent: h5py holds a shared lock on the file while it is
+// open, and the writer asks for an exclusive one, so it never changes the
+// file under an open reader.
 Handle open_for_append(const std::string& path, bool use_locking) {
-  Handle fapl = file_access_list(use_locking);
+  const Handle fapl = io::file_access_list(use_locking);
   hid_t id = H5I_INVALID_HID;
   H5E_BEGIN_TRY { id = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl); }
   H5E_END_TRY;
   if (id >= 0) return Handle(id);
   if (use_locking && locked_by_other_process(path)) return Handle();
-  return Handle(H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl), "H5Fopen(" + path + ") for append");
+  return io::open_file(path, io::FileAccess::read_write, fapl);
 }
 
-// Extendible dataset: dims[0] starts at 0 and is unlimited; chunk gives the
-// chunk shape; deflate level 0 means uncompressed (then partially filled
-// chunks are rewritten in place, which matters because every flush rewrites
-// the last, partial chunk — a compressed chunk would be reallocated and the
-// old space lost once the file is closed).
-Handle create_extendible(hid_t group, const std::string& name, std::span<const hsize_t> columns,
-                         std::span<const hsize_t> chunk, int deflate, const std::string& units,
-                         bool nan_fill) {
-  const int rank = 1 + static_cast<int>(columns.size());
-  hsize_t dims[2] = {0, 0}, max_dims[2] = {H5S_UNLIMITED, 0};
-  for (std::size_t c = 0; c < columns.size(); ++c) dims[c + 1] = max_dims[c + 1] = columns[c];
-  Handle space(H5Screate_simple(rank, dims, max_dims), "H5Screate_simple(" + name + ")");
-  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate(dataset create)");
-  check(H5Pset_chunk(dcpl, rank, chunk.data()), "H5Pset_chunk(" + name + ")");
-  if (deflate > 0) {
-    check(H5Pset_shuffle(dcpl), "H5Pset_shuffle");
-    check(H5Pset_deflate(dcpl, static_cast<unsigned>(deflate)), "H5Pset_deflate");
-  }
-  if (nan_fill) {
-    check(H5Pset_fill_value(dcpl, H5T_NATIVE_DOUBLE, &nan_value), "H5Pset_fill_value");
-    check(H5Pset_fill_time(dcpl, H5D_FILL_TIME_ALLOC), "H5Pset_fill_time");
-  }
-  Handle dset(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
-              "H5Dcreate2(" + name + ")");
-  hdf5::write_attribute(dset, "units", units);
-  return dset;
+// Every dataset of the run file carries a "units" attribute.
+void write_units(hid_t group, const std::string& name, const std::string& units) {
+  io::write_attribute(io::open_dataset(group, name), "units", units);
+}
+
+// Extendible float64 dataset (io::ExtendibleLayout) with its units.  The
+// time series, stations and crossing times are uncompressed, because every
+// write-out rewrites the last, partial chunk: a compressed chunk would be
+// reallocated and the old space lost once the file is closed.
+void create_extendible(hid_t group, const std::string& name, const io::ExtendibleLayout& layout,
+                       const std::string& units) {
+  const io::Handle dataset = io::create_extendible(group, name, layout);
+  io::write_attribute(dataset, "units", units);
 }
 
 void write_fixed_vector(hid_t group, const std::string& name, std::span<const double> values,
                         const std::string& units) {
-  const hsize_t dims[1] = {values.size()};
-  Handle space(H5Screate_simple(1, dims, nullptr), "H5Screate_simple(" + name + ")");
-  Handle dset(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT,
-                         H5P_DEFAULT),
-              "H5Dcreate2(" + name + ")");
-  check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
-        "H5Dwrite(" + name + ")");
-  hdf5::write_attribute(dset, "units", units);
-}
-
-hsize_t rows_of(hid_t dset) {
-  Handle space(H5Dget_space(dset), "H5Dget_space");
-  hsize_t dims[2] = {0, 0};
-  check(H5Sget_simple_extent_dims(space, dims, nullptr), "H5Sget_simple_extent_dims");
-  return dims[0];
-}
-
-void grow_to(hid_t dset, hsize_t rows, hsize_t columns) {
-  if (rows_of(dset) >= rows) return;
-  const hsize_t dims[2] = {rows, columns};
-  check(H5Dset_extent(dset, dims), "H5Dset_extent");
-}
-
-// Writes `count` rows of a rank-1 (columns == 0) or rank-2 dataset starting at
-// `first_row`.  memory: `count` values spaced by `memory_stride` (rank 1) or
-// `count` contiguous rows of `columns` values (rank 2).
-void write_rows(hid_t dset, hsize_t first_row, hsize_t count, hsize_t columns, const double* memory,
-                hsize_t memory_stride = 1) {
-  if (count == 0) return;
-  const int rank = columns == 0 ? 1 : 2;
-  Handle file_space(H5Dget_space(dset), "H5Dget_space");
-  const hsize_t start[2] = {first_row, 0};
-  const hsize_t block[2] = {count, columns};
-  check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, block, nullptr),
-        "H5Sselect_hyperslab(file)");
-  Handle memory_space;
-  if (rank == 1) {
-    const hsize_t memory_dims[1] = {(count - 1) * memory_stride + 1};
-    memory_space = Handle(H5Screate_simple(1, memory_dims, nullptr), "H5Screate_simple(memory)");
-    const hsize_t memory_start[1] = {0}, stride[1] = {memory_stride}, memory_count[1] = {count};
-    check(H5Sselect_hyperslab(memory_space, H5S_SELECT_SET, memory_start, stride, memory_count,
-                              nullptr),
-          "H5Sselect_hyperslab(memory)");
-  } else {
-    memory_space = Handle(H5Screate_simple(2, block, nullptr), "H5Screate_simple(memory)");
-  }
-  check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, memory),
-        "H5Dwrite");
+  io::write_vector(group, name, values);
+  write_units(group, name, units);
 }
 
 void require_positive(int value, const char* name) {
@@ -198,11 +138,16 @@ RunOutput::RunOutput(const std::string& path, const RunOutputCursor& cursor,
   per_node(cursor.levels_reached.size(), slip_sampling_on_ ? node_count_ : 0, "levels_reached");
   per_node(cursor.next_threshold.size(), slip_sampling_on_ ? node_count_ : 0, "next_threshold");
   per_node(cursor.rupture_front.size(), rupture_front_.size(), "rupture_front");
+  const auto refuse = [&](const std::exception& e) {
+    failed_ = closed_ = true;
+    return std::invalid_argument("cannot resume the run file '" + path + "': " + e.what());
+  };
   try {
     reopen_file(cursor);
   } catch (const std::runtime_error& e) {
-    failed_ = closed_ = true;
-    throw std::invalid_argument("cannot resume the run file '" + path + "': " + e.what());
+    throw refuse(e);  // an HDF5 failure
+  } catch (const std::invalid_argument& e) {
+    throw refuse(e);  // a missing or malformed record
   }
 }
 
@@ -241,86 +186,75 @@ void RunOutput::initialise_buffers(const SlipSamplingSetup& slip_sampling) {
 }
 
 void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSetup& slip_sampling) {
-  const std::string& path = path_;
   const hsize_t n = node_count_;
-  Handle fapl = file_access_list(true);
-  Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), "H5Fcreate(" + path + ")");
-  hdf5::write_attribute(file, "config", config_toml);
-  hdf5::write_attribute(file, "code_version", std::string(slipstrip::code_version));
-  hdf5::write_attribute(file, "git_hash", std::string(slipstrip::git_hash));
-  hdf5::write_attribute(file, "units", std::string(units_table));
-  hdf5::write_attribute(file, "start_time", now_iso8601());
-  hdf5::write_attribute(file, "end_time", std::string());
-  hdf5::write_attribute(file, "status", std::string("running"));
+  const Handle fapl = io::file_access_list(true);
+  Handle file = io::create_file(path_, io::FileCreation::truncate, fapl);
+  io::write_attribute(file, "config", config_toml);
+  io::write_attribute(file, "code_version", slipstrip::code_version);
+  io::write_attribute(file, "git_hash", slipstrip::git_hash);
+  io::write_attribute(file, "units", units_table);
+  io::write_attribute(file, "start_time", utc_now_iso8601());
+  io::write_attribute(file, "end_time", "");
+  io::write_attribute(file, "status", "running");
 
   {
-    Handle group(H5Gcreate2(file, "timeseries", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 "H5Gcreate2(timeseries)");
-    const hsize_t chunk[1] = {static_cast<hsize_t>(options_.timeseries_buffer_rows)};
-    for (int c = 0; c < 4; ++c)
-      create_extendible(group, timeseries_names[c], {}, chunk, 0, timeseries_units[c], false);
+    const Handle group = io::create_group(file, "timeseries");
+    const io::ExtendibleLayout layout{.chunk_rows = static_cast<hsize_t>(options_.timeseries_buffer_rows)};
+    for (int c = 0; c < 4; ++c) create_extendible(group, timeseries_names[c], layout, timeseries_units[c]);
   }
   {
-    Handle group(H5Gcreate2(file, "snapshots", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 "H5Gcreate2(snapshots)");
-    hdf5::write_attribute(group, "trigger",
-                          std::string(options_.snapshots_by_slip ? "slip_increment" : "time"));
-    const hsize_t time_chunk[1] = {256};
-    create_extendible(group, "time", {}, time_chunk, 0, "s", false);
+    const Handle group = io::create_group(file, "snapshots");
+    io::write_attribute(group, "trigger", options_.snapshots_by_slip ? "slip_increment" : "time");
+    create_extendible(group, "time", {.chunk_rows = 256}, "s");
     // One snapshot per chunk: each chunk is written exactly once, so the
     // compressed fields never leave dead space behind when a flush ends
     // mid-chunk (see create_extendible).
-    const hsize_t columns[1] = {n};
-    const hsize_t chunk[2] = {1, n};
-    for (int f = 0; f < 4; ++f)
-      create_extendible(group, snapshot_names[f], columns, chunk, options_.gzip_level,
-                        snapshot_units[f], false);
+    const io::ExtendibleLayout layout{.columns = n, .chunk_rows = 1, .deflate = options_.gzip_level};
+    for (int f = 0; f < 4; ++f) create_extendible(group, snapshot_names[f], layout, snapshot_units[f]);
     write_fixed_vector(group, "x", slip_sampling.x, "m");
   }
   if (!options_.node_parameters.empty()) {
-    Handle group(H5Gcreate2(file, "friction", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 "H5Gcreate2(friction)");
+    const Handle group = io::create_group(file, "friction");
     write_fixed_vector(group, "x", slip_sampling.x, "m");
     for (const auto& p : options_.node_parameters) write_fixed_vector(group, p.name, p.values, p.units);
   }
   if (station_count_ > 0) {
-    Handle group(H5Gcreate2(file, "stations", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 "H5Gcreate2(stations)");
+    const Handle group = io::create_group(file, "stations");
     write_fixed_vector(group, "x", options_.station_x, "m");
-    const hsize_t chunk[1] = {station_buffer_rows};
-    create_extendible(group, "time", {}, chunk, 0, "s", false);
-    create_extendible(group, "max_slip_rate", {}, chunk, 0, "m/s", false);
-    create_extendible(group, "moment_rate", {}, chunk, 0, "N/s per m (mu * sum(v) dx)", false);
-    const hsize_t columns[1] = {station_count_};
-    const hsize_t field_chunk[2] = {station_buffer_rows, station_count_};
-    for (int f = 0; f < 5; ++f)
-      create_extendible(group, station_field_names[f], columns, field_chunk, 0, station_field_units[f], false);
+    const io::ExtendibleLayout series{.chunk_rows = station_buffer_rows};
+    create_extendible(group, "time", series, "s");
+    create_extendible(group, "max_slip_rate", series, "m/s");
+    create_extendible(group, "moment_rate", series, "N/s per m (mu * sum(v) dx)");
+    const io::ExtendibleLayout fields{.columns = station_count_, .chunk_rows = station_buffer_rows};
+    for (int f = 0; f < 5; ++f) create_extendible(group, station_field_names[f], fields, station_field_units[f]);
   }
   if (!rupture_front_.empty()) {
-    Handle group(H5Gcreate2(file, "rupture_front", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 "H5Gcreate2(rupture_front)");
-    hdf5::write_attribute(group, "slip_rate_threshold", options_.front_slip_rate);
+    const Handle group = io::create_group(file, "rupture_front");
+    io::write_attribute(group, "slip_rate_threshold", options_.front_slip_rate);
     write_fixed_vector(group, "x", slip_sampling.x, "m");
     write_fixed_vector(group, "arrival_time", rupture_front_, "s");
   }
   if (slip_sampling_on_) {
-    Handle group(H5Gcreate2(file, "slip_sampling", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 "H5Gcreate2(slip_sampling)");
-    hdf5::write_attribute(group, "delta_th", slip_sampling.delta_th);
-    hdf5::write_attribute(group, "dx", slip_sampling.dx);
-    hdf5::write_attribute(group, "v0", slip_sampling.v0);
-    hdf5::write_attribute(group, "mu", slip_sampling.mu);
-    hdf5::write_attribute(group, "D", slip_sampling.D);
-    hdf5::write_attribute(group, "L", slip_sampling.L);
+    const Handle group = io::create_group(file, "slip_sampling");
+    // The attributes the event detection reads back (events/catalog_io.hpp).
+    events::SlipSamplingInfo info;
+    info.delta_th = slip_sampling.delta_th;
+    info.dx = slip_sampling.dx;
+    info.v0 = slip_sampling.v0;
+    info.mu = slip_sampling.mu;
+    info.D = slip_sampling.D;
+    info.L = slip_sampling.L;
+    events::write_slip_sampling_attributes(group, info);
     write_fixed_vector(group, "x", slip_sampling.x, "m");
     // Uncompressed, so that chunks updated by several write-outs stay in
     // place.  64 levels x 256 nodes (128 KiB): a write-out touches the chunks
     // around the levels the nodes are currently crossing, not whole rows.
-    const hsize_t columns[1] = {n};
-    const hsize_t chunk[2] = {64, std::min<hsize_t>(n, 256)};
-    create_extendible(group, "crossing_time", columns, chunk, 0, "s", true);
+    // Fill NaN: a level a node has not reached yet.
+    create_extendible(group, "crossing_time",
+                      {.columns = n, .chunk_rows = 64, .chunk_columns = std::min<hsize_t>(n, 256), .fill = nan_value},
+                      "s");
   }
-  check(H5Fclose(file.release()), "H5Fclose(" + path + ")");
+  io::close_file(file);
 }
 
 RunOutput::~RunOutput() {
@@ -467,36 +401,35 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
   Handle file = open_for_append(path_, false);
   // Cuts an extendible dataset back to `rows`; fewer rows than the cursor
   // means the file is not the one the restart point was taken from.
-  const auto cut = [](hid_t group, const char* name, hsize_t rows, hsize_t columns) {
-    Handle dset(H5Dopen2(group, name, H5P_DEFAULT), std::string("H5Dopen2(") + name + ")");
-    const hsize_t in_file = rows_of(dset);
+  const auto cut = [](hid_t group, const char* name, hsize_t rows) {
+    const Handle dset = io::open_dataset(group, name);
+    const hsize_t in_file = io::rows_of(dset);
     if (in_file < rows)
       throw std::runtime_error(std::string(name) + " has " + std::to_string(in_file) +
                                " rows, fewer than the " + std::to_string(rows) +
                                " of the restart point (not the file the restart point belongs to)");
-    const hsize_t dims[2] = {rows, columns};
-    check(H5Dset_extent(dset, dims), std::string("H5Dset_extent(") + name + ")");
+    io::set_rows(dset, rows);
   };
   {
-    Handle group(H5Gopen2(file, "timeseries", H5P_DEFAULT), "H5Gopen2(timeseries)");
-    for (const char* name : timeseries_names) cut(group, name, cursor.timeseries_rows, 0);
+    const Handle group = io::open_group(file, "timeseries");
+    for (const char* name : timeseries_names) cut(group, name, cursor.timeseries_rows);
   }
   {
-    Handle group(H5Gopen2(file, "snapshots", H5P_DEFAULT), "H5Gopen2(snapshots)");
-    cut(group, "time", cursor.snapshots, 0);
-    for (const char* name : snapshot_names) cut(group, name, cursor.snapshots, node_count_);
+    const Handle group = io::open_group(file, "snapshots");
+    cut(group, "time", cursor.snapshots);
+    for (const char* name : snapshot_names) cut(group, name, cursor.snapshots);
   }
   if (station_count_ > 0) {
-    Handle group(H5Gopen2(file, "stations", H5P_DEFAULT), "H5Gopen2(stations)");
-    for (const char* name : {"time", "max_slip_rate", "moment_rate"}) cut(group, name, cursor.station_rows, 0);
-    for (const char* name : station_field_names) cut(group, name, cursor.station_rows, station_count_);
+    const Handle group = io::open_group(file, "stations");
+    for (const char* name : {"time", "max_slip_rate", "moment_rate"}) cut(group, name, cursor.station_rows);
+    for (const char* name : station_field_names) cut(group, name, cursor.station_rows);
   }
   if (slip_sampling_on_) {
     // Crossings are single elements (NaN = not reached): those of levels a
     // node reached after the restart point are reset to NaN before the rows
     // are cut, so no value of the lost steps survives in a chunk that stays.
-    Handle dset(H5Dopen2(file, "slip_sampling/crossing_time", H5P_DEFAULT), "H5Dopen2(crossing_time)");
-    const hsize_t in_file = rows_of(dset), n = node_count_;
+    const Handle dset = io::open_dataset(io::open_group(file, "slip_sampling"), "crossing_time");
+    const hsize_t in_file = io::rows_of(dset), n = node_count_;
     if (in_file < cursor.crossing_rows)
       throw std::runtime_error("crossing_time has " + std::to_string(in_file) + " rows, fewer than the " +
                                std::to_string(cursor.crossing_rows) + " of the restart point");
@@ -504,36 +437,24 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
     if (in_file > first) {
       const hsize_t rows = in_file - first;
       std::vector<double> block(rows * n);
-      Handle file_space(H5Dget_space(dset), "H5Dget_space(crossing_time)");
-      const hsize_t start[2] = {first, 0}, count[2] = {rows, n};
-      check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr),
-            "H5Sselect_hyperslab(crossing_time)");
-      Handle memory_space(H5Screate_simple(2, count, nullptr), "H5Screate_simple");
-      check(H5Dread(dset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, block.data()),
-            "H5Dread(crossing_time)");
+      io::read_rows(dset, first, rows, block.data());
       for (hsize_t r = 0; r < rows; ++r)
         for (hsize_t i = 0; i < n; ++i)
           if (first + r >= cursor.levels_reached[i]) block[r * n + i] = nan_value;
-      check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, block.data()),
-            "H5Dwrite(crossing_time)");
+      io::write_rows(dset, first, rows, block.data());
     }
-    const hsize_t dims[2] = {cursor.crossing_rows, n};
-    check(H5Dset_extent(dset, dims), "H5Dset_extent(crossing_time)");
+    io::set_rows(dset, cursor.crossing_rows);
   }
-  if (!rupture_front_.empty()) {
-    Handle dset(H5Dopen2(file, "rupture_front/arrival_time", H5P_DEFAULT), "H5Dopen2(arrival_time)");
-    check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, cursor.rupture_front.data()),
-          "H5Dwrite(arrival_time)");
-  }
+  if (!rupture_front_.empty())
+    io::overwrite(io::open_dataset(io::open_group(file, "rupture_front"), "arrival_time"),
+                  std::span<const double>(cursor.rupture_front));
   // An event catalog (`slipstrip events`, `analyze --write-events`) of the
   // interrupted part describes a record that is about to change: dropped, as
   // an uninterrupted run has none.
-  const htri_t has_events = H5Lexists(file, "events", H5P_DEFAULT);
-  check(has_events, "H5Lexists(events)");
-  if (has_events > 0) check(H5Ldelete(file, "events", H5P_DEFAULT), "H5Ldelete(events)");
-  hdf5::write_attribute(file, "status", std::string("running"));
-  hdf5::write_attribute(file, "end_time", std::string());
-  check(H5Fclose(file.release()), "H5Fclose(" + path_ + ")");
+  io::remove_member_if_present(file, "events");
+  io::write_attribute(file, "status", "running");
+  io::write_attribute(file, "end_time", "");
+  io::close_file(file);
 
   timeseries_rows_in_file_ = cursor.timeseries_rows;
   snapshots_in_file_ = cursor.snapshots;
@@ -584,14 +505,33 @@ Handle RunOutput::open_unless_reader_holds(WriteTrigger trigger) {
 
 bool RunOutput::write_out(WriteTrigger trigger, const std::string* final_status) {
   if (failed_) throw OutputError("the run file '" + path_ + "' could not be written earlier");
+  // Never retried (a full disk stays full; HDF5 may hold half-written
+  // metadata): the file keeps what the earlier write-outs wrote.
+  const auto fail = [&](const std::exception& e) {
+    failed_ = closed_ = true;
+    return OutputError("writing the run file '" + path_ + "' failed: " + e.what() +
+                       "; it keeps the data of the previous flush");
+  };
   try {
     return write_out_unchecked(trigger, final_status);
   } catch (const std::runtime_error& e) {
-    // Never retried (a full disk stays full; HDF5 may hold half-written
-    // metadata): the file keeps what the earlier write-outs wrote.
-    failed_ = closed_ = true;
-    throw OutputError("writing the run file '" + path_ + "' failed: " + e.what() +
-                      "; it keeps the data of the previous flush");
+    throw fail(e);  // an HDF5 failure
+  } catch (const std::invalid_argument& e) {
+    throw fail(e);  // a group or dataset of the file vanished while the run went on
+  }
+}
+
+void require_free_space(const std::string& path, double bytes_needed, const std::string& what) {
+  const std::filesystem::path file(path);
+  const std::string dir = file.has_parent_path() ? file.parent_path().string() : ".";
+  struct statvfs fs {};
+  if (::statvfs(dir.c_str(), &fs) != 0) return;  // cannot tell: let the write itself report
+  const double available = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
+  if (available < bytes_needed) {
+    char text[300];
+    std::snprintf(text, sizeof text, "No space left on device (%.0f bytes free in '%s', %s needs about %.0f)",
+                  available, dir.c_str(), what.c_str(), bytes_needed);
+    throw std::runtime_error(text);
   }
 }
 
@@ -600,11 +540,6 @@ void RunOutput::check_free_space() const {
   // points past the end of the file (measured on a full tmpfs: the status
   // attribute became unreadable and the process crashed at exit).  Refusing
   // before writing keeps the file exactly as the previous write-out left it.
-  const std::filesystem::path file(path_);
-  const std::string dir = file.has_parent_path() ? file.parent_path().string() : ".";
-  struct statvfs fs {};
-  if (::statvfs(dir.c_str(), &fs) != 0) return;  // cannot tell: let the write itself report
-  const double available = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
   double needed = 8.0 * (timeseries_buffer_.size() + snapshot_time_buffer_.size() +
                          snapshot_field_buffer_.size() + station_buffer_.size());
   if (levels_max_ > crossing_rows_in_file_) {
@@ -613,28 +548,22 @@ void RunOutput::check_free_space() const {
     needed += chunk_rows * std::ceil(node_count_ / 256.0) * 64.0 * std::min<double>(node_count_, 256) * 8.0;
   }
   needed += 256.0 * 1024.0;  // metadata, B-tree nodes, attributes
-  if (available < needed) {
-    char text[200];
-    std::snprintf(text, sizeof text,
-                  "No space left on device (%.0f bytes free in '%s', a write-out needs about %.0f)",
-                  available, dir.c_str(), needed);
-    throw std::runtime_error(text);
-  }
+  require_free_space(path_, needed, "a write-out");
 }
 
 bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* final_status) {
   check_free_space();
   Handle file = open_unless_reader_holds(trigger);
   if (!file.valid()) return false;
-  const hsize_t n = node_count_;
 
   const std::size_t timeseries_rows = timeseries_buffer_.size() / 4;
   if (timeseries_rows > 0) {
-    Handle group(H5Gopen2(file, "timeseries", H5P_DEFAULT), "H5Gopen2(timeseries)");
+    const Handle group = io::open_group(file, "timeseries");
     for (int c = 0; c < 4; ++c) {
-      Handle dset(H5Dopen2(group, timeseries_names[c], H5P_DEFAULT), "H5Dopen2");
-      grow_to(dset, timeseries_rows_in_file_ + timeseries_rows, 0);
-      write_rows(dset, timeseries_rows_in_file_, timeseries_rows, 0, timeseries_buffer_.data() + c, 4);
+      const Handle dset = io::open_dataset(group, timeseries_names[c]);
+      io::grow_rows(dset, timeseries_rows_in_file_ + timeseries_rows);
+      // Column c of the interleaved rows (time, max slip rate, mean slip, mean stress).
+      io::write_rows(dset, timeseries_rows_in_file_, timeseries_rows, timeseries_buffer_.data() + c, 4);
     }
     timeseries_rows_in_file_ += timeseries_rows;
     timeseries_buffer_.clear();
@@ -642,16 +571,15 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
 
   const std::size_t snapshots = snapshot_time_buffer_.size();
   if (snapshots > 0) {
-    Handle group(H5Gopen2(file, "snapshots", H5P_DEFAULT), "H5Gopen2(snapshots)");
-    Handle time(H5Dopen2(group, "time", H5P_DEFAULT), "H5Dopen2(time)");
-    grow_to(time, snapshots_in_file_ + snapshots, 0);
-    write_rows(time, snapshots_in_file_, snapshots, 0, snapshot_time_buffer_.data());
+    const Handle group = io::open_group(file, "snapshots");
+    const Handle time = io::open_dataset(group, "time");
+    io::grow_rows(time, snapshots_in_file_ + snapshots);
+    io::write_rows(time, snapshots_in_file_, snapshots, snapshot_time_buffer_.data());
     for (int f = 0; f < 4; ++f) {
-      Handle dset(H5Dopen2(group, snapshot_names[f], H5P_DEFAULT), "H5Dopen2");
-      grow_to(dset, snapshots_in_file_ + snapshots, n);
+      const Handle dset = io::open_dataset(group, snapshot_names[f]);
+      io::grow_rows(dset, snapshots_in_file_ + snapshots);
       for (std::size_t s = 0; s < snapshots; ++s)
-        write_rows(dset, snapshots_in_file_ + s, 1, n,
-                   snapshot_field_buffer_.data() + (4 * s + f) * node_count_);
+        io::write_rows(dset, snapshots_in_file_ + s, 1, snapshot_field_buffer_.data() + (4 * s + f) * node_count_);
     }
     snapshots_in_file_ += snapshots;
     snapshot_time_buffer_.clear();
@@ -659,21 +587,12 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
   }
 
   if (!pending_time_.empty()) {
-    Handle dset(H5Dopen2(file, "slip_sampling/crossing_time", H5P_DEFAULT),
-                "H5Dopen2(crossing_time)");
-    grow_to(dset, levels_max_, n);
+    const Handle dset = io::open_dataset(io::open_group(file, "slip_sampling"), "crossing_time");
+    io::grow_rows(dset, levels_max_);
     crossing_rows_in_file_ = std::max(crossing_rows_in_file_, levels_max_);
     // Element writes: entries not yet reached keep the NaN fill value, so the
     // partially filled rows in the file are always up to date.
-    Handle file_space(H5Dget_space(dset), "H5Dget_space(crossing_time)");
-    check(H5Sselect_elements(file_space, H5S_SELECT_SET, pending_time_.size(),
-                             pending_coords_.data()),
-          "H5Sselect_elements(crossing_time)");
-    const hsize_t count[1] = {pending_time_.size()};
-    Handle memory_space(H5Screate_simple(1, count, nullptr), "H5Screate_simple");
-    check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT,
-                   pending_time_.data()),
-          "H5Dwrite(crossing_time)");
+    io::write_elements(dset, pending_coords_, pending_time_);
     pending_coords_.clear();
     pending_time_.clear();
   }
@@ -681,36 +600,34 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
   const std::size_t row_width = 3 + 5 * station_count_;
   const std::size_t station_rows = station_count_ ? station_buffer_.size() / row_width : 0;
   if (station_rows > 0) {
-    Handle group(H5Gopen2(file, "stations", H5P_DEFAULT), "H5Gopen2(stations)");
+    const Handle group = io::open_group(file, "stations");
     const char* series[3] = {"time", "max_slip_rate", "moment_rate"};
     for (int c = 0; c < 3; ++c) {
-      Handle dset(H5Dopen2(group, series[c], H5P_DEFAULT), "H5Dopen2(stations)");
-      grow_to(dset, station_rows_in_file_ + station_rows, 0);
-      write_rows(dset, station_rows_in_file_, station_rows, 0, station_buffer_.data() + c, row_width);
+      const Handle dset = io::open_dataset(group, series[c]);
+      io::grow_rows(dset, station_rows_in_file_ + station_rows);
+      io::write_rows(dset, station_rows_in_file_, station_rows, station_buffer_.data() + c, row_width);
     }
     for (int f = 0; f < 5; ++f) {
-      Handle dset(H5Dopen2(group, station_field_names[f], H5P_DEFAULT), "H5Dopen2(stations)");
-      grow_to(dset, station_rows_in_file_ + station_rows, station_count_);
+      const Handle dset = io::open_dataset(group, station_field_names[f]);
+      io::grow_rows(dset, station_rows_in_file_ + station_rows);
       for (std::size_t r = 0; r < station_rows; ++r)
-        write_rows(dset, station_rows_in_file_ + r, 1, station_count_,
-                   station_buffer_.data() + r * row_width + 3 + f * station_count_);
+        io::write_rows(dset, station_rows_in_file_ + r, 1,
+                       station_buffer_.data() + r * row_width + 3 + f * station_count_);
     }
     station_rows_in_file_ += station_rows;
     station_buffer_.clear();
   }
   if (rupture_front_dirty_) {
-    Handle dset(H5Dopen2(file, "rupture_front/arrival_time", H5P_DEFAULT), "H5Dopen2(arrival_time)");
-    check(H5Dwrite(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rupture_front_.data()),
-          "H5Dwrite(arrival_time)");
+    io::overwrite(io::open_dataset(io::open_group(file, "rupture_front"), "arrival_time"),
+                  std::span<const double>(rupture_front_));
     rupture_front_dirty_ = false;
   }
 
   if (final_status) {
-    hdf5::write_attribute(file, "status", *final_status);
-    hdf5::write_attribute(file, "end_time", now_iso8601());
+    io::write_attribute(file, "status", *final_status);
+    io::write_attribute(file, "end_time", utc_now_iso8601());
   }
-  // Closed explicitly: H5Fclose writes the metadata, and its failure must not go unnoticed.
-  check(H5Fclose(file.release()), "H5Fclose(" + path_ + ")");
+  io::close_file(file);
   return true;
 }
 

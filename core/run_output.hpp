@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "core/hdf5_handle.hpp"
+#include "io/hdf5.hpp"
 
 namespace slipstrip {
 
@@ -49,6 +49,17 @@ inline constexpr double kMaxLevelsPerStep = 1e6;
 struct OutputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// Wall-clock time now, ISO-8601 UTC ("2026-11-23T07:33:23Z"): the start_time
+// and end_time of a run file, the written_at of a restart point.
+std::string utc_now_iso8601();
+
+// Throws std::runtime_error "No space left on device (<free> bytes free in
+// '<directory>', <what> needs about <bytes_needed>)" if the file system that
+// holds `path` has less free space; does nothing if it cannot tell.  Writers
+// refuse before writing: HDF5 running out of space half-way leaves metadata
+// pointing past the end of the file (docs/reliability.md).
+void require_free_space(const std::string& path, double bytes_needed, const std::string& what);
 
 // One per-node parameter of the interface law (e.g. friction.a at every
 // node), written once when the file is created.
@@ -159,7 +170,7 @@ class RunOutput {
   // next write-out needs (with a margin for HDF5 metadata).
   void check_free_space() const;
   void create_file(const std::string& config_toml, const SlipSamplingSetup& slip_sampling);
-  hdf5::Handle open_unless_reader_holds(WriteTrigger trigger);
+  io::Handle open_unless_reader_holds(WriteTrigger trigger);
   void add_crossings(std::size_t node, double t_old, double t_new, double slip_old, double slip_new);
 
   std::string path_;

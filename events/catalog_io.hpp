@@ -7,13 +7,13 @@
 #include <span>
 #include <string>
 
-#include "core/hdf5_handle.hpp"
+#include "io/hdf5.hpp"
 #include "events/event_detection.hpp"
 
 namespace slipstrip::events {
 
 // Streams /slip_sampling/crossing_time from an open file in row blocks
-// (hyperslab reads), so the matrix is never loaded whole.
+// (io::read_rows), so the matrix is never loaded whole.
 class Hdf5CrossingTimes final : public CrossingTimeSource {
  public:
   explicit Hdf5CrossingTimes(const std::string& path);
@@ -22,10 +22,8 @@ class Hdf5CrossingTimes final : public CrossingTimeSource {
   void read_rows(std::size_t j0, std::size_t j1, std::span<double> block) const override;
 
  private:
-  std::string path_;
-  hdf5::Handle file_;
-  hdf5::Handle dataset_;
-  hdf5::Handle file_space_;
+  io::Handle file_;
+  io::Handle dataset_;
   std::size_t n_levels_ = 0;
   std::size_t n_nodes_ = 0;
 };
@@ -35,6 +33,11 @@ SlipSamplingInfo read_slip_sampling_info(const std::string& path);
 
 // Reads /slip_sampling of `path` (streaming) and detects events.
 EventCatalog detect_events_in_file(const std::string& path, const EventDetectionOptions& options = {});
+
+// The attributes of a /slip_sampling group (delta_th, dx, v0, mu, D, L): one
+// definition for the solver's run file (core/run_output.cpp) and for
+// write_slip_sampling.
+void write_slip_sampling_attributes(hid_t group, const SlipSamplingInfo& info);
 
 // Creates (truncates) `path` holding only /slip_sampling; crossing_time is
 // row-major [n_levels, info.x.size()].  For tests and synthetic input.

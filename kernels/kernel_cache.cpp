@@ -3,13 +3,16 @@
 #include <hdf5.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
 #include <vector>
 
-#include "core/hdf5_handle.hpp"
+#include "io/attributes.hpp"
+#include "io/datasets.hpp"
+#include "io/hdf5.hpp"
 
 namespace slipstrip {
 namespace {
@@ -32,26 +35,6 @@ std::string fnv1a_hex(const std::string& text) {
   char buf[17];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
   return buf;
-}
-
-template <class T>
-void write_vector(hid_t group, const char* name, const std::vector<T>& v, hid_t type) {
-  const hsize_t n = v.size();
-  hdf5::Handle space(H5Screate_simple(1, &n, nullptr), "create dataspace");
-  hdf5::Handle set(H5Dcreate2(group, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                   std::string("create dataset ") + name);
-  if (n) hdf5::check(H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), name);
-}
-
-template <class T>
-std::vector<T> read_vector(hid_t group, const char* name, hid_t type) {
-  hdf5::Handle set(H5Dopen2(group, name, H5P_DEFAULT), std::string("open dataset ") + name);
-  hdf5::Handle space(H5Dget_space(set), "get dataspace");
-  hsize_t n = 0;
-  H5Sget_simple_extent_dims(space, &n, nullptr);
-  std::vector<T> v(n);
-  if (n) hdf5::check(H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), name);
-  return v;
 }
 
 }  // namespace
@@ -81,19 +64,18 @@ StripKernels load_or_compute_strip_kernels(const std::string& cache_dir,
     // Entries appear atomically (rename), so an existing file is complete.
     if (H5Fis_hdf5(entry.c_str()) <= 0)
       throw std::invalid_argument("kernel cache entry '" + entry.string() + "' is not an HDF5 file");
-    hdf5::Handle file(H5Fopen(entry.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT),
-                      "open kernel cache entry " + entry.string());
-    if (hdf5::read_string_attribute(file, "key") == key) {
+    const io::Handle file = io::open_file(entry.string(), io::FileAccess::read_only);
+    if (io::read_string_attribute(file, "key") == key) {
       StripKernels k;
       k.time_step = time_step;
-      const auto echo = read_vector<unsigned long long>(file, "echo_steps", H5T_NATIVE_ULLONG);
-      const auto first = read_vector<unsigned long long>(file, "first_oscillator", H5T_NATIVE_ULLONG);
+      const auto echo = io::read_vector<std::uint64_t>(file, "echo_steps");
+      const auto first = io::read_vector<std::uint64_t>(file, "first_oscillator");
       if (echo.size() != 1)
         throw std::runtime_error("kernel cache entry " + entry.string() + " is malformed");
       k.echo_steps = echo[0];
       k.first_oscillator.assign(first.begin(), first.end());
-      k.phase = read_vector<double>(file, "phase", H5T_NATIVE_DOUBLE);
-      k.weight = read_vector<double>(file, "weight", H5T_NATIVE_DOUBLE);
+      k.phase = io::read_vector<double>(file, "phase");
+      k.weight = io::read_vector<double>(file, "weight");
       if (source) *source = KernelSource::cache;
       return k;
     }
@@ -113,16 +95,16 @@ StripKernels load_or_compute_strip_kernels(const std::string& cache_dir,
   // see a partial entry, and two writers of the same entry write the same data.
   const fs::path partial = entry.string() + ".partial." + std::to_string(getpid());
   {
-    hdf5::Handle file(H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-                      "create kernel cache entry " + partial.string());
-    hdf5::write_attribute(file, "key", key);
-    hdf5::write_attribute(file, "units", "phase: rad (omega dt); weight: Pa/m");
-    const std::vector<unsigned long long> echo{k.echo_steps};
-    const std::vector<unsigned long long> first(k.first_oscillator.begin(), k.first_oscillator.end());
-    write_vector(file, "echo_steps", echo, H5T_NATIVE_ULLONG);
-    write_vector(file, "first_oscillator", first, H5T_NATIVE_ULLONG);
-    write_vector(file, "phase", k.phase, H5T_NATIVE_DOUBLE);
-    write_vector(file, "weight", k.weight, H5T_NATIVE_DOUBLE);
+    io::Handle file = io::create_file(partial.string());
+    io::write_attribute(file, "key", key);
+    io::write_attribute(file, "units", "phase: rad (omega dt); weight: Pa/m");
+    const std::vector<std::uint64_t> echo{k.echo_steps};
+    const std::vector<std::uint64_t> first(k.first_oscillator.begin(), k.first_oscillator.end());
+    io::write_vector(file, "echo_steps", echo);
+    io::write_vector(file, "first_oscillator", first);
+    io::write_vector(file, "phase", k.phase);
+    io::write_vector(file, "weight", k.weight);
+    io::close_file(file);
   }
   fs::rename(partial, entry, ec);
   if (ec) fs::remove(partial, ec);  // best effort: the kernels are right either way

@@ -21,9 +21,10 @@
 
 #include "core/checkpoint.hpp"
 #include "core/config.hpp"
-#include "core/hdf5_handle.hpp"
 #include "core/run_output.hpp"
 #include "core/simulation.hpp"
+#include "io/attributes.hpp"
+#include "io/hdf5.hpp"
 
 using namespace slipstrip;
 
@@ -148,14 +149,14 @@ TEST_CASE("a missing or foreign restart point is an input error naming the file"
 namespace {
 
 std::vector<double> read_all(hid_t file, const char* name, std::vector<hsize_t>* dims_out = nullptr) {
-  hdf5::Handle dset(H5Dopen2(file, name, H5P_DEFAULT), name);
-  hdf5::Handle space(H5Dget_space(dset), "space");
+  io::Handle dset(H5Dopen2(file, name, H5P_DEFAULT), name);
+  io::Handle space(H5Dget_space(dset), "space");
   std::vector<hsize_t> dims(H5Sget_simple_extent_ndims(space));
   H5Sget_simple_extent_dims(space, dims.data(), nullptr);
   hsize_t total = 1;
   for (hsize_t d : dims) total *= d;
   std::vector<double> values(total);
-  if (total > 0) hdf5::check(H5Dread(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name);
+  if (total > 0) io::check(H5Dread(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), name);
   if (dims_out) *dims_out = dims;
   return values;
 }
@@ -218,7 +219,7 @@ TEST_CASE("a resumed run file is cut back to the restart point, crossing times i
   CHECK(cursor.snapshots == 3);
   CHECK(cursor.levels_reached.size() == 4);
   {
-    hdf5::Handle file(H5Fopen(resumed.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "open");
+    io::Handle file(H5Fopen(resumed.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "open");
     CHECK(read_all(file, "timeseries/time").size() == 17);  // past the cursor before the resume
   }
   {  // Resume from the cursor and write 3 steps.
@@ -228,8 +229,8 @@ TEST_CASE("a resumed run file is cut back to the restart point, crossing times i
     out.set_rupture_front(front);
     out.close("completed");
   }
-  hdf5::Handle a(H5Fopen(reference.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "open reference");
-  hdf5::Handle b(H5Fopen(resumed.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "open resumed");
+  io::Handle a(H5Fopen(reference.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "open reference");
+  io::Handle b(H5Fopen(resumed.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "open resumed");
   for (const char* name : {"timeseries/time", "timeseries/max_slip_rate", "timeseries/mean_slip",
                            "timeseries/mean_shear_stress", "snapshots/time", "snapshots/slip",
                            "snapshots/state", "stations/time", "stations/slip", "stations/moment_rate",
@@ -240,7 +241,7 @@ TEST_CASE("a resumed run file is cut back to the restart point, crossing times i
     CHECK(dims_a == dims_b);
     CHECK(same_bits(std::span<const double>(va), std::span<const double>(vb)));
   }
-  CHECK(hdf5::read_string_attribute(b, "status") == "completed");
+  CHECK(io::read_string_attribute(b, "status") == "completed");
   std::filesystem::remove(reference);
   std::filesystem::remove(resumed);
 }

@@ -20,14 +20,15 @@
 #include <thread>
 #include <vector>
 
-#include "core/hdf5_handle.hpp"
 #include "core/run_output.hpp"
+#include "io/attributes.hpp"
+#include "io/hdf5.hpp"
 #include "slipstrip/version.hpp"
 
 using slipstrip::RunOutput;
 using slipstrip::RunOutputOptions;
 using slipstrip::SlipSamplingSetup;
-using slipstrip::hdf5::Handle;
+using slipstrip::io::Handle;
 
 namespace {
 
@@ -54,7 +55,7 @@ Array read_array(hid_t file, const std::string& name) {
   for (hsize_t d : a.dims) total *= d;
   a.values.resize(total);
   if (total > 0)
-    slipstrip::hdf5::check(
+    slipstrip::io::check(
         H5Dread(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, a.values.data()),
         "read " + name);
   return a;
@@ -63,7 +64,7 @@ Array read_array(hid_t file, const std::string& name) {
 double read_double_attribute(hid_t object, const std::string& name) {
   Handle attr(H5Aopen(object, name.c_str(), H5P_DEFAULT), "open attribute " + name);
   double value = 0.0;
-  slipstrip::hdf5::check(H5Aread(attr, H5T_NATIVE_DOUBLE, &value), "read attribute " + name);
+  slipstrip::io::check(H5Aread(attr, H5T_NATIVE_DOUBLE, &value), "read attribute " + name);
   return value;
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "events/catalog_io.hpp"
+#include "io/attributes.hpp"
 
 using namespace slipstrip::events;
 
@@ -73,13 +74,9 @@ Sample make_sample() {
 }
 
 std::string read_units(const std::string& path, const std::string& dataset) {
-  slipstrip::hdf5::Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), "open");
-  slipstrip::hdf5::Handle d(H5Dopen2(f, dataset.c_str(), H5P_DEFAULT), "open dataset");
-  slipstrip::hdf5::Handle a(H5Aopen(d, "units", H5P_DEFAULT), "open units");
-  slipstrip::hdf5::Handle type(H5Aget_type(a), "type");
-  std::string s(H5Tget_size(type), '\0');
-  H5Aread(a, type, s.data());
-  return s.substr(0, s.find('\0'));
+  const slipstrip::io::Handle f = slipstrip::io::open_file(path, slipstrip::io::FileAccess::read_only);
+  const slipstrip::io::Handle d(H5Dopen2(f, dataset.c_str(), H5P_DEFAULT), "open dataset");
+  return slipstrip::io::read_string_attribute(d, "units");
 }
 
 void check_same(const std::vector<double>& a, const std::vector<double>& b) {
