@@ -165,7 +165,7 @@ class Config(_slipstrip._Config):
         return self.material.shear_wave_speed
 
     @property
-    def transit_time(self) -> float:
+    def length_transit_time(self) -> float:
         """L / c_s [s]: the time unit of the paper's figures"""
         return self.length / self.material.shear_wave_speed
 
