@@ -166,6 +166,15 @@ void initial_rule(const SimulationConfig& c) {
                               "): the perturbation is a Gaussian of that standard deviation");
 }
 
+// A position on the periodic interface: 0 <= x <= L for a point such as a bump's
+// centre, 0 <= x < L for stations (x = L is the node at x = 0 again).
+void require_on_interface(double x, double length, bool closed_at_length, const std::string& noun) {
+  const bool inside = x >= 0.0 && (closed_at_length ? x <= length : x < length);
+  if (!inside)
+    throw KeyOutOfRange(format_config_number(x), noun + " 0 <= x " + (closed_at_length ? "<=" : "<") +
+                                                     " geometry.length = " + format_config_number(length) + " [m]");
+}
+
 // ---------------------------------------------------------------------------
 // The sections, in reading order: a rule reads only keys of earlier sections
 // (geometry bounds the mode numbers, material sets c_s for duration_transits).
@@ -344,12 +353,7 @@ constexpr ConfigKey kKeys[] = {
     {.section = "initial", .name = "local_center", .unit = "m", .rule_text = "0 <= x <= L",
      .help = "centre of the bump", .comment = "[m]",
      .bind = real_member<&C::initial, &InitialConfig::local_center>(),
-     .real_rule = [](const C& c, double x) {
-       if (!(x >= 0.0 && x <= c.geometry.length))
-         throw KeyOutOfRange(format_config_number(x),
-                             "a position 0 <= x <= geometry.length = " +
-                                 format_config_number(c.geometry.length) + " [m]");
-     }},
+     .real_rule = [](const C& c, double x) { require_on_interface(x, c.geometry.length, true, "a position"); }},
     {.section = "initial", .name = "local_width", .unit = "m", .noun = "a width",
      .allowed = non_negative, .rule_text = "> 0 if local_amplitude != 0",
      .help = "standard deviation of the bump", .comment = "standard deviation [m]",
@@ -437,11 +441,7 @@ constexpr ConfigKey kKeys[] = {
      .bind = {.get_list = [](const C& c) { return c.output.stations; },
               .set_list = [](C& c, const std::vector<double>& v) { c.output.stations = v; }},
      .list_rule = [](const C& c, const std::vector<double>& stations) {
-       for (double x : stations)
-         if (!(x >= 0.0 && x < c.geometry.length))
-           throw KeyOutOfRange(format_config_number(x),
-                               "positions 0 <= x < geometry.length = " +
-                                   format_config_number(c.geometry.length) + " [m]");
+       for (double x : stations) require_on_interface(x, c.geometry.length, false, "positions");
      }},
     {.section = "output", .name = "station_interval", .unit = "s", .noun = "a time",
      .allowed = non_negative, .allowed_note = " (0 = every step)",

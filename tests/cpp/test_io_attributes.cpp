@@ -16,15 +16,14 @@
 
 #include "io/attributes.hpp"
 #include "io/hdf5.hpp"
+#include "io_test_support.hpp"
 
 using namespace slipstrip;
+using io_test::contains;
+using io_test::error_of;
+using io_test::temp_path;
 
 namespace {
-
-std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("slipstrip_io_" + std::to_string(getpid()) + "_" + name + ".h5"))
-      .string();
-}
 
 // The stored (file) type of an attribute, to check what the layer writes.
 io::Handle stored_type(hid_t object, const std::string& name) {
@@ -35,19 +34,6 @@ io::Handle stored_type(hid_t object, const std::string& name) {
 bool stored_as(hid_t object, const std::string& name, hid_t file_type) {
   return H5Tequal(stored_type(object, name), file_type) > 0;
 }
-
-// An error message, or "<no error>".
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 }  // namespace
 

@@ -18,27 +18,14 @@
 #include "io/attributes.hpp"
 #include "io/datasets.hpp"
 #include "io/hdf5.hpp"
+#include "io_test_support.hpp"
 
 using namespace slipstrip;
+using io_test::contains;
+using io_test::error_of;
+using io_test::temp_path;
 
 namespace {
-
-std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("slipstrip_io_" + std::to_string(getpid()) + "_" + name + ".h5"))
-      .string();
-}
-
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 std::vector<double> read_all_rows(hid_t dataset) {
   const std::vector<hsize_t> dims = io::extent(dataset);
