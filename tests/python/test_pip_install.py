@@ -3,8 +3,8 @@
 Debian's NumPy/h5py, and importable outside the checkout with no PYTHONPATH.
 
 The extension is compiled by CMake in build/pip (kept between runs, so only a
-first run compiles the whole core: measured ~6 min cold on the shared 2-core
-machine, ~30 s when nothing changed)."""
+first run compiles the whole core: measured 2 min 54 s from an empty build/pip
+on the shared 2-core machine, 30-45 s when little or nothing changed)."""
 import importlib.util
 import os
 import re
