@@ -14,6 +14,7 @@
 
 #include "core/simulation.hpp"
 #include "kernels/block_strip_history.hpp"
+#include "kernels/half_space_history.hpp"
 #include "kernels/elastic_material.hpp"
 #include "friction/batch_solve.hpp"
 #include "friction/friction_law.hpp"
@@ -52,11 +53,16 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
   const double setup_ms = std::chrono::duration<double, std::milli>(clock::now() - t_setup).count();
   for (int i = 0; i < 10; ++i) sim.step();
   // The block operator does its far-field work once per block of B steps and
-  // its level convolutions on a pattern that repeats every B steps: time a
-  // whole number of blocks so the average is the true one.
+  // its level convolutions on a pattern that repeats every B steps, and the
+  // half-space advances its slow exponentials once per block: time a whole
+  // number of blocks so the average is the true one.
   int steps = options.steps;
+  int block_steps = 1;
   if (const auto* block = dynamic_cast<const BlockStripHistory*>(&sim.history_operator()))
-    steps = ((std::max(steps, block->block()) + block->block() - 1) / block->block()) * block->block();
+    block_steps = block->block();
+  if (const auto* half_space = dynamic_cast<const HalfSpaceHistory*>(&sim.history_operator()))
+    block_steps = std::max(1, half_space->slow_block());
+  steps = ((std::max(steps, block_steps) + block_steps - 1) / block_steps) * block_steps;
   const auto t0 = clock::now();
   for (int i = 0; i < steps; ++i) sim.step();
   const double us_per_step =

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <numbers>
@@ -15,12 +16,37 @@
 
 namespace slipstrip {
 
+namespace {
+constexpr int kMaxTaylorTerms = 32;
+}
+
+double slow_taylor_error_bound(const HalfSpaceOperatorDesign& design) {
+  // Lagrange remainder of e^{-y}, |y| <= r, after n terms: r^n / n! e^r.
+  const double r = design.slow_taylor_radius;
+  double bound = std::exp(r);
+  for (int n = 1; n <= design.taylor_terms; ++n) bound *= r / n;
+  return bound;
+}
+
 HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
                                    double time_step, const HalfSpaceOperatorDesign& design,
                                    const CancelCheck& cancelled)
     : dt_(time_step), lags_(design.corrected_lags) {
   if (!(length > 0) || nodes < 2 || !(time_step > 0))
     throw std::invalid_argument("HalfSpaceHistory: need length > 0, nodes >= 2, time_step > 0");
+  if (design.slow_block != 0) {
+    if (design.slow_block < 2 || design.taylor_terms < 1 || design.taylor_terms > kMaxTaylorTerms ||
+        !(design.slow_taylor_radius > 0))
+      throw std::invalid_argument("HalfSpaceHistory: slow_block must be 0 or >= 2, taylor_terms in [1, " +
+                                  std::to_string(kMaxTaylorTerms) + "], slow_taylor_radius > 0");
+    if (!(slow_taylor_error_bound(design) <= 1e-14))
+      throw std::invalid_argument("HalfSpaceHistory: the slow exponentials' Taylor error bound " +
+                                  std::to_string(slow_taylor_error_bound(design)) +
+                                  " exceeds 1e-14 (raise taylor_terms or lower slow_taylor_radius)");
+    block_ = design.slow_block;
+    terms_ = design.taylor_terms;
+    block_centre_ = 0.5 * (block_ + 1);
+  }
   const double mu = material.shear_modulus, cs = material.shear_wave_speed();
   const double r2 = 1.0 / material.wave_speed_ratio_squared();
   eta_ = mu / (2.0 * cs);
@@ -48,6 +74,11 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
   // per-mode vectors, then flattened).
   std::vector<std::vector<double>> lag_weight(n_modes), correction(n_modes);
   std::vector<std::vector<std::complex<double>>> poles(n_modes), pole_weights(n_modes);
+  // Slow exponentials per mode: rate (units of c_s |k|), weight; shear branch first.
+  std::vector<std::vector<std::complex<double>>> slow_rates(n_modes), slow_weights(n_modes);
+  std::vector<std::size_t> slow_shear(n_modes, 0);
+  // Slow when lambda (B - 1) / 2 <= radius, lambda = x h (x = -Re rate).
+  const double slow_lambda_max = block_ > 0 ? 2.0 * design.slow_taylor_radius / (block_ - 1) : -1.0;
   std::string failure;
   // `cancelled` may call into Python (the bindings), so only the thread that
   // called this constructor polls it; the others see the atomic flag.
@@ -75,6 +106,12 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
         const std::complex<double> shifted = far.amplitude[m] * std::exp(far.rate[m] * shift_tau);
         // Negligible for every lag >= W + 1 (the kernel is O(1)).
         if (std::abs(shifted) < 1e-17) continue;
+        if (-far.rate[m].real() * h <= slow_lambda_max) {
+          slow_rates[q].push_back(far.rate[m]);
+          slow_weights[q].push_back(scale * shifted);
+          if (far.rate[m].imag() == 1.0) slow_shear[q] = slow_rates[q].size();
+          continue;
+        }
         poles[q].push_back(std::exp(far.rate[m] * h));
         pole_weights[q].push_back(scale * shifted);
       }
@@ -107,6 +144,39 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
     }
     first_pole_.push_back(pole_cos_.size());
   }
+  // Slow part (docs/theory.md §8.7).
+  first_slow_.assign(1, 0);
+  slow_shear_end_.assign(n_modes, 0);
+  slow_lag_weight_.assign(static_cast<std::size_t>(n_modes) * block_, 0.0);
+  for (int q = 0; q < n_modes; ++q) {
+    const double h = h_[q];
+    slow_shear_end_[q] = first_slow_.back() + slow_shear[q];
+    for (std::size_t m = 0; m < slow_rates[q].size(); ++m) {
+      const std::complex<double> rate = slow_rates[q][m], w = slow_weights[q][m];
+      const std::complex<double> z = std::exp(rate * h);
+      slow_decay_.push_back(-rate.real() * h);
+      slow_centre_factor_.push_back(std::exp(rate.real() * h * block_centre_));
+      slow_pole_.push_back(z);
+      slow_weight_.push_back(w);
+      slow_block_pole_.push_back(std::exp(rate * (h * block_)));
+      // In-block lags: 2 Re w z^{i+1}, i = 0..B-1 (the exact powers).
+      double* lag = slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_;
+      for (int i = 0; i < block_; ++i) lag[i] += 2.0 * (w * std::exp(rate * (h * (i + 1)))).real();
+    }
+    first_slow_.push_back(slow_decay_.size());
+  }
+  rotation_.assign(static_cast<std::size_t>(block_) * n_modes * 2, 0.0);
+  const double b_pressure = std::sqrt(1.0 / r2);  // c_d / c_s: the P branch's frequency
+  for (int t = 1; t <= block_; ++t)
+    for (int q = 0; q < n_modes; ++q) {
+      const std::size_t at = (static_cast<std::size_t>(t - 1) * n_modes + q) * 2;
+      rotation_[at] = std::polar(1.0, h_[q] * t);
+      rotation_[at + 1] = std::polar(1.0, b_pressure * h_[q] * t);
+    }
+  slow_state_re_.assign(slow_decay_.size(), 0.0);
+  slow_state_im_.assign(slow_decay_.size(), 0.0);
+  block_input_.assign(static_cast<std::size_t>(n_modes) * block_, 0.0);
+  block_moment_.assign(static_cast<std::size_t>(n_modes) * 4 * terms_, 0.0);
   ring_.assign(lag_weight_.size(), 0.0);
   c_re_.assign(pole_cos_.size(), 0.0);
   c_im_.assign(pole_cos_.size(), 0.0);
@@ -119,13 +189,16 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
 ModeOperatorStats HalfSpaceHistory::stats() const {
   ModeOperatorStats s;
   s.modes = history_.size();
-  s.oscillators = pole_cos_.size();
+  s.oscillators = pole_cos_.size() + slow_decay_.size();
   s.direct_lags = lag_weight_.size();
   s.memory_bytes = sizeof(double) * (8 * pole_cos_.size() + lag_weight_.size() + correction_.size() +
-                                     3 * history_.size()) +
+                                     3 * history_.size() + 2 * slow_decay_.size() +
+                                     slow_lag_weight_.size()) +
                    sizeof(std::complex<double>) *
-                       (ring_.size() + running_sum_.size() + history_.size()) +
-                   sizeof(std::size_t) * (first_lag_.size() + first_pole_.size());
+                       (ring_.size() + running_sum_.size() + history_.size() + 5 * slow_decay_.size() +
+                        rotation_.size() + block_input_.size() + block_moment_.size()) +
+                   sizeof(std::size_t) *
+                       (first_lag_.size() + first_pole_.size() + first_slow_.size() + slow_shear_end_.size());
   return s;
 }
 
@@ -141,13 +214,17 @@ HalfSpaceModeKernel HalfSpaceHistory::mode_kernel(int q) const {
     k.pole.emplace_back(pole_cos_[m], pole_sin_[m]);
     k.pole_weight.emplace_back(0.5 * weight_cos_[m], -0.5 * weight_sin_[m]);
   }
+  for (std::size_t m = first_slow_[q]; m < first_slow_[q + 1]; ++m) {
+    k.pole.push_back(slow_pole_[m]);
+    k.pole_weight.push_back(slow_weight_[m]);
+  }
   return k;
 }
 
 void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {
   const int n_modes = static_cast<int>(history_.size());
   history_[0] = 0.0;  // uniform mode: radiation damping only
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static, 32)
   for (int q = 1; q < n_modes; ++q) {
     const std::complex<double> v = slip_rate_spectrum[q];
     // Ring buffer of the last W slip rates: slot n mod W holds v_{n-W} (leaving
@@ -186,10 +263,88 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
       far_r += weight_cos_[m] * new_cr + weight_sin_[m] * new_sr;
       far_i += weight_cos_[m] * new_ci + weight_sin_[m] * new_si;
     }
+    std::complex<double> slow = 0.0;
+    if (block_ > 0) {
+      // Slow exponentials: at block position t (t' = t + 1 steps after the block
+      // start) their output is sum over branches of rho^{t'} P_beta(t' - t_c),
+      // with P_beta the Taylor polynomial of the block-start states, plus the
+      // slow kernel's lags 0..t applied to this block's inputs.
+      const int t = static_cast<int>(step_ % block_);
+      std::complex<double>* input = block_input_.data() + static_cast<std::size_t>(q) * block_;
+      input[t] = delayed;
+      const double x = (t + 1) - block_centre_;
+      const std::complex<double>* moment = block_moment_.data() + static_cast<std::size_t>(q) * 4 * terms_;
+      // Polynomial beta = 2 b + c: branch b (shear, P), component c (Re, Im of
+      // the slip rate, kept apart so that a real kernel maps real to real exactly).
+      std::complex<double> branch[4];
+      for (int beta = 0; beta < 4; ++beta) {
+        const std::complex<double>* c = moment + beta * terms_;
+        std::complex<double> acc = c[terms_ - 1];
+        for (int p = terms_ - 2; p >= 0; --p) acc = acc * x + c[p];
+        branch[beta] = acc;
+      }
+      const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
+      const std::complex<double> rho_s = rotation_[at], rho_p = rotation_[at + 1];
+      slow = std::complex<double>(2.0 * (rho_s * branch[0] + rho_p * branch[2]).real(),
+                                  2.0 * (rho_s * branch[1] + rho_p * branch[3]).real());
+      const double* lag = slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_;
+      double in_r = 0.0, in_i = 0.0;
+      for (int s2 = 0; s2 <= t; ++s2) {
+        in_r += lag[t - s2] * input[s2].real();
+        in_i += lag[t - s2] * input[s2].imag();
+      }
+      slow += std::complex<double>(in_r, in_i);
+      if (t == block_ - 1) push_slow_block_end(q);
+    }
     running_sum_[q] += v;
-    history_[q] = static_weight_[q] * running_sum_[q] + std::complex<double>(near_r + far_r, near_i + far_i);
+    history_[q] = static_weight_[q] * running_sum_[q] + std::complex<double>(near_r + far_r, near_i + far_i) + slow;
   }
   ++step_;
+}
+
+void HalfSpaceHistory::push_slow_block_end(int q) {
+  // Per branch b and component c of the slip rate (Re, Im; polynomial beta = 2 b + c):
+  //   mu_{beta,p} = sum_{j=1..B} (j - t_c)^p rho_b^j u_c(B - j)      (u(s) = block input s)
+  // then per slow exponential and component
+  //   Y_c <- z^B Y_c + e^{-lambda t_c} sum_p (-lambda)^p / p! mu_{beta,p}
+  // and the next block's polynomial coefficients
+  //   M_{beta,p} = sum_m w e^{-lambda t_c} (-lambda)^p / p! Y_c;
+  // the kernel's contribution is then 2 Re sum_b rho_b^{t'} sum_p (t' - t_c)^p M_{beta,p}.
+  const int n_modes = static_cast<int>(history_.size());
+  const std::complex<double>* input = block_input_.data() + static_cast<std::size_t>(q) * block_;
+  std::array<std::complex<double>, 4 * kMaxTaylorTerms> mu{};
+  for (int j = 1; j <= block_; ++j) {
+    const double x = j - block_centre_;
+    const std::complex<double> u = input[block_ - j];
+    const std::size_t at = (static_cast<std::size_t>(j - 1) * n_modes + q) * 2;
+    const std::complex<double> in[4] = {rotation_[at] * u.real(), rotation_[at] * u.imag(),
+                                        rotation_[at + 1] * u.real(), rotation_[at + 1] * u.imag()};
+    double power = 1.0;
+    for (int p = 0; p < terms_; ++p, power *= x)
+      for (int beta = 0; beta < 4; ++beta) mu[beta * terms_ + p] += power * in[beta];
+  }
+  std::complex<double>* moment = block_moment_.data() + static_cast<std::size_t>(q) * 4 * terms_;
+  std::fill(moment, moment + 4 * terms_, std::complex<double>(0.0));
+  std::array<double, kMaxTaylorTerms> factor{};
+  for (std::size_t m = first_slow_[q]; m < first_slow_[q + 1]; ++m) {
+    const int beta_re = m < slow_shear_end_[q] ? 0 : 2;  // polynomial of the Re component
+    factor[0] = slow_centre_factor_[m];
+    for (int p = 1; p < terms_; ++p) factor[p] = factor[p - 1] * (-slow_decay_[m] / p);
+    std::complex<double> feed_re = 0.0, feed_im = 0.0;
+    for (int p = 0; p < terms_; ++p) {
+      feed_re += factor[p] * mu[beta_re * terms_ + p];
+      feed_im += factor[p] * mu[(beta_re + 1) * terms_ + p];
+    }
+    const std::complex<double> y_re = slow_block_pole_[m] * slow_state_re_[m] + feed_re;
+    const std::complex<double> y_im = slow_block_pole_[m] * slow_state_im_[m] + feed_im;
+    slow_state_re_[m] = y_re;
+    slow_state_im_[m] = y_im;
+    const std::complex<double> wy_re = slow_weight_[m] * y_re, wy_im = slow_weight_[m] * y_im;
+    for (int p = 0; p < terms_; ++p) {
+      moment[beta_re * terms_ + p] += factor[p] * wy_re;
+      moment[(beta_re + 1) * terms_ + p] += factor[p] * wy_im;
+    }
+  }
 }
 
 HistoryOperatorState HalfSpaceHistory::save_state() const {
@@ -204,6 +359,10 @@ HistoryOperatorState HalfSpaceHistory::save_state() const {
   state.add("s_im", s_im_);
   state.add("running_sum", running_sum_);
   state.add("history", history_);
+  state.add("slow_state_re", slow_state_re_);
+  state.add("slow_state_im", slow_state_im_);
+  state.add("block_input", block_input_);
+  state.add("block_moment", block_moment_);
   return state;
 }
 
@@ -218,6 +377,10 @@ void HalfSpaceHistory::restore_state(const HistoryOperatorState& state) {
   state.copy_to("s_im", std::span<double>(s_im_));
   state.copy_to("running_sum", std::span<std::complex<double>>(running_sum_));
   state.copy_to("history", std::span<std::complex<double>>(history_));
+  state.copy_to("slow_state_re", std::span<std::complex<double>>(slow_state_re_));
+  state.copy_to("slow_state_im", std::span<std::complex<double>>(slow_state_im_));
+  state.copy_to("block_input", std::span<std::complex<double>>(block_input_));
+  state.copy_to("block_moment", std::span<std::complex<double>>(block_moment_));
   step_ = step;
 }
 

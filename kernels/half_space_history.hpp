@@ -11,7 +11,12 @@
 //   - a running sum with the static weight dt mu |k| (1 - r^2)  (exact static stiffness);
 //   - the weights K_j - static of lags 1..W (W h >= 1) from a ring buffer;
 //   - lags > W by damped rotations, one per exponential of g (half_space_kernel.hpp),
-//     fed with the slip rate delayed by W steps.
+//     fed with the slip rate delayed by W steps.  The "fast" exponentials rotate
+//     every step.  The "slow" ones (decay over a block of B steps below the Taylor
+//     radius) are advanced once per block through Taylor moments of the block's
+//     inputs, and their output inside a block is a short polynomial per branch
+//     plus a direct sum over the block's own inputs (docs/theory.md §8.7): the
+//     same operator to ~1e-16 relative, at a fraction of the memory traffic.
 // Memory and cost per step are fixed at construction, whatever the run length;
 // the kernel is accurate to ~1e-9 (absolute, in units of mu |k|) for
 // c_s |k| t up to 1e10.  The uniform mode q = 0 of a half-space has no
@@ -32,7 +37,21 @@ struct HalfSpaceOperatorDesign {
   double near_field_tau = 1.0;     // lags with c_s |k| t <= this are stored weights
   double horizon_tau = 1e10;       // c_s |k| t up to which the exponentials are accurate
   double passivity_margin = 1e-9;  // Re Z_d / (mu/c_s) >= margin on the check grid
+  // Slow exponentials (docs/theory.md §8.7).  An exponential with decay lambda =
+  // x h per step is slow when lambda (B - 1) / 2 <= slow_taylor_radius; its
+  // block factor e^{-lambda j}, |j - (B+1)/2| <= (B-1)/2, is then a Taylor
+  // polynomial of `taylor_terms` terms with relative truncation error
+  //   radius^terms / terms! * e^radius = 1.7e-16 (0.25, 12).
+  // slow_block = 0 rotates every exponential every step (the original algorithm;
+  // kept for the equivalence tests).
+  int slow_block = 128;
+  double slow_taylor_radius = 0.25;
+  int taylor_terms = 12;
 };
+
+// Relative truncation error bound of the slow exponentials' Taylor factor
+// (above); the constructor refuses designs above 1e-14.
+double slow_taylor_error_bound(const HalfSpaceOperatorDesign& design);
 
 // The operator's coefficients for one mode (a plain value, for tests and
 // diagnostics).  Units: weights in Pa s/m (so that weight * slip rate = Pa).
@@ -63,8 +82,13 @@ class HalfSpaceHistory final : public HistoryOperator {
   HistoryOperatorState save_state() const override;
   void restore_state(const HistoryOperatorState& state) override;
 
-  // Coefficients of mode q >= 1, as used by push().
+  // Coefficients of mode q >= 1, as used by push() (fast exponentials first,
+  // then the slow ones).
   HalfSpaceModeKernel mode_kernel(int q) const;
+  // Number of slow exponentials in all modes (0 when design.slow_block = 0),
+  // and the block length B.
+  std::size_t slow_exponentials() const { return slow_decay_.size(); }
+  int slow_block() const { return block_; }
 
  private:
   double dt_, eta_;
@@ -82,6 +106,27 @@ class HalfSpaceHistory final : public HistoryOperator {
   std::vector<std::complex<double>> ring_;     // flat; last W_q slip rates of mode q
   std::vector<double> c_re_, c_im_, s_re_, s_im_;
   std::vector<std::complex<double>> running_sum_;
+
+  // Slow exponentials (docs/theory.md §8.7).  Pole z = rho_b d with b in
+  // {shear, P}, rho_b = e^{i b h}, d = e^{-lambda}.  Per mode q the slow poles
+  // [first_slow_[q], slow_shear_end_[q]) are on the shear branch, the rest up to
+  // first_slow_[q+1] on the P branch.
+  void push_slow_block_end(int q);
+  int block_ = 0, terms_ = 0;
+  double block_centre_ = 0.0;                      // t_c = (B + 1) / 2
+  std::vector<std::size_t> first_slow_, slow_shear_end_;
+  std::vector<double> slow_decay_;                 // lambda = x h
+  std::vector<double> slow_centre_factor_;         // e^{-lambda t_c}
+  std::vector<std::complex<double>> slow_pole_;    // z (diagnostics: mode_kernel)
+  std::vector<std::complex<double>> slow_weight_;  // w (kernel at lag W + i: 2 Re w z^i)
+  std::vector<std::complex<double>> slow_block_pole_;  // z^B
+  std::vector<double> slow_lag_weight_;            // per mode, B: 2 Re sum_slow w z^{i+1}, i = 0..B-1
+  std::vector<std::complex<double>> rotation_;     // [(t' - 1) * modes + q] * 2 + b: rho_b^{t'}, t' = 1..B
+  // Slow state.
+  // Y at the block start, fed with the Re and with the Im part of the slip rate.
+  std::vector<std::complex<double>> slow_state_re_, slow_state_im_;
+  std::vector<std::complex<double>> block_input_;  // per mode, B: this block's delayed slip rates
+  std::vector<std::complex<double>> block_moment_; // per mode, 4 * terms: M_{beta,p}, beta = 2 b + (0 Re, 1 Im)
   std::vector<std::complex<double>> history_;
 };
 
