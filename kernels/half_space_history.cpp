@@ -18,6 +18,7 @@ namespace slipstrip {
 
 namespace {
 constexpr int kMaxTaylorTerms = 32;
+constexpr long long kStateFormat = 2;
 }
 
 double slow_taylor_error_bound(const HalfSpaceOperatorDesign& design) {
@@ -350,6 +351,10 @@ void HalfSpaceHistory::push_slow_block_end(int q) {
 HistoryOperatorState HalfSpaceHistory::save_state() const {
   HistoryOperatorState state;
   state.kind = "half-space";
+  // Format 2: the slow exponentials live in their own arrays (docs/theory.md
+  // §8.7); a restart point of the earlier every-step operator has no format
+  // counter and is refused with that reason instead of a confusing array size.
+  state.counters.emplace_back("format", kStateFormat);
   // The step count places the ring buffers' cursor (slot = step mod W_q).
   state.counters.emplace_back("step", step_);
   state.add("ring", ring_);
@@ -368,6 +373,13 @@ HistoryOperatorState HalfSpaceHistory::save_state() const {
 
 void HalfSpaceHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind("half-space");
+  const bool has_format = std::any_of(state.counters.begin(), state.counters.end(),
+                                      [](const auto& c) { return c.first == "format"; });
+  if (!has_format || state.counter("format") != kStateFormat)
+    throw std::invalid_argument(
+        "history operator state: this half-space restart point was written by a slipstrip older than the "
+        "blocked half-space operator (commit 1419ead, docs/theory.md §8.7) and cannot be resumed by this "
+        "version; rerun the case from the start, or resume it with the version that wrote it");
   const long long step = state.counter("step");
   if (step < 0) throw std::invalid_argument("half-space history state: step = " + std::to_string(step) + " < 0");
   state.copy_to("ring", std::span<std::complex<double>>(ring_));

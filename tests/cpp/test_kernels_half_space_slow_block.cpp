@@ -8,7 +8,8 @@
 //   - the two algorithms hold the same poles and weights (mode_kernel);
 //   - the same history, to 1e-12 of its largest value, on random input over
 //     many blocks, for several block designs and both plane conditions;
-//   - a restart in the middle of a block continues bit for bit;
+//   - a restart in the middle of a block continues bit for bit, and restart
+//     points of the every-step operator are refused with the reason;
 //   - designs whose Taylor bound is too loose are refused with a message.
 #include <doctest/doctest.h>
 
@@ -171,6 +172,21 @@ TEST_CASE("slow exponentials: a restart in the middle of a block continues bit f
     second.push(v);
     for (int q = 0; q < first.modes(); ++q) REQUIRE(first.history()[q] == second.history()[q]);
   }
+}
+
+TEST_CASE("slow exponentials: a restart point of the every-step operator is refused with the reason") {
+  const auto m = material(PlaneCondition::strain);
+  const double dt = 0.25 * (1.0 / 32) / m.shear_wave_speed();
+  HalfSpaceHistory op(m, 1.0, 32, dt);
+  HistoryOperatorState old_format = op.save_state();
+  std::erase_if(old_format.counters, [](const auto& c) { return c.first == "format"; });
+  try {
+    op.restore_state(old_format);
+    FAIL("a restart point without the format counter was accepted");
+  } catch (const std::invalid_argument& e) {
+    CHECK(std::string(e.what()).find("older than the blocked half-space operator") != std::string::npos);
+  }
+  op.restore_state(op.save_state());  // the current format is accepted
 }
 
 TEST_CASE("slow exponentials: designs with a loose Taylor bound are refused") {

@@ -1,0 +1,93 @@
+"""The periodic-pulse criterion of one run file, in the late half and window by window.
+
+    /usr/bin/python3 scripts/pulse_episodes.py RUN.h5 [--json OUT.json] [--plot OUT.png]
+
+The same functions as the report's Fig. 5 rows (python/slipstrip/analysis.py:
+periodic_pulse_from_spacetime on the late half, pulse_episodes in windows of
+PULSE_EPISODE_WINDOW_TRANSITS L/c_s), for a single run outside a full report
+directory, e.g. a resolution check of the Fig. 5 case (docs/reproduction.md).
+Needs the run's snapshots, not its event catalog.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+import numpy as np
+
+from slipstrip import analysis as an
+
+
+def pulse_summary(path: str, max_rows: int = 6000) -> dict:
+    info = an.read_run_info(path)
+    st = an.read_spacetime(path, max_rows=max_rows)
+    if st is None:
+        raise SystemExit(f"{path}: no snapshots, the space-time criterion needs them")
+    t, x, v = st
+    dx = info.L / v.shape[1]
+    transit = info.L / info.c_s
+    late = an.periodic_pulse_from_spacetime(t, v, info.v0, dx)
+    episodes = an.pulse_episodes(t, v, info.v0, dx, window=an.PULSE_EPISODE_WINDOW_TRANSITS * transit)
+    windows = [{"t0_transits": t0 / transit, "t1_transits": t1 / transit, "pulse": f, "determined": d}
+               for (t0, t1), f, d in zip(episodes["windows"], episodes["flags"], episodes["determined"])]
+    return {
+        "run": path,
+        "nodes": int(v.shape[1]),
+        "duration_transits": float((t[-1] - t[0]) / transit),
+        "late_half": {k: (None if isinstance(val, float) and not math.isfinite(val) else val)
+                      for k, val in late.items()},
+        "window_transits": an.PULSE_EPISODE_WINDOW_TRANSITS,
+        "windows": windows,
+        "pulse_windows": int(sum(w["pulse"] for w in windows)),
+        "longest_stretch_transits": [episodes["longest_start"] / transit, episodes["longest_end"] / transit]
+        if math.isfinite(episodes["longest_start"]) else None,
+    }
+
+
+def plot(path: str, summary: dict, out: str) -> None:
+    info = an.read_run_info(path)
+    t, x, v = an.read_spacetime(path, max_rows=2000)
+    plt = an._plt()
+    z = np.log10(np.maximum(np.abs(v), 1e-6 * info.v0) / info.v0)
+    fig, ax = plt.subplots(figsize=(4.6, 3.8))
+    transit = info.L / info.c_s
+    im = ax.imshow(z, origin="lower", aspect="auto", cmap="viridis", vmin=-2,
+                   extent=(0, 1, t[0] / transit, t[-1] / transit))
+    fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
+    for w in summary["windows"]:
+        if w["pulse"]:
+            ax.axhspan(w["t0_transits"], w["t1_transits"], xmin=0.97, xmax=1.0, color="red")
+    ax.set_xlabel("x / L")
+    ax.set_ylabel(r"$t c_s / L$")
+    ax.set_title(f"N = {summary['nodes']}: pulse in {summary['pulse_windows']} of {len(summary['windows'])} windows",
+                 fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+
+
+def main(argv: list[str]) -> int:
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("run")
+    p.add_argument("--json")
+    p.add_argument("--plot")
+    a = p.parse_args(argv)
+    s = pulse_summary(a.run)
+    text = json.dumps(s, indent=1, default=float)
+    if a.json:
+        with open(a.json, "w") as fh:
+            fh.write(text + "\n")
+    lh = s["late_half"]
+    print(f"{a.run}: N = {s['nodes']}, {s['duration_transits']:.1f} L/c_s; late half: pulse = {lh['flag']} "
+          f"(min max v {lh['min_max_slip_rate_v0']:.3g} v0, width {lh['median_width_fraction']:.3g} L, "
+          f"correlation {lh['median_correlation']:.3g}, moving one way {lh['moving_fraction']:.3g}, "
+          f"travelled {lh['travelled_periods']:.3g} L); pulse in {s['pulse_windows']} of {len(s['windows'])} "
+          f"windows of {s['window_transits']:g} L/c_s, longest stretch {s['longest_stretch_transits']}")
+    if a.plot:
+        plot(a.run, s, a.plot)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
