@@ -265,6 +265,35 @@ def _power_law_mle(x: np.ndarray, lo: float, hi: float) -> tuple[float, float]:
     return a, 1.0 / math.sqrt(n * curv) if curv > 0 else math.nan
 
 
+EXPONENT_XMIN_FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0)  # x_min / (KS-optimal x_min) of the fit-range sweep
+
+
+def exponent_xmin_sweep(values, xmin_opt: float, xmax: float = math.inf,
+                        factors=EXPONENT_XMIN_FACTORS, min_tail: int = 50) -> list[PowerLawFit]:
+    """The power-law MLE with its lower cut-off held at factor * xmin_opt, for
+    each factor (fits with x_min below the smallest sample or with fewer than
+    `min_tail` samples in [x_min, x_max] are left out).  The spread of the exponents over a factor 16 in x_min is the
+    systematic error of "the" exponent of a distribution that is not exactly a
+    power law: a straight guide to the eye on a log-log plot (the paper's
+    exponents) has no x_min, so its slope can be compared only with this range.
+    """
+    x = np.asarray(values, float)
+    x = x[np.isfinite(x) & (x > 0) & (x <= xmax)]
+    out = []
+    if not (math.isfinite(xmin_opt) and xmin_opt > 0):
+        return out
+    for factor in factors:
+        xmin = factor * xmin_opt
+        # Below the smallest sample the model's normalisation covers a range
+        # with no data (a detection floor, not a power law): left out.
+        if x.size == 0 or xmin < x.min() or np.count_nonzero(x >= xmin) < min_tail or xmin >= xmax:
+            continue
+        fit = fit_power_law(x, xmin=xmin, xmax=xmax)
+        if math.isfinite(fit.exponent):
+            out.append(fit)
+    return out
+
+
 def fit_power_law(values, xmin: float | None = None, xmax: float = math.inf, min_tail: int = 50,
                   max_candidates: int = 200, n_bootstrap: int = 0, seed: int = 0) -> PowerLawFit:
     """Continuous power law p(x) ~ x^-a on [xmin, xmax] by maximum likelihood.
@@ -801,6 +830,11 @@ def catalog_statistics(catalog: dict, info: RunInfo, seed: int = 0, n_bootstrap:
         res[f"small_exponent_{name}_xmin"] = fit.xmin
         res[f"small_exponent_{name}_n"] = fit.n
         res[f"small_exponent_{name}_ks"] = fit.ks
+        sweep = (exponent_xmin_sweep(xs, fit.xmin, xmax, min_tail=max(MIN_FIT_EVENTS, min(50, xs.size // 4)))
+                 if xs.size >= MIN_FIT_EVENTS else [])
+        res[f"small_exponent_{name}_xmin_sweep"] = [
+            {"xmin_factor": f.xmin / fit.xmin, "xmin": f.xmin, "exponent": f.exponent, "stderr": f.stderr, "n": f.n}
+            for f in sweep]
     logfits = {name: fit_lognormal(obs[name][large], seed=seed) for name in ("u", "T", "M0")}
     for name, lf in logfits.items():
         res[f"lognormal_{name}"] = dataclasses.asdict(lf)

@@ -60,6 +60,36 @@ def test_power_law_mle_truncated_at_split():
     assert fit.bootstrap_stderr == pytest.approx(fit.stderr, rel=0.2)
 
 
+def test_xmin_sweep_of_an_exact_power_law_is_flat():
+    # An exact truncated power law: every x_min gives the same exponent within
+    # its error (3 sigma each, five fits: a correct estimator fails ~1.5 %).
+    rng = np.random.default_rng(5)
+    x = truncated_power_law_sample(rng, 2.45, 0.01, 1.0, 20000)
+    sweep = analysis.exponent_xmin_sweep(x, 0.03, xmax=1.0)
+    assert [round(f.xmin / 0.03, 6) for f in sweep] == [0.5, 1.0, 2.0, 4.0]  # 0.25 x_opt is below the data
+    for f in sweep:
+        assert abs(f.exponent - 2.45) < 3 * f.stderr
+
+
+def test_xmin_sweep_shows_the_curvature_of_a_broken_power_law():
+    # A continuous density with exponent 1.8 below 0.1 and 2.8 above (92 % and
+    # 8 % of the mass on [0.01, 1]): the exponent fitted from x_min grows with
+    # x_min, by much more than its statistical error.
+    rng = np.random.default_rng(6)
+    lo = truncated_power_law_sample(rng, 1.8, 0.01, 0.1, 11000)
+    hi = truncated_power_law_sample(rng, 2.8, 0.1, 1.0, 900)
+    sweep = analysis.exponent_xmin_sweep(np.concatenate([lo, hi]), 0.05, xmax=1.0)
+    exps = [f.exponent for f in sweep]
+    assert len(sweep) == 5
+    # Rising until x_min passes the break, then 2.8 within its error.
+    assert exps[0] < exps[1] < exps[2] < exps[3]
+    assert abs(exps[3] - 2.8) < 3 * sweep[3].stderr and abs(exps[4] - 2.8) < 3 * sweep[4].stderr
+    assert exps[3] - exps[0] > 10 * max(f.stderr for f in sweep[:4])
+    # Too few samples above x_min: that fit is left out, not reported as NaN.
+    assert all(f.n >= 50 for f in sweep)
+    assert analysis.exponent_xmin_sweep(x := np.array([0.5, 0.6]), 0.5, xmax=1.0) == []
+
+
 def test_power_law_truncation_matters_for_shallow_laws():
     # With exponent 1.5 on [0.02, 1] an untruncated law would put 14% of its mass
     # above the cut (50^-0.5), so ignoring the cut biases the exponent up by many

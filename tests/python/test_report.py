@@ -285,6 +285,7 @@ def test_report_rows_come_from_the_run_files(tiny_rundir, tmp_path, binary):
     assert "Incomplete report" in text
     # Every section is there, with the paper constants and their places.
     for claim in ("small-event (u < D) exponent of p(u/D)", "H = 0.1 m: slip at the nucleation site",
+                  "small-event (u < D) exponent of p(u/D): dependence on the fit's lower cut-off x_min",
                   "Fig. 5 friction (H = 0.1 m): periodic travelling pulse", "Lc(H = 0.1 m), Table S1 friction",
                   "reference: statistics stationary after the transient cut", "number of clusters per event"):
         _row(text, claim)
@@ -326,6 +327,19 @@ def test_incomplete_run_is_refused_unless_allowed(tiny_rundir, tmp_path, binary)
         f.attrs["status"] = "running"
     r, out, _ = _report(d, tmp_path, env_bin=binary)
     assert r.returncode == 2 and "RUNDIR/fig5.h5 incomplete" in r.stderr and not out.exists()
+
+
+def test_xmin_sweep_verdict_uses_the_range_widened_by_the_errors():
+    sweep = [{"xmin_factor": 0.5, "xmin": 0.01, "exponent": 2.30, "stderr": 0.02, "n": 900},
+             {"xmin_factor": 1.0, "xmin": 0.02, "exponent": 2.40, "stderr": 0.03, "n": 500},
+             {"xmin_factor": 2.0, "xmin": 0.04, "exponent": 2.60, "stderr": 0.05, "n": 200}]
+    assert report.verdict_xmin_sweep(sweep, 2.45).startswith("agrees")
+    assert report.verdict_xmin_sweep(sweep, 2.27).startswith("agrees")   # 2.30 - 2 * 0.02 = 2.26
+    assert report.verdict_xmin_sweep(sweep, 2.25).startswith("differs")
+    assert report.verdict_xmin_sweep(sweep, 2.71).startswith("differs")  # 2.60 + 2 * 0.05 = 2.70
+    assert report.verdict_xmin_sweep([], 2.45) == "no value"
+    cell = report.xmin_sweep_cell(sweep)
+    assert "x_min = 0.5 x_opt: 2.3 ± 0.02 (n = 900)" in cell and "range 2.3-2.6" in cell
 
 
 def test_peak_of_pT_of_a_lognormal_is_its_density_mode():
