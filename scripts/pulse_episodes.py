@@ -1,6 +1,6 @@
 """The periodic-pulse criterion of one run file, in the late half and window by window.
 
-    /usr/bin/python3 scripts/pulse_episodes.py RUN.h5 [--json OUT.json] [--plot OUT.png]
+    /usr/bin/python3 scripts/pulse_episodes.py RUN.h5 [--json OUT.json] [--plot OUT.png [--zoom T0,T1]]
 
 The same functions as the report's Fig. 5 rows (python/slipstrip/analysis.py:
 periodic_pulse_from_spacetime on the late half, pulse_episodes in windows of
@@ -30,8 +30,14 @@ def pulse_summary(path: str, max_rows: int = 6000) -> dict:
     transit = info.L / info.c_s
     late = an.periodic_pulse_from_spacetime(t, v, info.v0, dx)
     episodes = an.pulse_episodes(t, v, info.v0, dx, window=an.PULSE_EPISODE_WINDOW_TRANSITS * transit)
-    windows = [{"t0_transits": t0 / transit, "t1_transits": t1 / transit, "pulse": f, "determined": d}
-               for (t0, t1), f, d in zip(episodes["windows"], episodes["flags"], episodes["determined"])]
+    windows = []
+    for (t0, t1), f, d in zip(episodes["windows"], episodes["flags"], episodes["determined"]):
+        # The criterion's parts in each window (the same call as pulse_episodes makes).
+        rows = np.nonzero((t >= t0) & (t < t1))[0]
+        r = an.periodic_pulse_from_spacetime(t[rows], v[rows], info.v0, dx, late_fraction=1.0)
+        windows.append({"t0_transits": t0 / transit, "t1_transits": t1 / transit, "pulse": f, "determined": d,
+                        **{k: r[k] for k in ("min_max_slip_rate_v0", "median_width_fraction", "median_correlation",
+                                             "moving_fraction", "travelled_periods", "speed_median")}})
     return {
         "run": path,
         "nodes": int(v.shape[1]),
@@ -46,9 +52,13 @@ def pulse_summary(path: str, max_rows: int = 6000) -> dict:
     }
 
 
-def plot(path: str, summary: dict, out: str) -> None:
+def plot(path: str, summary: dict, out: str, zoom: tuple[float, float] | None = None) -> None:
     info = an.read_run_info(path)
-    t, x, v = an.read_spacetime(path, max_rows=2000)
+    t, x, v = an.read_spacetime(path, max_rows=None if zoom else 2000)
+    if zoom:  # every snapshot inside the window [zoom] (in L/c_s)
+        transit = info.L / info.c_s
+        keep = (t >= zoom[0] * transit) & (t <= zoom[1] * transit)
+        t, v = t[keep], v[keep]
     plt = an._plt()
     z = np.log10(np.maximum(np.abs(v), 1e-6 * info.v0) / info.v0)
     fig, ax = plt.subplots(figsize=(4.6, 3.8))
@@ -56,13 +66,13 @@ def plot(path: str, summary: dict, out: str) -> None:
     im = ax.imshow(z, origin="lower", aspect="auto", cmap="viridis", vmin=-2,
                    extent=(0, 1, t[0] / transit, t[-1] / transit))
     fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
-    for w in summary["windows"]:
+    for w in summary["windows"] if not zoom else []:
         if w["pulse"]:
             ax.axhspan(w["t0_transits"], w["t1_transits"], xmin=0.97, xmax=1.0, color="red")
     ax.set_xlabel("x / L")
     ax.set_ylabel(r"$t c_s / L$")
-    ax.set_title(f"N = {summary['nodes']}: pulse in {summary['pulse_windows']} of {len(summary['windows'])} windows",
-                 fontsize=9)
+    ax.set_title(f"N = {summary['nodes']}: pulse in {summary['pulse_windows']} of {len(summary['windows'])} windows"
+                 if not zoom else f"N = {summary['nodes']}, t = {zoom[0]:g}-{zoom[1]:g} L/c_s", fontsize=9)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
 
@@ -72,6 +82,7 @@ def main(argv: list[str]) -> int:
     p.add_argument("run")
     p.add_argument("--json")
     p.add_argument("--plot")
+    p.add_argument("--zoom", help="T0,T1: plot only t in [T0, T1] L/c_s, every snapshot")
     a = p.parse_args(argv)
     s = pulse_summary(a.run)
     text = json.dumps(s, indent=1, default=float)
@@ -84,8 +95,15 @@ def main(argv: list[str]) -> int:
           f"correlation {lh['median_correlation']:.3g}, moving one way {lh['moving_fraction']:.3g}, "
           f"travelled {lh['travelled_periods']:.3g} L); pulse in {s['pulse_windows']} of {len(s['windows'])} "
           f"windows of {s['window_transits']:g} L/c_s, longest stretch {s['longest_stretch_transits']}")
+    for w in s["windows"]:
+        print(f"  t = {w['t0_transits']:5.0f}-{w['t1_transits']:5.0f} L/c_s: pulse {str(w['pulse']):5s}  "
+              f"min max v {w['min_max_slip_rate_v0']:.3g} v0 (> {an.PULSE_MIN_RATE:g}), "
+              f"width {w['median_width_fraction']:.3g} L (<= {an.PULSE_MAX_WIDTH_FRACTION:g}), "
+              f"correlation {w['median_correlation']:.3g} (>= {an.PULSE_MIN_CORRELATION:g}), "
+              f"one way {w['moving_fraction']:.3g} (>= {an.PULSE_MIN_MOVING_FRACTION:g}), "
+              f"travelled {w['travelled_periods']:.3g} L (>= {an.PULSE_MIN_TRAVEL:g}), speed {w['speed_median']:.3g} m/s")
     if a.plot:
-        plot(a.run, s, a.plot)
+        plot(a.run, s, a.plot, tuple(float(z) for z in a.zoom.split(",")) if a.zoom else None)
     return 0
 
 

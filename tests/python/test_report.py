@@ -9,6 +9,7 @@ runs (skipped without it).
 
 Run: /usr/bin/python3 -m pytest tests/python/test_report.py
 """
+import json
 import math
 import os
 import shutil
@@ -368,3 +369,32 @@ def test_local_peaks_of_pT_show_both_modes_of_a_bimodal_sample():
     found = sorted(p[0] / tau for p in peaks)
     assert found[0] == pytest.approx(0.3 * math.exp(-0.25**2), rel=0.1)
     assert found[1] == pytest.approx(1.5 * math.exp(-0.25**2), rel=0.1)
+
+
+def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_rundir, tmp_path, monkeypatch):
+    """scripts/pulse_episodes.py (the Fig. 5 resolution check, docs/fig5_resolution.md)
+    is the report's criterion applied to one file: the same late-half flag and
+    the same window flags, plus each window's parts, JSON and plot written."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("pulse_episodes", REPO / "scripts" / "pulse_episodes.py")
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    # The tiny run covers 3 L/c_s: windows of 1 L/c_s give three of them.
+    monkeypatch.setattr(analysis, "PULSE_EPISODE_WINDOW_TRANSITS", 1.0)
+    path = str(tiny_rundir / "fig5.h5")
+    out_json, out_png = tmp_path / "p.json", tmp_path / "p.png"
+    assert script.main([path, "--json", str(out_json), "--plot", str(out_png)]) == 0
+    summary = json.loads(out_json.read_text())
+    info = analysis.read_run_info(path)
+    t, _, v = analysis.read_spacetime(path, max_rows=6000)
+    dx, transit = info.L / v.shape[1], info.L / info.c_s
+    episodes = analysis.pulse_episodes(t, v, info.v0, dx, window=transit)
+    assert len(summary["windows"]) == len(episodes["windows"]) == 3
+    assert [w["pulse"] for w in summary["windows"]] == episodes["flags"]
+    for w, (t0, t1) in zip(summary["windows"], episodes["windows"]):
+        rows = (t >= t0) & (t < t1)
+        parts = analysis.periodic_pulse_from_spacetime(t[rows], v[rows], info.v0, dx, late_fraction=1.0)
+        assert w["median_width_fraction"] == pytest.approx(parts["median_width_fraction"])
+    late = analysis.periodic_pulse_from_spacetime(t, v, info.v0, dx)
+    assert summary["late_half"]["flag"] == late["flag"]
+    assert out_png.stat().st_size > 1000
