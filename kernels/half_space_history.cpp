@@ -290,9 +290,9 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
                                   2.0 * (rho_s * branch[1] + rho_p * branch[3]).real());
       const double* lag = slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_;
       double in_r = 0.0, in_i = 0.0;
-      for (int s2 = 0; s2 <= t; ++s2) {
-        in_r += lag[t - s2] * input[s2].real();
-        in_i += lag[t - s2] * input[s2].imag();
+      for (int j = 0; j <= t; ++j) {  // input j of this block sits at lag t - j
+        in_r += lag[t - j] * input[j].real();
+        in_i += lag[t - j] * input[j].imag();
       }
       slow += std::complex<double>(in_r, in_i);
       if (t == block_ - 1) push_slow_block_end(q);
