@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 
 import numpy as np
@@ -39,7 +40,7 @@ def pulse_summary(path: str, max_rows: int = 6000) -> dict:
                         **{k: r[k] for k in ("min_max_slip_rate_v0", "median_width_fraction", "median_correlation",
                                              "moving_fraction", "travelled_periods", "speed_median")}})
     return {
-        "run": path,
+        "run": os.path.basename(path),  # no machine paths in committed JSON
         "nodes": int(v.shape[1]),
         "duration_transits": float((t[-1] - t[0]) / transit),
         "late_half": {k: (None if isinstance(val, float) and not math.isfinite(val) else val)
