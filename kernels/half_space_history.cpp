@@ -110,6 +110,8 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
         if (-far.rate[m].real() * h <= slow_lambda_max) {
           slow_rates[q].push_back(far.rate[m]);
           slow_weights[q].push_back(scale * shifted);
+          // Shear-branch rates have imaginary part exactly 1 and come first
+          // (half_space_exponential_sum), so this counts the shear ones.
           if (far.rate[m].imag() == 1.0) slow_shear[q] = slow_rates[q].size();
           continue;
         }

@@ -32,10 +32,8 @@ def pulse_summary(path: str, max_rows: int = 6000) -> dict:
     late = an.periodic_pulse_from_spacetime(t, v, info.v0, dx)
     episodes = an.pulse_episodes(t, v, info.v0, dx, window=an.PULSE_EPISODE_WINDOW_TRANSITS * transit)
     windows = []
-    for (t0, t1), f, d in zip(episodes["windows"], episodes["flags"], episodes["determined"]):
-        # The criterion's parts in each window (the same call as pulse_episodes makes).
-        rows = np.nonzero((t >= t0) & (t < t1))[0]
-        r = an.periodic_pulse_from_spacetime(t[rows], v[rows], info.v0, dx, late_fraction=1.0)
+    for (t0, t1), f, d, r in zip(episodes["windows"], episodes["flags"], episodes["determined"],
+                                 episodes["results"]):
         windows.append({"t0_transits": t0 / transit, "t1_transits": t1 / transit, "pulse": f, "determined": d,
                         **{k: r[k] for k in ("min_max_slip_rate_v0", "median_width_fraction", "median_correlation",
                                              "moving_fraction", "travelled_periods", "speed_median")}})

@@ -733,12 +733,13 @@ def pulse_episodes(time, slip_rate, v0: float, dx: float, window: float) -> dict
     in the late half".  The window must let a slow pulse travel the criterion's
     PULSE_MIN_TRAVEL periods: 20 L/c_s admits speeds down to 0.025 c_s.
 
-    Returns windows [(t0, t1)], flags, determined, and the longest stretch of
-    consecutive pulse windows (longest_start, longest_end; NaN if none)."""
+    Returns windows [(t0, t1)], flags, determined, results (the criterion's
+    full output per window), and the longest stretch of consecutive pulse
+    windows (longest_start, longest_end; NaN if none)."""
     t = np.asarray(time, float)
     v = np.asarray(slip_rate)
-    out = {"windows": [], "flags": [], "determined": [], "longest_start": math.nan, "longest_end": math.nan,
-           "pulse_fraction": math.nan}
+    out = {"windows": [], "flags": [], "determined": [], "results": [], "longest_start": math.nan,
+           "longest_end": math.nan, "pulse_fraction": math.nan}
     if t.size < 2 or not window > 0:
         return out
     edges = np.arange(t[0], t[-1] + 1e-12 * window, window)
@@ -749,6 +750,7 @@ def pulse_episodes(time, slip_rate, v0: float, dx: float, window: float) -> dict
         rows = np.nonzero((t >= t0) & (t < t1))[0]
         r = periodic_pulse_from_spacetime(t[rows], v[rows], v0, dx, late_fraction=1.0)
         out["windows"].append((float(t0), float(t1)))
+        out["results"].append(r)
         out["flags"].append(bool(r["flag"]))
         out["determined"].append(bool(r["determined"]))
     best, start = (0, None), None
