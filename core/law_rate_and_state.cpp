@@ -5,10 +5,9 @@
 // at all nodes with the batch predictor-corrector (friction/batch_solve.hpp).
 #include <algorithm>
 #include <cmath>
-#include <numbers>
-#include <random>
 #include <string>
 
+#include "core/initial_state.hpp"
 #include "core/interface_law.hpp"
 #include "core/interface_pulse.hpp"
 #include "core/simulation_config.hpp"
@@ -19,7 +18,6 @@
 namespace slipstrip {
 namespace {
 
-constexpr double pi = std::numbers::pi;
 
 class RateAndStateLaw final : public InterfaceCondition {
  public:
@@ -55,30 +53,9 @@ class RateAndStateLaw final : public InterfaceCondition {
   std::span<const double> reference_shear_stress() const override { return reference_; }
 
   void initialise(InterfaceFields& fields) override {
-    const auto& init = config_.initial;
-    const double length = config_.geometry.length;
-    std::mt19937_64 rng(init.noise_seed);
-    std::normal_distribution<double> normal(0.0, 1.0);
-    for (std::size_t i = 0; i < fields.x.size(); ++i) {
-      const double phi_ss = phi_ss_[i];
-      const double x = fields.x[i];
-      double phi = phi_ss;
-      if (init.noise_amplitude != 0.0) phi += phi_ss * init.noise_amplitude * normal(rng);
-      if (init.sine_amplitude != 0.0)
-        phi += phi_ss * init.sine_amplitude *
-               std::sin(2.0 * pi * init.sine_mode * x / length + pi / 2.0);
-      if (init.local_amplitude != 0.0 && init.local_width > 0.0) {
-        // periodic distance to the perturbation centre
-        double d = std::remainder(x - init.local_center, length);
-        phi += phi_ss * init.local_amplitude *
-               std::exp(-0.5 * (d / init.local_width) * (d / init.local_width));
-      }
-      if (!(phi > 0.0))
-        throw std::invalid_argument(
-            "initial state phi <= 0 at x = " + std::to_string(x) +
-            " m: reduce initial.noise_amplitude, initial.sine_amplitude or initial.local_amplitude");
-      fields.state[i] = phi;
-    }
+    const std::vector<double> phi =
+        perturbed_steady_state(config_.initial, fields.x, config_.geometry.length, phi_ss_);
+    std::copy(phi.begin(), phi.end(), fields.state.begin());
     // At t = 0 the history is empty: tau_0 + eta v0 - eta v = strength(v, phi).
     solve(fields, 0.0, 0.0, /*initial=*/true);
   }

@@ -60,8 +60,10 @@ struct InterfaceConfig {
 
 // Initial perturbations on top of steady sliding at v0 (phi = phi_ss(v0)).
 struct InitialConfig {
-  double noise_amplitude = 0.0;      // [initial] noise_amplitude: relative std of white noise in phi
+  double noise_amplitude = 0.0;      // [initial] noise_amplitude: relative std of the noise in phi
   std::uint64_t noise_seed = 1;      // [initial] noise_seed
+  int noise_modes = 0;               // [initial] noise_modes: 0 = white noise per node; M = first M
+                                     // Fourier modes (the same field on every mesh, core/initial_state.hpp)
   double sine_amplitude = 0.0;       // [initial] sine_amplitude eps: phi_ss eps sin(2 pi m x/L + pi/2)
   int sine_mode = 1;                 // [initial] sine_mode m
   double local_amplitude = 0.0;      // [initial] local_amplitude: relative bump in phi (Gaussian)

@@ -51,6 +51,7 @@ void check_same(const SimulationConfig& a, const SimulationConfig& b) {
   CHECK(a.interface.pulse_width == b.interface.pulse_width);
   CHECK(a.initial.noise_amplitude == b.initial.noise_amplitude);
   CHECK(a.initial.noise_seed == b.initial.noise_seed);
+  CHECK(a.initial.noise_modes == b.initial.noise_modes);
   CHECK(a.initial.sine_amplitude == b.initial.sine_amplitude);
   CHECK(a.initial.sine_mode == b.initial.sine_mode);
   CHECK(a.initial.local_amplitude == b.initial.local_amplitude);
@@ -145,6 +146,7 @@ TEST_CASE("to_toml round-trips every field exactly") {
     c.interface.pulse_width = 0.01;
     c.initial.noise_amplitude = 1e-3;
     c.initial.noise_seed = 9007199254740993ULL;  // 2^53 + 1: would be lost through a double
+    c.initial.noise_modes = 5;
     c.initial.sine_amplitude = -1e-4;
     c.initial.sine_mode = 7;
     c.initial.local_amplitude = -0.5;
