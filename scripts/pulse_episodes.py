@@ -1,6 +1,7 @@
 """The periodic-pulse criterion of one run file, in the late half and window by window.
 
     /usr/bin/python3 scripts/pulse_episodes.py RUN.h5 [--json OUT.json] [--plot OUT.png [--zoom T0,T1]]
+    /usr/bin/python3 scripts/pulse_episodes.py table OUT1.json OUT2.json ...   (Markdown, one row per run)
 
 The same functions as the report's Fig. 5 rows (python/slipstrip/analysis.py:
 periodic_pulse_from_spacetime on the late half, pulse_episodes in windows of
@@ -15,10 +16,12 @@ import json
 import math
 import os
 import sys
+import tomllib
 
 import numpy as np
 
 from slipstrip import analysis as an
+from slipstrip.runfile import decode_attr, open_h5
 
 
 def pulse_summary(path: str, max_rows: int = 6000) -> dict:
@@ -37,9 +40,15 @@ def pulse_summary(path: str, max_rows: int = 6000) -> dict:
         windows.append({"t0_transits": t0 / transit, "t1_transits": t1 / transit, "pulse": f, "determined": d,
                         **{k: r[k] for k in ("min_max_slip_rate_v0", "median_width_fraction", "median_correlation",
                                              "moving_fraction", "travelled_periods", "speed_median")}})
+    with open_h5(path) as f:
+        config = tomllib.loads(decode_attr(f.attrs["config"])) if "config" in f.attrs else {}
+    initial = config.get("initial", {})
     return {
         "run": os.path.basename(path),  # no machine paths in committed JSON
         "nodes": int(v.shape[1]),
+        "beta": config.get("time", {}).get("beta"),
+        "initial": {k: initial.get(k) for k in ("noise_amplitude", "noise_seed", "noise_modes",
+                                                "local_amplitude", "local_width", "local_center")},
         "duration_transits": float((t[-1] - t[0]) / transit),
         "late_half": {k: (None if isinstance(val, float) and not math.isfinite(val) else val)
                       for k, val in late.items()},
@@ -76,7 +85,47 @@ def plot(path: str, summary: dict, out: str, zoom: tuple[float, float] | None = 
     fig.savefig(out, dpi=110)
 
 
+def _initial_condition(initial: dict) -> str:
+    """The initial perturbation of a run, in words (the table's 'start' column)."""
+    parts = []
+    if initial.get("noise_amplitude"):
+        modes = initial.get("noise_modes") or 0
+        kind = "white" if modes == 0 else f"modes 1-{modes}"
+        parts.append(f"noise {initial['noise_amplitude']:g} ({kind}), seed {initial.get('noise_seed')}")
+    if initial.get("local_amplitude"):
+        parts.append(f"bump {initial['local_amplitude']:g} (width {initial.get('local_width'):g} m)")
+    return "; ".join(parts) or "none"
+
+
+def markdown_table(summaries: list[dict]) -> str:
+    """One row per run: windows with a pulse, the longest stretch, the late half."""
+    rows = ["| run | N | start | L/c_s | windows with a pulse | longest stretch [L/c_s] | late half: pulse "
+            "(min peak v, one-way fraction) |",
+            "|---|---|---|---|---|---|---|"]
+    for s in summaries:
+        stretch = s.get("longest_stretch_transits")
+        stretch_text = f"{stretch[0]:.0f}-{stretch[1]:.0f}" if stretch else "none"
+        lh = s["late_half"]
+        rate = lh.get("min_max_slip_rate_v0")
+        way = lh.get("moving_fraction")
+        late = (f"{'**yes**' if lh['flag'] else 'no'} ({rate:.2f} v0, {way:.2f})"
+                if rate is not None and way is not None else "undetermined")
+        rows.append(f"| {s['run']} | {s['nodes']} | {_initial_condition(s.get('initial', {}))} | "
+                    f"{s['duration_transits']:.0f} | {s['pulse_windows']} of {len(s['windows'])} | {stretch_text} | "
+                    f"{late} |")
+    return "\n".join(rows) + "\n"
+
+
 def main(argv: list[str]) -> int:
+    if argv[:1] == ["table"]:
+        summaries = []
+        for name in argv[1:]:
+            with open(name) as fh:
+                summaries.append(json.load(fh))
+        if not summaries:
+            raise SystemExit("table: give the JSON files written by --json")
+        sys.stdout.write(markdown_table(summaries))
+        return 0
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("run")
     p.add_argument("--json")

@@ -9,12 +9,14 @@ runs (skipped without it).
 
 Run: /usr/bin/python3 -m pytest tests/python/test_report.py
 """
+import io
 import json
 import math
 import os
 import shutil
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 import h5py
@@ -25,6 +27,7 @@ REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "python"))
 from slipstrip import analysis  # noqa: E402
 from slipstrip import report  # noqa: E402
+from slipstrip.runfile import decode_attr  # noqa: E402
 
 # ---------------------------------------------------------------------------
 # Transient cut on synthetic catalogs
@@ -398,3 +401,17 @@ def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_ru
     late = analysis.periodic_pulse_from_spacetime(t, v, info.v0, dx)
     assert summary["late_half"]["flag"] == late["flag"]
     assert out_png.stat().st_size > 1000
+    # The run's initial condition comes from its stored config, and the table
+    # mode turns the JSON into one Markdown row per run with those numbers.
+    config = tomllib.loads(decode_attr(h5py.File(path, "r").attrs["config"]))
+    assert summary["initial"]["noise_seed"] == config["initial"]["noise_seed"]
+    assert summary["initial"]["noise_modes"] == config["initial"]["noise_modes"]
+    table = script.markdown_table([summary, summary])
+    lines = table.strip().splitlines()
+    assert len(lines) == 4 and lines[2] == lines[3]
+    assert f"| {summary['pulse_windows']} of 3 |" in lines[2]
+    assert f"seed {config['initial']['noise_seed']}" in lines[2]
+    capsys_out = io.StringIO()
+    monkeypatch.setattr(sys, "stdout", capsys_out)
+    assert script.main(["table", str(out_json)]) == 0
+    assert capsys_out.getvalue().strip().splitlines()[2] == lines[2]
