@@ -378,10 +378,7 @@ def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_ru
     """scripts/pulse_episodes.py (the Fig. 5 resolution check, docs/fig5_resolution.md)
     is the report's criterion applied to one file: the same late-half flag and
     the same window flags, plus each window's parts, JSON and plot written."""
-    import importlib.util
-    spec = importlib.util.spec_from_file_location("pulse_episodes", REPO / "scripts" / "pulse_episodes.py")
-    script = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(script)
+    script = _load_script("pulse_episodes")
     # The tiny run covers 3 L/c_s: windows of 1 L/c_s give three of them.
     monkeypatch.setattr(analysis, "PULSE_EPISODE_WINDOW_TRANSITS", 1.0)
     path = str(tiny_rundir / "fig5.h5")
@@ -415,3 +412,49 @@ def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_ru
     monkeypatch.setattr(sys, "stdout", capsys_out)
     assert script.main(["table", str(out_json)]) == 0
     assert capsys_out.getvalue().strip().splitlines()[2] == lines[2]
+
+
+def _load_script(name: str):
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(name, REPO / "scripts" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_trajectory_divergence_finds_when_two_records_part():
+    """scripts/trajectory_divergence.py (docs/fig5_resolution.md): a record
+    compared with itself on a twice finer mesh (every other node the same) never
+    departs; a copy whose slip rates double after t = 0.6 departs exactly there,
+    at the 0.3 threshold (log10 2 = 0.301) but not before; the snapshot times of
+    the finer record are shifted by 1e-9 of the spacing and still match."""
+    script = _load_script("trajectory_divergence")
+    rng = np.random.default_rng(5)
+    t = np.linspace(0.0, 1.0, 101)
+    coarse = 10.0 ** rng.uniform(-3, 1, size=(t.size, 16))
+    fine = np.repeat(coarse, 2, axis=1)  # node 2i of the fine record = node i of the coarse one
+    fine[:, 1::2] = 123.0                 # the in-between nodes are never compared
+    times, rms = script.log_rate_divergence(t, coarse, t + 1e-11, fine, v0=1.0)
+    assert times.size == t.size and np.all(rms == 0.0)
+    assert script.first_exceedance(times, rms, 0.01) is None
+    later = fine.copy()
+    later[t >= 0.6] *= 2.0
+    times, rms = script.log_rate_divergence(t, coarse, t, later, v0=1.0)
+    assert script.first_exceedance(times, rms, 0.3) == pytest.approx(0.6)
+    assert np.all(rms[t < 0.6] == 0.0)
+    with pytest.raises(ValueError, match="multiple"):
+        script.log_rate_divergence(t, coarse, t, coarse[:, :12], v0=1.0)
+
+
+def test_trajectory_divergence_of_a_run_with_itself(tiny_rundir, tmp_path):
+    """On a real run file: the same run twice gives zero at every snapshot and
+    writes the JSON and the plot."""
+    script = _load_script("trajectory_divergence")
+    path = str(tiny_rundir / "fig5.h5")
+    out_json, out_png = tmp_path / "d.json", tmp_path / "d.png"
+    assert script.main([path, path, "--json", str(out_json), "--plot", str(out_png)]) == 0
+    (summary,) = json.loads(out_json.read_text())
+    assert summary["common_snapshots"] == h5py.File(path, "r")["snapshots/time"].shape[0]
+    assert max(summary["rms_log10_ratio"]) == 0.0
+    assert all(v is None for v in summary["first_exceedance_transits"].values())
+    assert out_png.stat().st_size > 1000
