@@ -98,10 +98,14 @@ def _initial_condition(initial: dict) -> str:
 
 
 def markdown_table(summaries: list[dict]) -> str:
-    """One row per run: windows with a pulse, the longest stretch, the late half."""
-    rows = ["| run | N | start | L/c_s | windows with a pulse | longest stretch [L/c_s] | late half: pulse "
-            "(min peak v, one-way fraction) |",
-            "|---|---|---|---|---|---|---|"]
+    """One row per run, and a total row for several: windows with a pulse; of
+    the windows after the first (the start-up), how many move one way
+    (criterion part d alone) and their median front speed; the longest pulse
+    stretch; the late half."""
+    rows = ["| run | N | start | L/c_s | windows with a pulse | after the first window: pulse / moving one way / "
+            "all, median speed | longest stretch [L/c_s] | late half: pulse (min peak v, one-way fraction) |",
+            "|---|---|---|---|---|---|---|---|"]
+    totals = [0, 0, 0, 0]
     for s in summaries:
         stretch = s.get("longest_stretch_transits")
         stretch_text = f"{stretch[0]:.0f}-{stretch[1]:.0f}" if stretch else "none"
@@ -110,9 +114,19 @@ def markdown_table(summaries: list[dict]) -> str:
         way = lh.get("moving_fraction")
         late = (f"{'**yes**' if lh['flag'] else 'no'} ({rate:.2f} v0, {way:.2f})"
                 if rate is not None and way is not None else "undetermined")
+        later = s["windows"][1:]
+        pulses = sum(bool(w["pulse"]) for w in later)
+        one_way = sum(w["moving_fraction"] >= an.PULSE_MIN_MOVING_FRACTION for w in later)
+        speed = float(np.median([w["speed_median"] for w in later])) if later else math.nan
+        totals = [totals[0] + s["pulse_windows"], totals[1] + len(s["windows"]), totals[2] + pulses,
+                  totals[3] + one_way]
         rows.append(f"| {s['run']} | {s['nodes']} | {_initial_condition(s.get('initial', {}))} | "
-                    f"{s['duration_transits']:.0f} | {s['pulse_windows']} of {len(s['windows'])} | {stretch_text} | "
-                    f"{late} |")
+                    f"{s['duration_transits']:.0f} | {s['pulse_windows']} of {len(s['windows'])} | "
+                    f"{pulses} / {one_way} / {len(later)}, {speed:.0f} m/s | {stretch_text} | {late} |")
+    if len(summaries) > 1:
+        later_total = totals[1] - len(summaries)
+        rows.append(f"| **all {len(summaries)}** | | | | {totals[0]} of {totals[1]} | "
+                    f"{totals[2]} / {totals[3]} / {later_total} | | |")
     return "\n".join(rows) + "\n"
 
 

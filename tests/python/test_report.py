@@ -405,9 +405,16 @@ def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_ru
     assert summary["initial"]["noise_modes"] == config["initial"]["noise_modes"]
     table = script.markdown_table([summary, summary])
     lines = table.strip().splitlines()
-    assert len(lines) == 4 and lines[2] == lines[3]
+    assert len(lines) == 5 and lines[2] == lines[3]
     assert f"| {summary['pulse_windows']} of 3 |" in lines[2]
     assert f"seed {config['initial']['noise_seed']}" in lines[2]
+    later = summary["windows"][1:]
+    one_way = sum(w["moving_fraction"] >= analysis.PULSE_MIN_MOVING_FRACTION for w in later)
+    pulses = sum(w["pulse"] for w in later)
+    assert f"| {pulses} / {one_way} / 2," in lines[2]
+    assert lines[4].startswith("| **all 2** |")
+    assert f"| {2 * summary['pulse_windows']} of 6 | {2 * pulses} / {2 * one_way} / 4 |" in lines[4]
+    assert len(script.markdown_table([summary]).strip().splitlines()) == 3  # no total row for one run
     capsys_out = io.StringIO()
     monkeypatch.setattr(sys, "stdout", capsys_out)
     assert script.main(["table", str(out_json)]) == 0
