@@ -42,6 +42,14 @@ def pulse_summary(path: str, max_rows: int = 6000) -> dict:
                                              "moving_fraction", "travelled_periods", "speed_median")}})
     with open_h5(path) as f:
         config = tomllib.loads(decode_attr(f.attrs["config"])) if "config" in f.attrs else {}
+        peak = None
+        if "timeseries" in f and f["timeseries/time"].shape[0] > 1:
+            # The largest slip rate on the interface at every time-series row,
+            # over the same late half as the criterion: how violent the state is.
+            ts_t = f["timeseries/time"][:]
+            ts_v = f["timeseries/max_slip_rate"][:][ts_t >= ts_t[0] + 0.5 * (ts_t[-1] - ts_t[0])] / info.v0
+            peak = {"median": float(np.median(ts_v)), "p99": float(np.percentile(ts_v, 99)),
+                    "max": float(ts_v.max())}
     initial = config.get("initial", {})
     return {
         "run": os.path.basename(path),  # no machine paths in committed JSON
@@ -52,6 +60,7 @@ def pulse_summary(path: str, max_rows: int = 6000) -> dict:
         "duration_transits": float((t[-1] - t[0]) / transit),
         "late_half": {k: (None if isinstance(val, float) and not math.isfinite(val) else val)
                       for k, val in late.items()},
+        "late_half_max_slip_rate_v0": peak,
         "window_transits": an.PULSE_EPISODE_WINDOW_TRANSITS,
         "windows": windows,
         "pulse_windows": int(sum(w["pulse"] for w in windows)),
@@ -97,14 +106,19 @@ def _initial_condition(initial: dict) -> str:
     return "; ".join(parts) or "none"
 
 
+def _peak_text(peak: dict | None) -> str:
+    return "–" if not peak else f"{peak['median']:.2f} / {peak['p99']:.1f} / {peak['max']:.1f} v0"
+
+
 def markdown_table(summaries: list[dict]) -> str:
     """One row per run, and a total row for several: windows with a pulse; of
     the windows after the first (the start-up), how many move one way
     (criterion part d alone) and their median front speed; the longest pulse
     stretch; the late half."""
     rows = ["| run | N | start | L/c_s | windows with a pulse | after the first window: pulse / moving one way / "
-            "all, median speed | longest stretch [L/c_s] | late half: pulse (min peak v, one-way fraction) |",
-            "|---|---|---|---|---|---|---|---|"]
+            "all, median speed | longest stretch [L/c_s] | late half: pulse (min peak v, one-way fraction) | "
+            "late half: largest slip rate, median / 99 % / max |",
+            "|---|---|---|---|---|---|---|---|---|"]
     totals = [0, 0, 0, 0]
     for s in summaries:
         stretch = s.get("longest_stretch_transits")
@@ -122,11 +136,12 @@ def markdown_table(summaries: list[dict]) -> str:
                   totals[3] + one_way]
         rows.append(f"| {s['run']} | {s['nodes']} | {_initial_condition(s.get('initial', {}))} | "
                     f"{s['duration_transits']:.0f} | {s['pulse_windows']} of {len(s['windows'])} | "
-                    f"{pulses} / {one_way} / {len(later)}, {speed:.0f} m/s | {stretch_text} | {late} |")
+                    f"{pulses} / {one_way} / {len(later)}, {speed:.0f} m/s | {stretch_text} | {late} | "
+                    f"{_peak_text(s.get('late_half_max_slip_rate_v0'))} |")
     if len(summaries) > 1:
         later_total = totals[1] - len(summaries)
         rows.append(f"| **all {len(summaries)}** | | | | {totals[0]} of {totals[1]} | "
-                    f"{totals[2]} / {totals[3]} / {later_total} | | |")
+                    f"{totals[2]} / {totals[3]} / {later_total} | | | |")
     return "\n".join(rows) + "\n"
 
 

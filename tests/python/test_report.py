@@ -415,6 +415,12 @@ def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_ru
     assert lines[4].startswith("| **all 2** |")
     assert f"| {2 * summary['pulse_windows']} of 6 | {2 * pulses} / {2 * one_way} / 4 |" in lines[4]
     assert len(script.markdown_table([summary]).strip().splitlines()) == 3  # no total row for one run
+    with h5py.File(path, "r") as f:
+        ts_t, ts_v = f["timeseries/time"][:], f["timeseries/max_slip_rate"][:] / info.v0
+    late_rows = ts_t >= ts_t[0] + 0.5 * (ts_t[-1] - ts_t[0])
+    assert summary["late_half_max_slip_rate_v0"]["max"] == pytest.approx(ts_v[late_rows].max())
+    assert summary["late_half_max_slip_rate_v0"]["median"] == pytest.approx(np.median(ts_v[late_rows]))
+    assert f"{np.median(ts_v[late_rows]):.2f} / " in lines[2]
     capsys_out = io.StringIO()
     monkeypatch.setattr(sys, "stdout", capsys_out)
     assert script.main(["table", str(out_json)]) == 0
