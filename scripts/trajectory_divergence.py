@@ -24,6 +24,8 @@ import numpy as np
 from slipstrip import analysis as an
 
 THRESHOLDS = (0.01, 0.1, 0.3)
+SAMPLE_TRANSITS = (10.0, 20.0, 30.0, 40.0)  # times [L/c_s] at which the rms is also reported
+JSON_SERIES_POINTS = 500
 
 
 def log_rate_divergence(t_a, v_a, t_b, v_b, v0: float) -> tuple[np.ndarray, np.ndarray]:
@@ -73,6 +75,9 @@ def divergence_summary(path_a: str, path_b: str) -> dict:
         "nodes": [int(v_a.shape[1]), int(v_b.shape[1])],
         "common_snapshots": int(times.size),
         "first_exceedance_transits": {k: (None if v is None else v / transit) for k, v in firsts.items()},
+        # Before the chaotic growth takes over, this is the size of the discretisation difference.
+        "rms_at_transits": {f"{at:g}": float(rms[np.argmin(np.abs(times / transit - at))])
+                            for at in SAMPLE_TRANSITS if times.size and times[-1] / transit >= at},
         "time_transits": (times / transit).tolist(),
         "rms_log10_ratio": rms.tolist(),
     }
@@ -106,10 +111,19 @@ def main(argv: list[str]) -> int:
         f = s["first_exceedance_transits"]
         print(f"{s['runs'][0]} (N = {s['nodes'][0]}) vs {s['runs'][1]} (N = {s['nodes'][1]}): "
               f"{s['common_snapshots']} common snapshots; rms log10 ratio first above "
-              + ", ".join(f"{k} at {'never' if v is None else f'{v:.1f} L/c_s'}" for k, v in f.items()))
+              + ", ".join(f"{k} at {'never' if v is None else f'{v:.1f} L/c_s'}" for k, v in f.items())
+              + f"; rms at t = {', '.join(s['rms_at_transits'])} L/c_s: "
+              + ", ".join(f"{v:.1e}" for v in s["rms_at_transits"].values()))
     if a.json:
+        # The series are thinned to <= JSON_SERIES_POINTS points (evenly strided): the
+        # JSON is a record for the docs; the plot uses every common snapshot.
+        thinned = []
+        for s in summaries:
+            stride = max(1, -(-len(s["time_transits"]) // JSON_SERIES_POINTS))
+            thinned.append({**s, "series_stride": stride, "time_transits": s["time_transits"][::stride],
+                            "rms_log10_ratio": s["rms_log10_ratio"][::stride]})
         with open(a.json, "w") as fh:
-            json.dump(summaries, fh, indent=1)
+            json.dump(thinned, fh, indent=1)
             fh.write("\n")
     if a.plot:
         plot(summaries, a.plot)

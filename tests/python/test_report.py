@@ -470,4 +470,5 @@ def test_trajectory_divergence_of_a_run_with_itself(tiny_rundir, tmp_path):
     assert summary["common_snapshots"] == h5py.File(path, "r")["snapshots/time"].shape[0]
     assert max(summary["rms_log10_ratio"]) == 0.0
     assert all(v is None for v in summary["first_exceedance_transits"].values())
+    assert all(v == 0.0 for v in summary["rms_at_transits"].values())
     assert out_png.stat().st_size > 1000
