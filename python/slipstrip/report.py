@@ -1197,7 +1197,7 @@ class Report:
                 "* Statistics use the events after the automatic transient cut (docs/analysis.md, \"Transient cut\"), "
                 "alpha = 15; small events u < D, large u ≥ D.",
                 "* The Fig. 5 case over five seeds, two meshes from the same start, other starts, lengths and "
-                "the other material reading (not part of this report, 4.3 h of run time): "
+                "the other material reading (not part of this report, 4.9 h of run time): "
                 "[fig5_resolution.md](fig5_resolution.md).",
                 "* The material column says which reading of Table S1 each row uses "
                 "(docs/stability.md: the paper-as-run reading E = 9 GPa, mu = 3.38 GPa).", ""]
