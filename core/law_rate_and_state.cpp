@@ -18,7 +18,6 @@
 namespace slipstrip {
 namespace {
 
-
 class RateAndStateLaw final : public InterfaceCondition {
  public:
   explicit RateAndStateLaw(const InterfaceSetup& setup)

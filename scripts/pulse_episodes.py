@@ -16,12 +16,11 @@ import json
 import math
 import os
 import sys
-import tomllib
 
 import numpy as np
 
 from slipstrip import analysis as an
-from slipstrip.runfile import decode_attr, open_h5
+from slipstrip.runfile import open_h5, read_config
 
 
 def pulse_summary(path: str, max_rows: int = 6000) -> dict:
@@ -40,9 +39,9 @@ def pulse_summary(path: str, max_rows: int = 6000) -> dict:
         windows.append({"t0_transits": t0 / transit, "t1_transits": t1 / transit, "pulse": f, "determined": d,
                         **{k: r[k] for k in ("min_max_slip_rate_v0", "median_width_fraction", "median_correlation",
                                              "moving_fraction", "travelled_periods", "speed_median")}})
+    config = read_config(path)
+    peak = None
     with open_h5(path) as f:
-        config = tomllib.loads(decode_attr(f.attrs["config"])) if "config" in f.attrs else {}
-        peak = None
         if "timeseries" in f and f["timeseries/time"].shape[0] > 1:
             # The largest slip rate on the interface at every time-series row,
             # over the same late half as the criterion: how violent the state is.

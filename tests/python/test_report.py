@@ -16,7 +16,6 @@ import os
 import shutil
 import subprocess
 import sys
-import tomllib
 from pathlib import Path
 
 import h5py
@@ -27,7 +26,7 @@ REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "python"))
 from slipstrip import analysis  # noqa: E402
 from slipstrip import report  # noqa: E402
-from slipstrip.runfile import decode_attr  # noqa: E402
+from slipstrip.runfile import read_config  # noqa: E402
 
 # ---------------------------------------------------------------------------
 # Transient cut on synthetic catalogs
@@ -400,7 +399,7 @@ def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_ru
     assert out_png.stat().st_size > 1000
     # The run's initial condition comes from its stored config, and the table
     # mode turns the JSON into one Markdown row per run with those numbers.
-    config = tomllib.loads(decode_attr(h5py.File(path, "r").attrs["config"]))
+    config = read_config(path)
     assert summary["initial"]["noise_seed"] == config["initial"]["noise_seed"]
     assert summary["initial"]["noise_modes"] == config["initial"]["noise_modes"]
     table = script.markdown_table([summary, summary])
