@@ -1,18 +1,33 @@
 #!/usr/bin/env bash
-# The whole test suite: C++ (doctest executables through ctest) and Python
-# (pytest).  Builds first if needed.  Slow verification cases are labelled
-# "slow" and excluded here; run them with scripts/test.sh --slow.
+# The test suite, in two tiers (docs/developing.md, "Test tiers"):
+#   scripts/test.sh         the fast tier: every physics verification (kernels,
+#                           growth rates, Lc, convergence at its default size),
+#                           config, output, CLI and Python API tests.
+#   scripts/test.sh --all   the whole suite: the fast tier plus the cases
+#                           labelled "slow" (doctest suite "slow", pytest marker
+#                           "slow": the fuzz corpus, pip and CMake install builds,
+#                           long convergence studies).  .ci/run uses this.
+# Builds first if needed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+tier=fast
+case "${1:-}" in
+  "") ;;
+  --all) tier=all ;;
+  *) echo "usage: scripts/test.sh [--all]  (got '$1')" >&2; exit 2 ;;
+esac
 [ -x build/slipstrip ] || bash scripts/setup.sh
 cmake --build build -j "$(nproc)"
 export SLIPSTRIP_BUILD_DIR="$PWD/build" SLIPSTRIP_BIN="$PWD/build/slipstrip" PYTHONPATH="$PWD/python"
 # Test problems are small, and ctest/pytest may run solver processes side by
 # side: one OpenMP thread each avoids oversubscribed (spin-waiting) threads,
-# which were measured ~10x slower on this 2-core machine.
+# which were measured ~10x slower on a 2-core machine.
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
-if [ "${1:-}" = "--slow" ]; then
+if [ "$tier" = all ]; then
   for t in build/test_*; do [ -x "$t" ] && "$t" -ts=slow; done
+  pytest_args=()
+else
+  pytest_args=(-m "not slow")
 fi
-(cd build && ctest --output-on-failure)
-/usr/bin/python3 -m pytest -q tests/python
+(cd build && ctest --output-on-failure -j "$(nproc)")
+/usr/bin/python3 -m pytest -q "${pytest_args[@]}" tests/python

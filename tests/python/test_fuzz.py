@@ -32,6 +32,9 @@ import pytest
 
 import fuzz_corpus
 
+# Minutes long: run by scripts/test.sh --all and .ci/run, not the fast tier.
+pytestmark = pytest.mark.slow
+
 SEED = int(os.environ.get("SLIPSTRIP_FUZZ_SEED", fuzz_corpus.SEED))
 WORKERS = int(os.environ.get("SLIPSTRIP_FUZZ_WORKERS", "2"))
 

@@ -7,6 +7,9 @@ from pathlib import Path
 
 import pytest
 
+# Minutes long: run by scripts/test.sh --all and .ci/run, not the fast tier.
+pytestmark = pytest.mark.slow
+
 REPO = Path(__file__).resolve().parents[2]
 
 

@@ -38,6 +38,9 @@ def test_pip_install_into_a_venv_runs_the_solver(tmp_path):
     # Outside the checkout: the package must come from the venv, and do real work.
     program = f"""
 import math, slipstrip
+
+# Minutes long: run by scripts/test.sh --all and .ci/run, not the fast tier.
+pytestmark = pytest.mark.slow
 print(slipstrip.__file__)
 print(slipstrip.__version__)
 cfg = slipstrip.load_config({str(REPO / "configs" / "quickstart.toml")!r}, {{"geometry.nodes": 64}})
