@@ -56,6 +56,11 @@ __all__ = [
 ]
 
 
+def __dir__() -> list[str]:
+    # dir(slipstrip) lists the API, not the modules this file imports (numpy, os, typing).
+    return sorted(__all__ + ["__version__", "git_hash"])
+
+
 class Simulation(_slipstrip._Simulation):
     """One simulation, stepped from Python.
 

@@ -169,6 +169,19 @@ class Config(_slipstrip._Config):
         """L / c_s [s]: the time unit of the paper's figures"""
         return self.length / self.material.shear_wave_speed
 
+    # A resolved Config is read-only: its sections are validated together (a
+    # density alone could contradict a Young's modulus given elsewhere), so a
+    # change goes through the same parser as a file, via with_overrides().
+    # Without this, `cfg.material.density = 0` would change a temporary copy
+    # of the C++ struct and silently do nothing.
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise AttributeError(_read_only_message(name, value))
+
+    @property
+    def material(self) -> _FrozenMaterial:
+        """The elastic material (read-only; see with_overrides)."""
+        return _FrozenMaterial(super().material)
+
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, _slipstrip._Config):
             return NotImplemented
@@ -183,6 +196,31 @@ class Config(_slipstrip._Config):
     def __repr__(self) -> str:
         return (f"Config(L={self.length!r} m, H={self.height!r} m, N={self.nodes}, "
                 f"v0={self.driving_velocity!r} m/s, duration={self.duration!r} s)")
+
+
+def _read_only_message(name: str, value: Any) -> str:
+    return (f"a resolved Config is read-only (cannot set {name} = {value!r}): "
+            f"use cfg.with_overrides({{'{name}': {value!r}}}) for a new, validated Config")
+
+
+class _FrozenMaterial(_slipstrip.ElasticMaterial):
+    """The material of a resolved Config: an ElasticMaterial (so it can be
+    passed to strip_response and the other functions that take one) whose
+    fields cannot be set."""
+
+    _FIELDS = ("shear_modulus", "poisson_ratio", "density", "plane")
+
+    def __init__(self, native: _slipstrip.ElasticMaterial) -> None:
+        super().__init__()
+        for name in self._FIELDS:
+            object.__setattr__(self, name, getattr(native, name))
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise AttributeError(_read_only_message(f"material.{name}", value))
+
+    def copy(self) -> _slipstrip.ElasticMaterial:
+        """A mutable ElasticMaterial with the same fields."""
+        return _slipstrip.ElasticMaterial(**{n: getattr(self, n) for n in self._FIELDS})
 
 
 def load_config(source=None, overrides=None) -> Config:

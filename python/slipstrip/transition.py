@@ -435,8 +435,14 @@ def plot_map(rows: list[dict], out_png) -> None:
     lengths = sorted({r["length"] for r in rows})
     has_lc = any(math.isfinite(r.get("critical_length", math.nan)) for r in rows)
     n_panels = 1 + has_lc + len(lengths)
-    fig, axes = plt.subplots(1, n_panels, figsize=(4.2 * n_panels, 3.8), squeeze=False)
-    axes = axes[0]
+    # A grid two panels wide, so the figure stays readable at page width
+    # (840 px at the saved dpi) however many interface lengths there are.
+    n_cols = min(2, n_panels)
+    n_rows = -(-n_panels // n_cols)
+    fig, grid = plt.subplots(n_rows, n_cols, figsize=(4.2 * n_cols, 3.6 * n_rows + 0.5), squeeze=False)
+    axes = grid.ravel()
+    for unused in axes[n_panels:]:
+        unused.set_visible(False)
     finite_ratio = [r["height"] / r["length"] for r in rows if math.isfinite(r["height"])]
     inf_ratio = 2 * max(finite_ratio) if finite_ratio else 1.0
     size = {L: 30 + 60 * i for i, L in enumerate(lengths)}
@@ -477,7 +483,7 @@ def plot_map(rows: list[dict], out_png) -> None:
         ax.legend(fontsize=6, loc="lower left")
     handles = [plt.Line2D([], [], marker=m, color=c, linestyle="", label=s) for s, (m, c) in MARKERS.items()]
     fig.legend(handles=handles, fontsize=7, loc="upper center", ncol=len(MARKERS))
-    fig.tight_layout(rect=(0, 0, 1, 0.92))
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.35 / fig.get_figheight()))
     fig.savefig(out_png, dpi=100)
     plt.close(fig)
 

@@ -15,6 +15,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from figure_checks import assert_figure
 from scipy import stats
 
 from slipstrip import analysis
@@ -416,7 +417,7 @@ def test_analyze_end_to_end(quick_run, tmp_path):
     summary = json.loads((out_dir / "summary.json").read_text())
     assert summary["n_events"] is not None and summary["n_events"] >= 0
     for name in ("space_time", "space_slip", "event_map", "pdfs", "stationarity", "threshold_sensitivity"):
-        assert (out_dir / f"{name}.png").stat().st_size > 1000, name
+        assert_figure(out_dir / f"{name}.png")
         assert (out_dir / f"{name}.pdf").is_file(), name
     assert set(summary["threshold_sensitivity"]) == {"8", "15", "30", "60"}
     assert summary["event_map"]["n_detected_numpy"] == summary["event_map"]["n_detected_cpp"]

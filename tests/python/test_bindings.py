@@ -536,3 +536,34 @@ def test_event_catalog_arrays_are_numpy(ss):
     # detected event, which is then excluded as first (and last).
     merged = ss.detect_events(synthetic_crossing_time(), delta_th=DELTA_TH, dx=DX, v0=V0, mu=MU, alpha=1e4)
     assert merged["n_events_detected"] == 1 and len(merged["t_start"]) == 0
+
+
+def test_resolved_config_refuses_writes_with_the_override_that_works(ss):
+    # A write to a section of a resolved Config used to change a temporary copy
+    # and do nothing; now it raises and names the route that validates.
+    cfg = ss.load_config(None, {"geometry.nodes": 64})
+    with pytest.raises(AttributeError, match=r"with_overrides\(\{'material.density': 0.0\}\)"):
+        cfg.material.density = 0.0
+    with pytest.raises(AttributeError, match="read-only"):
+        cfg.nodes = 128
+    assert cfg.material.density == ss.Config().material.density
+    # The override route changes and validates.
+    assert cfg.with_overrides({"material.density": 1000.0}).material.density == 1000.0
+    with pytest.raises(ss.ConfigError, match="density"):
+        cfg.with_overrides({"material.density": 0.0})
+    # The read-only material still goes where an ElasticMaterial is expected,
+    # and copy() gives a mutable one.
+    s = ss.strip_response(cfg.material, 0.1, 10.0, 1000.0 + 0j)
+    assert np.isfinite(s)
+    m = cfg.material.copy()
+    m.density = 1000.0
+    assert m.density == 1000.0 and cfg.material.density != 1000.0
+
+
+def test_package_lists_only_its_api(ss):
+    names = dir(ss)
+    for helper in ("np", "os", "Any", "Callable", "Iterable", "annotations"):
+        assert helper not in names
+    assert set(ss.__all__) <= set(names)
+    for name in ss.__all__:
+        assert hasattr(ss, name), name

@@ -21,6 +21,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from figure_checks import assert_figure
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "python"))
@@ -396,7 +397,7 @@ def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_ru
         assert w["median_width_fraction"] == pytest.approx(parts["median_width_fraction"])
     late = analysis.periodic_pulse_from_spacetime(t, v, info.v0, dx)
     assert summary["late_half"]["flag"] == late["flag"]
-    assert out_png.stat().st_size > 1000
+    assert_figure(out_png)
     # The run's initial condition comes from its stored config, and the table
     # mode turns the JSON into one Markdown row per run with those numbers.
     config = read_config(path)
@@ -470,4 +471,4 @@ def test_trajectory_divergence_of_a_run_with_itself(tiny_rundir, tmp_path):
     assert max(summary["rms_log10_ratio"]) == 0.0
     assert all(v is None for v in summary["first_exceedance_transits"].values())
     assert all(v == 0.0 for v in summary["rms_at_transits"].values())
-    assert out_png.stat().st_size > 1000
+    assert_figure(out_png)

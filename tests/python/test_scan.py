@@ -23,6 +23,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+from figure_checks import assert_figure
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -460,4 +461,4 @@ def test_plot_duration_pdfs(tmp_path):
                      "wall_time_s": 1.0, "run_file": task.run_file.name})
     scan.write_summary(spec, rows)
     png = scan.plot_duration_pdfs(spec.output_dir, tmp_path / "p.png")
-    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert_figure(png)
