@@ -4,7 +4,7 @@
   plot-stability  TABLE.csv --out FIG.png   (the CSV of `slipstrip stability --out`)
   analyze  ...  (slipstrip.analysis.main)
   scan     ...  (slipstrip.scan.main)
-  report   RUNDIR [--out docs/reproduction.md] [--figures DIR] [--allow-missing]  (slipstrip.report.main)
+  report   RUNDIR --printed PRINTED [--out docs/reproduction.md] [--figures DIR] [--allow-missing]  (slipstrip.report.main)
   transition  RUNS... [--csv F] [--plot PNG]  (slipstrip.transition.main: long-time state of each run)
   export   RUN.h5 --seas DIR  (slipstrip.export.main: SEAS-style station files)
 

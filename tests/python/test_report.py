@@ -227,13 +227,11 @@ def binary():
     pytest.skip("slipstrip binary not found (set SLIPSTRIP_BIN)")
 
 
-@pytest.fixture(scope="module")
-def tiny_rundir(binary, tmp_path_factory):
+def _tiny_set(binary, d, extra=()):
     """One tiny run (N = 64, reference config, 3 L/c_s), with /events, copied to
     every name of report.RUNS (the report only needs files of the right kind)."""
-    d = tmp_path_factory.mktemp("runs")
     src = d / "source.h5"
-    subprocess.run([binary, "run", str(REPO / "configs" / "reference.toml"), *TINY,
+    subprocess.run([binary, "run", str(REPO / "configs" / "reference.toml"), *TINY, *extra,
                     "--set", "time.duration_transits=3", "--out", str(src)], check=True, timeout=300)
     subprocess.run([binary, "events", str(src)], check=True, capture_output=True, timeout=300)
     for name in report.RUNS:
@@ -242,94 +240,181 @@ def tiny_rundir(binary, tmp_path_factory):
     return d
 
 
-def _report(rundir, tmp_path, *extra, env_bin=None):
+@pytest.fixture(scope="module")
+def tiny_rundir(binary, tmp_path_factory):
+    """The paper-as-run set (configs as committed)."""
+    return _tiny_set(binary, tmp_path_factory.mktemp("runs"))
+
+
+@pytest.fixture(scope="module")
+def tiny_printed(binary, tmp_path_factory):
+    """The same with Table S1 as printed (mu = 9 GPa)."""
+    return _tiny_set(binary, tmp_path_factory.mktemp("printed"), ("--set", "material.shear_modulus=9e9"))
+
+
+def _report(rundir, tmp_path, *extra, env_bin=None, printed=None):
     out = tmp_path / "doc" / "reproduction.md"
     figs = tmp_path / "doc" / "figures"
     env = dict(os.environ, PYTHONPATH=str(REPO / "python"), OMP_NUM_THREADS="1")
     if env_bin:
         env["SLIPSTRIP_BIN"] = env_bin
-    r = subprocess.run([sys.executable, "-m", "slipstrip", "report", str(rundir), "--out", str(out),
+    more = ["--printed", str(printed)] if printed is not None else []
+    r = subprocess.run([sys.executable, "-m", "slipstrip", "report", str(rundir), *more, "--out", str(out),
                         "--figures", str(figs), "--bootstrap", "20", "--quiet", *extra],
-                       capture_output=True, text=True, env=env, timeout=600)
+                       capture_output=True, text=True, env=env, timeout=900)
     return r, out, figs
 
 
-def _row(text, claim_start):
-    rows = [line for line in text.splitlines() if line.startswith(f"| {claim_start}")]
-    assert rows, claim_start
+def _row(text, cid):
+    """The table row of claim `cid` (rows start with the id in backticks), or of a run file."""
+    start = f"| `{cid}` |" if not cid.startswith("RUNDIR") and not cid.startswith("PRINTED") else f"| {cid}"
+    rows = [line for line in text.splitlines() if line.startswith(start)]
+    assert rows, cid
     return rows[0]
 
 
-def test_missing_run_fails_loudly(tiny_rundir, tmp_path, binary):
+def _cells(row):
+    return [c.strip() for c in row.strip().strip("|").split(" | ")]
+
+
+def test_missing_run_fails_loudly(tiny_rundir, tiny_printed, tmp_path, binary):
     d = tmp_path / "runs"
     shutil.copytree(tiny_rundir, d)
     (d / "fig3c_H02.h5").unlink()
-    r, out, _ = _report(d, tmp_path, env_bin=binary)
+    r, out, _ = _report(d, tmp_path, env_bin=binary, printed=tiny_printed)
     assert r.returncode == 2
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and "RUNDIR/fig3c_H02.h5 missing" in lines[0], r.stderr
     assert not out.exists()
     # Unreadable is as loud.
     (d / "fig3c_H02.h5").write_bytes(b"not an HDF5 file")
-    r, out, _ = _report(d, tmp_path, env_bin=binary)
+    r, out, _ = _report(d, tmp_path, env_bin=binary, printed=tiny_printed)
     assert r.returncode == 2 and "RUNDIR/fig3c_H02.h5 unreadable" in r.stderr and not out.exists()
+    # No printed set: refused unless --allow-missing.
+    r, out, _ = _report(tiny_rundir, tmp_path, env_bin=binary)
+    assert r.returncode == 2 and "--printed" in r.stderr and not out.exists()
+    # A run of the other reading in a directory is refused, naming the file and both readings.
+    r, out, _ = _report(tiny_rundir, tmp_path, env_bin=binary, printed=tiny_rundir)
+    assert r.returncode == 2 and "PRINTED/reference.h5 is paper-as-run (E = 9 GPa), not the as printed reading" \
+        in r.stderr, r.stderr
+    assert not out.exists()
 
 
-def test_report_rows_come_from_the_run_files(tiny_rundir, tmp_path, binary):
+# Every checkable claim of the paper, by id (python/slipstrip/claims.py).  Written out
+# here so that a claim dropped from claims.py (or from the report's table) fails this
+# test instead of disappearing from docs/reproduction.md.
+CLAIM_IDS = [
+    # Fig. 1
+    "fig1b_space_slip", "fig1c_exp_u", "fig1d_exp_T", "fig1e_exp_M0", "fig1c_split_at_D", "fig1d_lognormal_T",
+    "fig1e_lognormal_M0", "small_nonpropagating", "small_slip_fraction", "reference_complex",
+    # Fig. 2
+    "fig2_event1_bilateral", "fig2_event1_vmax", "fig2_event1_duration", "fig2_event1_crack",
+    "fig2_event1_arrest_minima", "fig2_event1_aging", "fig2_event1_stress_peaks", "fig2_events23_crack",
+    "fig2_event4_from_arrest", "fig2_event5_bilateral_stage", "fig2_event5_pulses",
+    # Fig. 3a/b
+    "fig3a_duration", "fig3b_center_stop", "fig3b_pulses", "fig3b_speed", "fig3b_width",
+    # Figs. 3c/d, S7
+    "fig3c_shift", "fig3d_shift", "fig3_collapse", "fig3_small", "s7_shift_H", "s7_shift_cs",
+    # Figs. 4, S10-S12
+    "fig4_complex", "fig4_exponents", "fig4_lognormal_T", "fig4_larger", "fig4_Lc_same",
+    "s10_complex", "s10_exponents", "s10_lognormal_T", "s10_Lc_smaller", "s10_min_propagating",
+    "s11_complex", "s11_exponents", "s11_lognormal_T", "s11_Lc_smaller",
+    "s12_complex", "s12_exponents", "s12_lognormal_T", "s12_Lc_smaller", "s12_fss",
+    # Fig. 5 and friction
+    "fig5_pulse", "fig5_H02", "reference_no_pulse", "fss_slopes", "fig5_fss",
+    # Lc(H), mesh, process zone
+    "Lc_01", "Lc_over_H_01", "Lc_ratio_005", "Lc_ratio_01", "Lc_ratio_02", "Lc5_01", "Lc5_02", "Lc_over_dx",
+    "pz_formula", "pz_resolved",
+    # event identification and statistics procedure (Figs. S4-S9)
+    "ns_and_events", "first_event_spans", "s5_event", "noise_transient", "stationary", "s9_power_law",
+    "s9_crossover", "s9_lognormal", "s9_max_size", "clusters",
+]
+MEASUREMENT_IDS = ["fig3_peak_position", "fig3_peak_fit", "s7_peak_position", "lognormal_u", "k0_mode"]
+
+
+def test_the_claim_list_is_complete():
+    from slipstrip import claims
+    assert [c.id for c in claims.CLAIMS] == CLAIM_IDS
+    assert [c.id for c in claims.MEASUREMENTS] == MEASUREMENT_IDS
+    for c in claims.CLAIMS:
+        assert c.where and len(c.words) > 20, c.id  # a place and the paper's own words
+
+
+def test_report_has_a_row_for_every_claim_at_both_readings(tiny_rundir, tiny_printed, tmp_path, binary):
+    r, out, figs = _report(tiny_rundir, tmp_path, env_bin=binary, printed=tiny_printed)
+    assert r.returncode == 0, r.stderr
+    text = out.read_text()
+    for cid in CLAIM_IDS + MEASUREMENT_IDS:
+        cells = _cells(_row(text, cid))
+        assert len(cells) == 7, (cid, cells)
+        # Both readings have a value and a verdict; no section failed silently.
+        assert cells[3] and cells[5] and cells[4] and cells[6], (cid, cells)
+        assert "no row computed" not in cells[3] + cells[5], (cid, cells)
+        assert "not checkable (error)" not in cells[4] + cells[6], (cid, cells)
+    # The headline counts add up to the number of claims, for each reading.
+    for name in ("paper-as-run", "as printed"):
+        head = next(line for line in text.splitlines() if line.startswith(f"| {name} |"))
+        c = _cells(head)
+        assert int(c[2]) + int(c[3]) + int(c[4]) == int(c[5]) == len(CLAIM_IDS), head
+    assert "### Which reading the evidence supports" in text
+    conclusion = text.split("### Which reading the evidence supports")[1].split("## How to read")[0]
+    assert "**The evidence supports" in conclusion
+    # Lc at each reading from the bindings: 0.382 m (E = 9 GPa) and 0.658 m (mu = 9 GPa), docs/stability.md.
+    lc = _cells(_row(text, "Lc_01"))
+    assert lc[3].startswith("0.3821 m") and lc[5].startswith("0.6581 m"), lc
+    assert lc[4].startswith("agrees") and lc[6].startswith("differs"), lc
+    # The process-zone formula: 0.0337 m at mu = 3.38 GPa, 0.0896 m at mu = 9 GPa (paper: 0.095 m).
+    pz = _cells(_row(text, "pz_formula"))
+    assert "0.0337 m" in pz[3] and "0.0896 m" in pz[5] and pz[6].startswith("agrees") and pz[4].startswith("differs")
+    assert (figs / "asrun").is_dir() and (figs / "printed").is_dir()
+
+
+def test_report_rows_come_from_the_run_files(tiny_rundir, tiny_printed, tmp_path, binary):
     d = tmp_path / "runs"
     shutil.copytree(tiny_rundir, d)
     (d / "fig3c_H02.h5").unlink()
-    r, out, figs = _report(d, tmp_path, "--allow-missing", env_bin=binary)
+    r, out, figs = _report(d, tmp_path, "--allow-missing", env_bin=binary, printed=tiny_printed)
     assert r.returncode == 0, r.stderr
     text = out.read_text()
-    # The missing run: "not run", no number, in its rows and in the run list.
-    row = _row(text, "peak of large-event p(T), Fig. 3c (H = 0.2 m)")
-    assert "not run (RUNDIR/fig3c_H02.h5 missing)" in row
-    assert "T_peak" not in row
-    assert "Incomplete report" in text
-    # Every section is there, with the paper constants and their places.
-    for claim in ("small-event (u < D) exponent of p(u/D)", "H = 0.1 m: slip at the nucleation site",
-                  "small-event (u < D) exponent of p(u/D): dependence on the fit's lower cut-off x_min",
-                  "Fig. 5 friction (H = 0.1 m): periodic travelling pulse", "Lc(H = 0.1 m), Table S1 friction",
-                  "reference: statistics stationary after the transient cut", "number of clusters per event"):
-        _row(text, claim)
-    assert "Fig. 1c caption" in text and "paper-as-run (E = 9 GPa)" in text
+    # The missing run: "not run", no number, in its rows (one reading only) and in the run list.
+    row = _cells(_row(text, "fig3c_shift"))
+    assert "not run (RUNDIR/fig3c_H02.h5 missing)" in row[3] and row[4].startswith("not checkable")
+    assert "T_peak" not in row[3] and "not run" not in row[5]
+    assert "Incomplete (paper-as-run)" in text
+    assert "fig3c_H02: not run" in _row(text, "fig3_peak_position")
+    assert "Fig. 1c caption" in text and "paper-as-run (E = 9 GPa)" in text and "Table S1 as printed (mu = 9 GPa)" in text
     assert str(tmp_path) not in text and str(REPO) not in text  # no machine paths in the doc
-    assert "| RUNDIR/reference.h5 |" in text and "Machine:" in text and "nproc" in text
-    # Lc from the bindings (only if they are importable in the subprocess).
-    lc_row = _row(text, "Lc(H = 0.1 m), Table S1 friction")
-    assert "0.382" in lc_row or "not computed" in lc_row
+    assert "| RUNDIR/reference.h5 |" in text and "| PRINTED/reference.h5 |" in text and "nproc" in text
 
     # Change one file: the run list reflects it (wall time from its own attributes).
     with h5py.File(d / "fig3a.h5", "r+") as f:
         f.attrs["start_time"] = "2026-01-01T00:00:00Z"
         f.attrs["end_time"] = "2026-01-01T01:02:03Z"
-    # ... and a rescaled catalog changes the Fig. 1 number (u_mean and M0 doubled).
+    # ... and a rescaled catalog changes a Fig. 1 number (u_mean and M0 doubled).
     with h5py.File(d / "reference.h5", "r+") as f:
         for k in ("u_mean", "M0"):
             data = f["events"][k][:]
             f["events"][k][...] = 2 * data
-    r2, out2, _ = _report(d, tmp_path, "--allow-missing", env_bin=binary)
+    r2, out2, _ = _report(d, tmp_path, "--allow-missing", env_bin=binary, printed=tiny_printed)
     assert r2.returncode == 0, r2.stderr
     text2 = out2.read_text()
     assert "1:02:03 (3723 s)" in _row(text2, "RUNDIR/fig3a.h5")
     assert "1:02:03" not in _row(text, "RUNDIR/fig3a.h5")
-    before = _row(text, "large events (u ≥ D) log-normal: u/D")
-    after = _row(text2, "large events (u ≥ D) log-normal: u/D")
-    assert before != after
+    assert _cells(_row(text, "lognormal_u"))[3] != _cells(_row(text2, "lognormal_u"))[3]
+    assert _cells(_row(text, "lognormal_u"))[5] == _cells(_row(text2, "lognormal_u"))[5]  # the other reading's file
     # The whole report is regenerated: a stale figure is removed.
-    stale = figs / "stale.png"
+    stale = figs / "asrun" / "stale.png"
     stale.write_bytes(b"x")
-    r3, _, _ = _report(d, tmp_path, "--allow-missing", env_bin=binary)
+    r3, _, _ = _report(d, tmp_path, "--allow-missing", env_bin=binary, printed=tiny_printed)
     assert r3.returncode == 0 and not stale.exists()
 
 
-def test_incomplete_run_is_refused_unless_allowed(tiny_rundir, tmp_path, binary):
+def test_incomplete_run_is_refused_unless_allowed(tiny_rundir, tiny_printed, tmp_path, binary):
     d = tmp_path / "runs"
     shutil.copytree(tiny_rundir, d)
     with h5py.File(d / "fig5.h5", "r+") as f:
         f.attrs["status"] = "running"
-    r, out, _ = _report(d, tmp_path, env_bin=binary)
+    r, out, _ = _report(d, tmp_path, env_bin=binary, printed=tiny_printed)
     assert r.returncode == 2 and "RUNDIR/fig5.h5 incomplete" in r.stderr and not out.exists()
 
 
@@ -344,6 +429,55 @@ def test_xmin_sweep_verdict_uses_the_range_widened_by_the_errors():
     assert report.verdict_xmin_sweep([], 2.45) == "no value"
     cell = report.xmin_sweep_cell(sweep)
     assert "x_min = 0.5 x_opt: 2.3 ± 0.02 (n = 900)" in cell and "range 2.3-2.6" in cell
+
+
+def test_verdicts_print_on_the_side_of_their_rule():
+    # 2.04 sigma differs under the 2 sigma rule and must not print as "2.0 σ"; exactly 2 sigma agrees.
+    v = report.verdict_sigma(2.04, 1.0, 0.0)
+    assert v.startswith("differs") and "(2.04 σ)" in v, v
+    v = report.verdict_sigma(2.0, 1.0, 0.0)
+    assert v.startswith("agrees") and "(2.0 σ)" in v, v
+    assert report.verdict_sigma(1.0, 0.5, 0.0).startswith("agrees")   # 2 sigma exactly
+    assert report.verdict_relative(1.104, 1.0) == "differs by +10.4%"
+    assert report.verdict_relative(1.1, 1.0) == "agrees (+10%)"
+    assert report.verdict_relative(0.91, 1.0) == "agrees (-9%)"
+    assert report.verdict_factor(2.04) == "differs (ratio 2.04)"
+    assert report.verdict_factor(2.0).startswith("agrees") and report.verdict_factor(0.5).startswith("agrees")
+    assert report.verdict_factor(0.495).startswith("differs")
+    assert report.verdict_order(3.1).startswith("agrees") and report.verdict_order(3.2).startswith("differs")
+    assert report.verdict_order(1 / 3.1).startswith("agrees")
+    for v, cls in (("agrees (1.0 σ)", "agree"), ("differs by +3%", "differ"), ("no value", "not checkable"),
+                   ("not checkable (run missing)", "not checkable"), ("—", "not checkable")):
+        assert report.verdict_class(v) == cls
+    assert report.verdict_majority(3, 5, "x").startswith("agrees")
+    assert report.verdict_majority(2, 4, "x").startswith("differs")  # half is not "more than half"
+    assert report.verdict_majority(0, 0, "x").startswith("no value")
+    # 8 of 20 against a chance rate of 10 %: z = (0.4 - 0.1) / sqrt(0.09 / 20) = 4.5; 3 of 20: z = 0.75.
+    assert report.verdict_beats_chance(8, 20, 0.1, "x").startswith("agrees")
+    assert report.verdict_beats_chance(3, 20, 0.1, "x").startswith("differs")
+
+
+def test_guide_to_the_eye_verdict_adds_the_ks_optimal_distance():
+    sweep = [{"xmin_factor": 1.0, "xmin": 0.02, "exponent": 2.40, "stderr": 0.03, "n": 500},
+             {"xmin_factor": 2.0, "xmin": 0.04, "exponent": 2.60, "stderr": 0.05, "n": 200}]
+    v = report.verdict_guide(2.40, 0.03, sweep, 2.45)
+    assert v.startswith("agrees within the fit-range systematic") and "KS-optimal fit alone: 1.7 σ" in v
+    assert report.verdict_guide(2.40, 0.03, sweep, 2.9).startswith("differs")
+    assert report.verdict_guide(2.40, 0.03, [], 2.45) == "no value"
+
+
+def test_friction_steady_state_slope_is_the_derivative_of_f_ss():
+    # d f_ss / d ln v from the closed form against a centred difference of f_ss(v)
+    # (Eqs. S1-S2); step 1e-4 in ln v: truncation error ~1e-9, far below the 1e-6 asked.
+    fr = {"f0": 0.28, "a": 0.005, "b": 0.075, "characteristic_slip": 5e-7, "v_star": 1e-7, "phi_star": 3.3e-4}
+    for v0 in (2e-3, 1e-6, 3e-7):
+        h = 1e-4
+        fd = (report.friction_steady_state(fr, v0 * math.exp(h))["f_ss"]
+              - report.friction_steady_state(fr, v0 * math.exp(-h))["f_ss"]) / (2 * h)
+        assert report.friction_steady_state(fr, v0)["slope"] == pytest.approx(fd, abs=1e-6)
+    # f_ss(v0) by hand for Table S1: 0.28 (1 + 0.075 ln(2.5e-4 / 3.3e-4)) + 0.005 ln(1 + 2e4).
+    by_hand = 0.28 * (1 + 0.075 * math.log(5e-7 / math.hypot(2e-3, 1e-7) / 3.3e-4)) + 0.005 * math.log1p(2e4)
+    assert report.friction_steady_state(fr, 2e-3)["f_ss"] == pytest.approx(by_hand, rel=1e-12)
 
 
 def test_peak_of_pT_of_a_lognormal_is_its_density_mode():
