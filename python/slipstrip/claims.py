@@ -10,7 +10,10 @@ paper does not claim (e.g. where the large-event peak of p(T) lies relative to
 the 2H/c_s arrows); they are listed apart and not counted.
 
 `words` quotes the paper (LaTeX turned into plain text, ellipses mark cuts);
-`value` is the number or statement a verdict compares with.
+`value` is the number or statement a verdict compares with; `group` joins
+claims that are one computation (every Lc number is one linear-stability
+computation with the reading's material), so that the reading conclusion
+counts them once.
 """
 from __future__ import annotations
 
@@ -25,6 +28,7 @@ class Claim:
     where: str        # place in the paper
     words: str        # the paper's words
     value: object = None   # number or short statement the verdict uses
+    group: str = ""        # claims that are one computation (the Lc numbers) share a group
 
     # The report and its older callers read these two names.
     @property
@@ -220,21 +224,21 @@ CLAIMS: tuple[Claim, ...] = (
       "its reference value"),
     # ---------------------------------------------------------------- Lc(H)
     C("Lc_01", S_LC, "Lc(H = 0.1 m), Table S1 friction", "main text (Fig. 5 discussion); Fig. S2",
-      "for the reference parameters of Table S1 ... (with H = 0.1 m ...) one has Lc(H) ≃ 0.35 m", 0.35),
+      "for the reference parameters of Table S1 ... (with H = 0.1 m ...) one has Lc(H) ≃ 0.35 m", 0.35, group="Lc"),
     C("Lc_over_H_01", S_LC, "Lc/H at H = 0.1 m", "main text (Fig. 5 discussion)",
-      "This corresponds to Lc(H)/H ≃ 3.5", 3.5),
+      "This corresponds to Lc(H)/H ≃ 3.5", 3.5, group="Lc"),
     C("Lc_ratio_005", S_LC, "Lc(H = 0.05 m) / Lc(inf)", "supplement, Sect. 'Lc(H)'",
-      "Lc varies from ≈ 65% of Lc(H → ∞) (with H = 0.05 m)", 0.65),
+      "Lc varies from ≈ 65% of Lc(H → ∞) (with H = 0.05 m)", 0.65, group="Lc"),
     C("Lc_ratio_01", S_LC, "Lc(H = 0.1 m) / Lc(inf)", "supplement, Sect. 'Lc(H)'",
-      "with H = 0.1 m, the critical nucleation length corresponds to ≈ 80% of Lc(H → ∞)", 0.80),
+      "with H = 0.1 m, the critical nucleation length corresponds to ≈ 80% of Lc(H → ∞)", 0.80, group="Lc"),
     C("Lc_ratio_02", S_LC, "Lc(H = 0.2 m) / Lc(inf)", "supplement, Sect. 'Lc(H)'",
-      "to almost ≈ 100% of Lc(H → ∞) (with H = 0.2 m)", 1.00),
+      "to almost ≈ 100% of Lc(H → ∞) (with H = 0.2 m)", 1.00, group="Lc"),
     C("Lc5_01", S_LC, "Lc(H = 0.1 m), Fig. 5 friction", "main text (Fig. 5 discussion)",
-      "the smaller |df_ss(v0)/dlog(v)| in Fig. 5 corresponds to Lc(H) ≃ 0.7 m, leading to Lc(H)/H ≃ 7", 0.7),
+      "the smaller |df_ss(v0)/dlog(v)| in Fig. 5 corresponds to Lc(H) ≃ 0.7 m, leading to Lc(H)/H ≃ 7", 0.7, group="Lc"),
     C("Lc5_02", S_LC, "Lc(H = 0.2 m), Fig. 5 friction", "main text (Fig. 5 discussion)",
-      "In this case, we found Lc(H) ≃ 0.9 m, leading to Lc(H)/H ≃ 4.5", 0.9),
+      "In this case, we found Lc(H) ≃ 0.9 m, leading to Lc(H)/H ≃ 4.5", 0.9, group="Lc"),
     C("Lc_over_dx", S_LC, "Lc/Δx = O(100) at Δx = 2.5 mm", "supplement, Sect. 'Mesh discretization'",
-      "we set Δx = 2.5×10^-3 m such that the nucleation length is discretized with Lc/Δx = O(100) elements", 100.0),
+      "we set Δx = 2.5×10^-3 m such that the nucleation length is discretized with Lc/Δx = O(100) elements", 100.0, group="Lc"),
     C("pz_formula", S_LC, "process zone estimate μD/(bσ0(1-ν)) = 9.5×10^-2 m", "supplement, Sect. 'Mesh discretization'",
       "The process zone size can be estimated as Δpz = O(μD/b σ0 [1-ν]) = 9.5×10^-2 m", 0.095),
     C("pz_resolved", S_LC, "process zone resolved by ~40 elements (tip zone measured in Fig. 3a/3b)",

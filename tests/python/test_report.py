@@ -457,6 +457,30 @@ def test_verdicts_print_on_the_side_of_their_rule():
     assert report.verdict_beats_chance(3, 20, 0.1, "x").startswith("differs")
 
 
+def test_reading_conclusion_counts_one_computation_once():
+    """Seven Lc claims favouring one reading are one piece of evidence; two run
+    outcomes favouring the other outweigh them."""
+    from types import SimpleNamespace
+    from slipstrip import claims
+
+    def fake(verdicts):
+        rows = {c.id: report.Row(c.id, "", verdicts.get(c.id, "no value"), "") for c in claims.CLAIMS}
+        return SimpleNamespace(rows=rows, missing={})
+    lc = [c.id for c in claims.CLAIMS if c.group == "Lc"]
+    asrun = {i: "agrees" for i in lc}
+    printed = {i: "differs" for i in lc}
+    asrun.update({"fig3b_pulses": "differs", "fig5_H02": "differs"})
+    printed.update({"fig3b_pulses": "agrees", "fig5_H02": "agrees"})
+    text = "\n".join(report.reading_conclusion({"asrun": fake(asrun), "printed": fake(printed)}))
+    assert f"Claims whose verdict changes with the reading: {len(lc) + 2}." in text
+    assert "favour paper-as-run 1 times (Lc (8 claims))" in text and "as printed 2 times" in text
+    assert "**The evidence supports Table S1 as printed**" in text
+    # A tie supports neither.
+    printed["fig5_H02"] = asrun["fig5_H02"] = "agrees"
+    text = "\n".join(report.reading_conclusion({"asrun": fake(asrun), "printed": fake(printed)}))
+    assert "**The evidence supports neither reading**: 1 independent pieces each way." in text
+
+
 def test_guide_to_the_eye_verdict_adds_the_ks_optimal_distance():
     sweep = [{"xmin_factor": 1.0, "xmin": 0.02, "exponent": 2.40, "stderr": 0.03, "n": 500},
              {"xmin_factor": 2.0, "xmin": 0.04, "exponent": 2.60, "stderr": 0.05, "n": 200}]
