@@ -88,15 +88,19 @@ def velocity_from_sampling(crossing_time: np.ndarray, delta_th: float, t_grid, l
     return SlipHistory(crossing_time, delta_th, level_offset).velocity(t_grid)
 
 
-def sampling_band(path, t0: float, t1: float, margin_levels: int = 200, max_rows: int = 200_000):
+def sampling_band(path, t0: float, t1: float, margin_levels: int = 200, max_values: int = 20_000_000):
     """The rows of /slip_sampling/crossing_time that hold every crossing of
     every node in [t0, t1], plus `margin_levels` on either side: (band,
     level_offset).  Starts from the rows the mean slip rate would give and
     widens until, in every column, the first row is at or before t0 (or the
-    column ends) and the last row is after t1 (or NaN)."""
+    column ends) and the last row is after t1 (or NaN), reading at most
+    max_values crossing times (160 MB): a node locked far behind (or ahead of)
+    the band then has no crossing in it, which is right for the slip it
+    accumulates in [t0, t1] unless it slips that far then."""
     with open_h5(path) as f:
         ds = f["slip_sampling/crossing_time"]
         n_levels = ds.shape[0]
+        max_rows = max(10 * margin_levels, max_values // max(1, ds.shape[1]))
         v0 = float(f["slip_sampling"].attrs["v0"])
         dth = float(f["slip_sampling"].attrs["delta_th"])
         lo = max(0, int(v0 * t0 / dth) - 5 * margin_levels)
