@@ -854,8 +854,8 @@ class Report:
     def _event_figure(self, run, ex, fname, caption):
         plt = an._plt()
         info = run.info
-        fig, axes = plt.subplots(1, 4, figsize=(15, 3.4))
-        x = ex["x"] / info.L
+        fig, axes = plt.subplots(1, 4, figsize=(16, 3.4), gridspec_kw={"wspace": 0.45})
+        x = ex["x"] / info.L  # unwrapped: may pass 1 when the window crosses the periodic boundary
         im = axes[0].imshow(np.log10(np.clip(ex["v"] / info.v0, 1e-2, 1e3)), origin="lower", aspect="auto",
                             cmap="viridis", extent=(x[0], x[-1], ex["t"][0] * info.c_s / info.L,
                                                     ex["t"][-1] * info.c_s / info.L))
