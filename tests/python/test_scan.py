@@ -230,6 +230,34 @@ def test_example_scans_give_valid_configs(binary, tmp_path):
             assert cfg[section][k] == value
 
 
+def test_dry_run_checks_every_runs_config(tmp_path, capsys):
+    """A misspelt key (or a bad value of one run) fails `--dry-run` with the
+    config reader's message, before anything runs; a good scan passes."""
+    pytest.importorskip("slipstrip._slipstrip")
+    scan_file = write_scan(tmp_path / "s.toml", """
+[[parameter]]
+key = "geometry.hieght"
+values = [0.02, 0.03]
+""")
+    assert scan.main([str(scan_file), "--dry-run"]) == 2
+    captured = capsys.readouterr()
+    assert len(captured.out.splitlines()) == 2  # the runs are still listed
+    errors = [l for l in captured.err.splitlines() if l.startswith("error: run ")]
+    assert len(errors) == 2 and all("geometry.hieght" in l and "geometry.height" in l for l in errors)
+    assert "2 of 2 runs have an invalid config" in captured.err
+    assert not (tmp_path / "out").exists()  # nothing ran, nothing was written
+
+    # One bad value among good ones: only that run is named.
+    write_scan(scan_file, '[[parameter]]\nkey = "material.density"\nvalues = [1200.0, -5.0]\n')
+    assert scan.main([str(scan_file), "--dry-run"]) == 2
+    err = capsys.readouterr().err
+    assert "run 1 (run_0001.h5)" in err and "material.density" in err and "run 0 " not in err
+
+    write_scan(scan_file, '[[parameter]]\nkey = "geometry.height"\nvalues = [0.02, 0.03]\n')
+    assert scan.main([str(scan_file), "--dry-run"]) == 0
+    assert "all 2 run configs are valid" in capsys.readouterr().err
+
+
 def test_analysis_failure_is_recorded_not_raised(tmp_path):
     run_file = tmp_path / "r.h5"
     with h5py.File(run_file, "w") as f:

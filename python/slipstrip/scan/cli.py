@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import signal
 import sys
 from pathlib import Path
 
 from .executors import emit_slurm, run_scan
-from .spec import dry_run_lines, expand_runs, load_scan
+from .spec import dry_run_lines, expand_runs, invalid_runs, load_scan
+from .stopping import ScanInterrupted, StopSignals, exit_code
 from .summary import SUMMARY_CSV, SUMMARY_H5, collect, plot_duration_pdfs
 from .task import execute_task, find_binary
 
@@ -24,7 +26,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--slurm-time", metavar="HH:MM:SS", help="--time of each Slurm task")
     p.add_argument("--out", metavar="DIR", help="output directory (overrides the scan file's output_dir)")
     p.add_argument("--binary", metavar="PATH", help="slipstrip binary (default: $SLIPSTRIP_BIN, PATH, build/)")
-    p.add_argument("--dry-run", action="store_true", help="list the runs and their overrides, run nothing")
+    p.add_argument("--dry-run", action="store_true", help="list the runs and their overrides and check every run's config, run nothing "
+                        "(exit 2 if a config is invalid)")
     p.add_argument("--collect", action="store_true",
                    help="only write the summary of the runs on disk (after a Slurm array)")
     p.add_argument("--plot-durations", metavar="PNG", help="afterwards, plot p(T) of every run (Fig. 3d style)")
@@ -38,8 +41,13 @@ def main(argv: list[str] | None = None) -> int:
         if args.run_task:
             payload = json.loads(Path(args.run_task).read_text())
             payload["binary"] = args.binary or payload.get("binary") or find_binary()
-            row = execute_task(payload)
-            print(f"[scan] run {row['index']}: {row['status']} {row['error']}".rstrip(), file=sys.stderr)
+            # A Slurm time limit or scancel sends SIGTERM: forwarded to the solver (restart point, 143).
+            with StopSignals(sys.stderr) as stop:
+                row = execute_task(payload, stop)
+            if row is not None:
+                print(f"[scan] run {row['index']}: {row['status']} {row['error']}".rstrip(), file=sys.stderr)
+            if stop():
+                return exit_code(stop())
             return 0 if row["status"] == "completed" else 1
         if not args.scan:
             print("error: a scan file is required (slipstrip scan SCAN.toml ...)", file=sys.stderr)
@@ -47,6 +55,14 @@ def main(argv: list[str] | None = None) -> int:
         spec = load_scan(args.scan, args.out)
         if args.dry_run:
             print("\n".join(dry_run_lines(spec)))
+            errors = invalid_runs(spec)
+            for line in errors:
+                print(f"error: {line}", file=sys.stderr)
+            if errors:
+                print(f"error: {len(errors)} of {len(expand_runs(spec))} runs have an invalid config "
+                      "(fix the scan file's [fixed] or [[parameter]] entries)", file=sys.stderr)
+                return 2
+            print(f"all {len(expand_runs(spec))} run configs are valid", file=sys.stderr)
             return 0
         if args.emit_slurm:
             script = emit_slurm(spec, args.emit_slurm, binary=args.binary, time_limit=args.slurm_time)
@@ -63,9 +79,13 @@ def main(argv: list[str] | None = None) -> int:
             print(f"plot: {plot_duration_pdfs(spec.output_dir, args.plot_durations)}", file=sys.stderr)
         n_failed = sum(r["status"] != "completed" for r in rows)
         return 0 if n_failed == 0 else 1
+    except ScanInterrupted as e:
+        print(f"summary: {spec.output_dir / SUMMARY_CSV}, {spec.output_dir / SUMMARY_H5}", file=sys.stderr)
+        print(f"[scan] {e}", file=sys.stderr)
+        return exit_code(e.signal)
     except (ValueError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("interrupted: the summary lists the runs finished so far", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt:  # before the runs start (reading the scan file)
+        print("interrupted before any run started", file=sys.stderr)
+        return exit_code(signal.SIGINT)

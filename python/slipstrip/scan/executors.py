@@ -15,14 +15,16 @@ import os
 import shlex
 import sys
 import time
+import uuid
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
-from typing import TextIO
+from typing import Callable, TextIO
 
 from .spec import ScanSpec, expand_runs
+from .stopping import ScanInterrupted, StopSignals, never_stop
 from .summary import stream_of, write_summary
-from .task import (execute_task, find_binary, is_completed, kernel_cache_override, previous_row, read_record,
-                   task_payload, write_json)
+from .task import (execute_task, execute_task_on_worker, find_binary, is_completed, kernel_cache_override,
+                   previous_row, read_record, task_payload, write_json)
 
 # The package directory holding slipstrip/ (put on PYTHONPATH of Slurm tasks).
 PACKAGE_PARENT = Path(__file__).resolve().parents[2]
@@ -33,13 +35,15 @@ class Progress:
 
     def __init__(self, total: int, stream: TextIO | None):
         self.total, self.stream = total, stream
-        self.done = self.skipped = self.failed = 0
+        self.done = self.skipped = self.failed = self.interrupted = 0
         self.start = time.monotonic()
 
     def update(self, row: dict, skipped: bool = False) -> None:
         self.done += 1
         self.skipped += skipped
-        self.failed += row.get("status") != "completed"
+        status = row.get("status")
+        self.interrupted += status == "interrupted"
+        self.failed += status not in ("completed", "interrupted")
         if self.stream is None:
             return
         elapsed = time.monotonic() - self.start
@@ -47,8 +51,13 @@ class Progress:
         remaining = self.total - self.done
         eta = elapsed / worked * remaining if worked else math.nan
         eta_text = "--" if math.isnan(eta) else f"{eta:.0f} s"
-        note = f"run {row['index']} {row.get('status')}" + (" (skipped: already completed)" if skipped else "")
-        print(f"[scan] {self.done}/{self.total} runs done, {self.failed} failed, {self.skipped} skipped; "
+        note = f"run {row['index']} {status}"
+        if skipped:
+            note += " (skipped: already completed)"
+        elif row.get("resumed"):
+            note += " (resumed from its restart point)"
+        interrupted = f", {self.interrupted} interrupted" if self.interrupted else ""
+        print(f"[scan] {self.done}/{self.total} runs done, {self.failed} failed{interrupted}, {self.skipped} skipped; "
               f"elapsed {elapsed:.1f} s, ETA {eta_text}; {note}", file=self.stream, flush=True)
 
 
@@ -81,72 +90,98 @@ def plan(spec: ScanSpec, binary: str, threads: int | None = None, stream: TextIO
 def run_scan(spec: ScanSpec, jobs: int = 1, dask_address: str | None = None, binary: str | None = None,
              stream: TextIO | None | str = "stderr") -> list[dict]:
     """Runs every unfinished run of the scan and writes the summary table
-    (summary.csv, summary.h5 in the output directory).  Returns the rows in run order."""
+    (summary.csv, summary.h5 in the output directory).  Returns the rows in run order.
+
+    While it runs, SIGINT and SIGTERM are the scan's (stopping.StopSignals,
+    whatever the process inherited): no new run starts, the running solvers
+    get the signal and write their restart points, the summary lists them
+    as "interrupted", and ScanInterrupted is raised (`slipstrip scan` exits
+    128 + signal)."""
     binary = binary or find_binary()
     stream = stream_of(stream)
-    spec.output_dir.mkdir(parents=True, exist_ok=True)
     if jobs < 1:
         raise ValueError(f"jobs = {jobs} is not allowed: expected an integer >= 1")
+    spec.output_dir.mkdir(parents=True, exist_ok=True)
     # Share the cores between concurrent runs unless the user chose the OpenMP threads.
     threads = None if "OMP_NUM_THREADS" in os.environ or dask_address else max(1, (os.cpu_count() or 1) // jobs)
-    done, todo = plan(spec, binary, threads, stream)
-    progress = Progress(len(done) + len(todo), stream)
-    rows = list(done)
-    for row in done:
-        progress.update(row, skipped=True)
-    try:
-        if todo and dask_address:
-            run_dask(todo, dask_address, progress, rows)
-        elif todo:
-            run_local(todo, jobs, progress, rows)
-    finally:
-        # Also on Ctrl-C: the table then lists what has finished so far.
-        rows.sort(key=lambda r: r["index"])
-        write_summary(spec, rows)
+    with StopSignals(stream) as stop:
+        done, todo = plan(spec, binary, threads, stream)
+        progress = Progress(len(done) + len(todo), stream)
+        rows = list(done)
+        for row in done:
+            progress.update(row, skipped=True)
+        try:
+            if todo and dask_address:
+                run_dask(todo, dask_address, progress, rows, stop)
+            elif todo:
+                run_local(todo, jobs, progress, rows, stop)
+        finally:
+            # Also when stopped: the table then lists what has finished or was interrupted.
+            rows.sort(key=lambda r: r["index"])
+            write_summary(spec, rows)
+    if stop():
+        raise ScanInterrupted(stop(), rows, not_started=len(done) + len(todo) - len(rows))
     return rows
 
 
-def run_local(payloads: list[dict], jobs: int, progress: Progress, rows: list[dict]) -> None:
+def run_local(payloads: list[dict], jobs: int, progress: Progress, rows: list[dict],
+              stop: Callable[[], int] = never_stop) -> None:
     """execute_task on this machine, `jobs` at a time; appends each row to `rows` as it finishes.
 
     A pool of threads (concurrent.futures), each waiting on one solver process
-    while the GIL is free.  Threads, not worker processes, because on Ctrl-C
-    a process pool would still start the calls it had already queued, while
-    here no new run starts and the running solvers, which get the terminal's
-    SIGINT too, close their files as "interrupted" and their rows are kept."""
+    while the GIL is free.  Threads, not worker processes, because a stop
+    must reach every running solver and start no new run: each task polls
+    `stop` (stopping.StopSignals), forwards the signal to its solver and
+    returns an "interrupted" row; tasks not yet started return None."""
+    def collect(row: dict | None) -> None:
+        if row is not None:  # None: not started because of a stop
+            rows.append(row)
+            progress.update(row)
+
     if jobs == 1:
         for payload in payloads:
-            rows.append(execute_task(payload))
-            progress.update(rows[-1])
+            collect(execute_task(payload, stop))
         return
     with ThreadPoolExecutor(max_workers=min(jobs, len(payloads)), thread_name_prefix="slipstrip-run") as pool:
-        futures = [pool.submit(execute_task, p) for p in payloads]
-        collected = set()
-        try:
-            for future in as_completed(futures):
-                rows.append(future.result())
-                collected.add(future)
-                progress.update(rows[-1])
-        except KeyboardInterrupt:
-            pool.shutdown(wait=True, cancel_futures=True)
-            for f in futures:
-                if f not in collected and f.done() and not f.cancelled() and f.exception() is None:
-                    rows.append(f.result())
-                    progress.update(rows[-1])
-            raise
+        for future in as_completed([pool.submit(execute_task, p, stop) for p in payloads]):
+            collect(future.result())
 
 
-def run_dask(payloads: list[dict], address: str, progress: Progress, rows: list[dict]) -> None:
+# How often the Dask client looks at its futures and its stop request [s].
+DASK_POLL_SECONDS = 0.25
+
+
+def run_dask(payloads: list[dict], address: str, progress: Progress, rows: list[dict],
+             stop: Callable[[], int] = never_stop) -> None:
     """The same execute_task on a dask.distributed cluster.  Workers need this
     package importable (with its bindings: events and analysis run in the
     worker), the solver binary at the same path or as SLIPSTRIP_BIN, and the
-    output directory."""
-    from distributed import Client, as_completed as dask_as_completed
+    output directory.
+
+    A stop reaches the workers through a distributed.Variable that every task
+    polls (task.execute_task_on_worker): the scan sets it to the signal it
+    got, each running task sends that signal to its own solver and returns
+    an "interrupted" row, and tasks that had not started return None."""
+    from distributed import Client, Variable, as_completed as dask_as_completed
     with Client(address) as client:
-        futures = client.map(execute_task, payloads, pure=False)
-        for future in dask_as_completed(futures):
-            rows.append(future.result())
-            progress.update(rows[-1])
+        stop_variable = Variable(f"slipstrip-scan-stop-{uuid.uuid4().hex}", client=client)
+        stop_variable.set(0)
+        futures = client.map(execute_task_on_worker, payloads, stop_variable=stop_variable.name, pure=False)
+        pending = dask_as_completed(futures)
+        told = False
+        while not pending.is_empty():
+            if stop() and not told:
+                stop_variable.set(stop())
+                told = True
+            if not pending.has_ready():
+                time.sleep(DASK_POLL_SECONDS)
+                continue
+            for future in pending.next_batch(block=False):
+                row = future.result()
+                if row is not None:
+                    rows.append(row)
+                    progress.update(row)
+        stop_variable.delete()
 
 
 # --------------------------------------------------------------------------- Slurm

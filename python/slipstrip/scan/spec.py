@@ -5,7 +5,8 @@ A scan file names a base config, fixed overrides and varied parameters
 `load_scan` checks it and raises ValueError naming the field, the value and
 what is allowed; `expand_runs` turns it into one RunTask per run, each with
 its `section.key=value` overrides (`slipstrip run --set` syntax) and its run
-file name.  Nothing here runs anything.
+file name; `invalid_runs` checks each run's resolved config with the
+solver's own config reader (the bindings).  Nothing here runs anything.
 """
 from __future__ import annotations
 
@@ -242,3 +243,18 @@ def expand_runs(spec: ScanSpec) -> list[RunTask]:
 def dry_run_lines(spec: ScanSpec) -> list[str]:
     """`scan --dry-run`: one line per run, its file and its overrides."""
     return [f"{task.run_file}  " + " ".join(f"--set {o}" for o in task.overrides) for task in expand_runs(spec)]
+
+
+def invalid_runs(spec: ScanSpec) -> list[str]:
+    """The runs whose config (base config + overrides) the solver would refuse:
+    one line per run, "run <i> (<file>): <the config reader's message>".
+    The same C++ reader as `slipstrip run` (core/config.cpp), so a misspelt
+    key gets its "did you mean" here, before anything runs."""
+    from ..config import Config  # the compiled bindings: only needed here
+    errors = []
+    for task in expand_runs(spec):
+        try:
+            Config.from_file(spec.base_config, list(task.overrides))
+        except ValueError as e:  # slipstrip.ConfigError
+            errors.append(f"run {task.index} ({task.run_file.name}): {e}")
+    return errors

@@ -17,7 +17,7 @@ from .spec import ScanSpec, expand_runs, format_override
 from .task import ANALYSIS_KEYS, execute_task, is_completed, previous_row, read_record, task_payload
 
 # Columns after the varied parameters (`index` comes first).
-STATUS_COLUMNS = ("status", "error", "wall_time_s")
+STATUS_COLUMNS = ("status", "error", "wall_time_s", "resumed")
 TRAILING_COLUMNS = ("analysis_error", "run_file")
 
 SUMMARY_CSV = "summary.csv"
@@ -111,9 +111,10 @@ def collect(spec: ScanSpec, binary: str | None = None, stream: TextIO | None | s
             rows.append(execute_task(payload))
         else:
             status = runfile.read_status(task.run_file)
-            row = {"index": task.index, **task.parameters, "status": "failed" if status else "missing",
+            row = {"index": task.index, **task.parameters,
+                   "status": "interrupted" if status == "interrupted" else "failed" if status else "missing",
                    "error": f"run file status is {status!r}" if status else "no run file",
-                   "wall_time_s": math.nan, **{k: math.nan for k in ANALYSIS_KEYS},
+                   "wall_time_s": math.nan, "resumed": False, **{k: math.nan for k in ANALYSIS_KEYS},
                    "analysis_error": "", "run_file": task.run_file.name}
             record = read_record(task)  # a failed run's own error text is more useful
             if record is not None and record.get("overrides") == list(task.overrides):

@@ -47,14 +47,17 @@ import json
 import math
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
 from .. import runfile
 from .spec import RunTask
+from .stopping import RunBusy, RunLock, exit_code, never_stop, signal_name
 
 REPO = Path(__file__).resolve().parents[3]
 
@@ -211,29 +214,65 @@ def task_payload(task: RunTask, base_config: Path, binary: str, simulate: bool =
     }
 
 
-def _run_solver(cmd: list[str], env: dict) -> tuple[int, str, str]:
-    """Runs the solver to its end.  On Ctrl-C the solver (same process group)
-    gets SIGINT itself and closes its file with status "interrupted"; we wait
-    for that instead of killing it as subprocess.run would after 0.25 s."""
-    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env) as proc:
-        try:
-            out, err = proc.communicate()
-        except KeyboardInterrupt:
+# How often a running task looks for a stop request, and how long a solver
+# that was told to stop may take to write its restart point before it is
+# killed (the solver stops within about a second, core/run.hpp; the rest is
+# margin for a large restart point on a slow file system).
+STOP_POLL_SECONDS = 0.25
+STOP_GRACE_SECONDS = 60.0
+
+
+def _run_solver(cmd: list[str], env: dict, stop_signal: Callable[[], int] = never_stop,
+                lock: RunLock | None = None) -> tuple[int, str, str]:
+    """Runs the solver to its end.  When stop_signal() turns non-zero (the scan
+    got SIGINT or SIGTERM), that signal is sent to the solver, which writes its
+    restart point, closes its file as "interrupted" and exits 128 + signal; we
+    wait for that (at most STOP_GRACE_SECONDS) instead of killing it.  The
+    solver inherits the run's lock, so the lock lasts as long as it runs."""
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                          pass_fds=(lock.fd,) if lock is not None else ()) as proc:
+        if lock is not None:
+            lock.note_holder(proc.pid)
+        told_at = None
+        while True:
             try:
-                proc.wait(timeout=60)  # the solver's clean stop: one last flush of the file
+                out, err = proc.communicate(timeout=STOP_POLL_SECONDS)
+                return proc.returncode, out, err
             except subprocess.TimeoutExpired:
+                pass  # still running: the output read so far is kept by communicate
+            except KeyboardInterrupt:
+                # No StopSignals around this call (a Python caller's own
+                # loop): stop the solver cleanly, then let the caller stop.
+                proc.send_signal(signal.SIGINT)
+                try:
+                    proc.wait(timeout=STOP_GRACE_SECONDS)
+                except subprocess.TimeoutExpired:
+                    proc.kill()
+                raise
+            signum = stop_signal()
+            if signum and told_at is None:
+                proc.send_signal(signum)
+                told_at = time.monotonic()
+            elif told_at is not None and time.monotonic() - told_at > STOP_GRACE_SECONDS:
                 proc.kill()
-            raise
-        return proc.returncode, out, err
 
 
-def _simulate(payload: dict, run_file: Path, binary: str, env: dict) -> str:
-    """Runs (or resumes) the solver for this task; returns "" or the error text."""
+@dataclass
+class SolverOutcome:
+    error: str  # "" if the solver exited 0, else the exit code and its message
+    resumed: bool  # continued from a restart point (not run from t = 0)
+    returncode: int | None  # the solver's exit code (None: no solver ran)
+
+
+def _simulate(payload: dict, run_file: Path, binary: str, env: dict, stop_signal: Callable[[], int],
+              lock: RunLock) -> SolverOutcome:
+    """Runs (or resumes) the solver for this task."""
     cmd = [binary, "run", payload["base_config"]]
     for o in payload["overrides"]:
         cmd += ["--set", o]
     cmd += kernel_cache_override(payload["overrides"], run_file.parent)
     returncode = None
+    resumed = False
     if has_restart_point(run_file):
         # An interrupted run of this scan (Ctrl-C, a Slurm time limit):
         # continue it from its restart point instead of redoing it.  The
@@ -243,55 +282,104 @@ def _simulate(payload: dict, run_file: Path, binary: str, env: dict) -> str:
         # the run is then done again from t = 0.
         record_path(run_file).unlink(missing_ok=True)
         try:
-            returncode, out, err = _run_solver(cmd + ["--resume", str(run_file), "--quiet"], env)
+            returncode, out, err = _run_solver(cmd + ["--resume", str(run_file), "--quiet"], env, stop_signal, lock)
         except OSError as e:
             returncode, out, err = -1, "", f"cannot start {binary}: {e}"
+        resumed = returncode != 2
         if returncode == 2:
             print(f"[scan] run {payload['index']}: {run_file.name} cannot be resumed "
                   f"({tail(err or out)}); running it again", file=sys.stderr)
             returncode = None
-    if returncode is None:
+    if returncode is None and not stop_signal():
         # A file of an earlier attempt must not outlive this one: if this run
         # fails before writing, an old "completed" file would pass for its result.
         run_file.unlink(missing_ok=True)
         restart_point(run_file).unlink(missing_ok=True)
         record_path(run_file).unlink(missing_ok=True)
         try:
-            returncode, out, err = _run_solver(cmd + ["--out", str(run_file), "--quiet"], env)
+            returncode, out, err = _run_solver(cmd + ["--out", str(run_file), "--quiet"], env, stop_signal, lock)
         except OSError as e:
             returncode, out, err = -1, "", f"cannot start {binary}: {e}"
+    if returncode is None:  # stopped between a refused resume and the new start
+        return SolverOutcome(f"not run again: stopped by {signal_name(stop_signal())}", False, None)
     if returncode != 0:
-        return f"slipstrip run exited with code {returncode}: " + (tail(err or out) or "(no message)")
-    return ""
+        return SolverOutcome(f"slipstrip run exited with code {returncode}: " + (tail(err or out) or "(no message)"),
+                             resumed, returncode)
+    return SolverOutcome("", resumed, returncode)
 
 
-def execute_task(payload: dict) -> dict:
+def _earlier_wall_time(payload: dict, run_file: Path) -> float:
+    """Wall time [s] of the earlier parts of an interrupted run, from the row
+    the scan stored when it was interrupted (0 if there is none: e.g. the part
+    ran outside a scan, or the scan was killed before it could write the row)."""
+    try:
+        record = json.loads(record_path(run_file).read_text())
+    except (OSError, json.JSONDecodeError):
+        return 0.0
+    if record.get("status") != "interrupted" or record.get("overrides") != list(payload["overrides"]):
+        return 0.0
+    value = record.get("wall_time_s")
+    return float(value) if isinstance(value, (int, float)) and math.isfinite(value) else 0.0
+
+
+def execute_task(payload: dict, stop_signal: Callable[[], int] = never_stop) -> dict | None:
     """Runs one scan task: `slipstrip run` (unless payload["simulate"] is False),
     event detection and the analysis (in-process); writes the row next to the
     run file as run_<index>.json and returns it.  Never raises for a failing
-    run: the row says status "failed" and the error text."""
-    from ..analysis import run_event_detection
+    run: the row says status "failed" and the error text.
 
+    stop_signal() is polled while the solver runs (stopping.StopSignals, or
+    the Dask scan's stop variable): once non-zero, the solver gets that
+    signal and the row says "interrupted"; a task asked to stop before it
+    starts returns None and touches nothing.  A run whose lock another
+    process holds (stopping.RunLock) is left alone: status "busy", no row
+    written to disk."""
+    if stop_signal():
+        return None
     run_file = Path(payload["run_file"])
     run_file.parent.mkdir(parents=True, exist_ok=True)
     row = {"index": payload["index"], **payload["parameters"],
-           "status": "failed", "error": "", "wall_time_s": math.nan}
+           "status": "failed", "error": "", "wall_time_s": math.nan, "resumed": False}
     row.update({k: math.nan for k in ANALYSIS_KEYS})
     row["analysis_error"] = ""
     row["run_file"] = run_file.name
+    try:
+        with RunLock(run_file) as lock:
+            _execute_locked(payload, run_file, row, stop_signal, lock)
+    except RunBusy as e:
+        row["status"] = "busy"
+        row["error"] = (f"{run_file.name} is being written by another process ({e}; e.g. the solver of an "
+                        "earlier scan that was killed and runs on): left alone; wait for that process to end "
+                        "or stop it with `kill -TERM <pid>` (it writes a restart point), then relaunch")
+    return row
 
+
+def _execute_locked(payload: dict, run_file: Path, row: dict, stop_signal: Callable[[], int],
+                    lock: RunLock) -> None:
+    from ..analysis import run_event_detection
+
+    stopped = False  # the solver ended on the scan's stop (maybe still in its set-up: then no file)
     if payload.get("simulate", True):
         env = dict(os.environ)
         if payload.get("threads"):
             env["OMP_NUM_THREADS"] = str(payload["threads"])
+        earlier = _earlier_wall_time(payload, run_file)
         start = time.monotonic()
-        row["error"] = _simulate(payload, run_file, payload.get("binary") or find_binary(), env)
-        row["wall_time_s"] = time.monotonic() - start
+        outcome = _simulate(payload, run_file, payload.get("binary") or find_binary(), env, stop_signal, lock)
+        # A resumed run's wall time counts every part the scan measured.
+        row["wall_time_s"] = time.monotonic() - start + (earlier if outcome.resumed else 0.0)
+        row["error"], row["resumed"] = outcome.error, outcome.resumed
+        stopped = bool(stop_signal()) and outcome.returncode in (None, exit_code(stop_signal()))
     else:
         row["wall_time_s"] = runfile.wall_seconds(run_file)
 
     status = runfile.read_status(run_file)
-    if not row["error"] and status != "completed":
+    if status == "interrupted" or stopped:
+        # Stopped by a signal (the scan's, forwarded, or one sent to the
+        # solver itself): the restart point is kept and a relaunch resumes it.
+        row["status"] = "interrupted"
+        row["error"] = row["error"] or "run file status is 'interrupted'"
+    elif not row["error"] and status != "completed":
         row["error"] = f"run file status is {status!r}" if status is not None else "no run file written"
     if not row["error"]:
         row["status"] = "completed"
@@ -306,4 +394,11 @@ def execute_task(payload: dict) -> dict:
     if details:
         record["analysis_details"] = details
     write_json(record_path(run_file), record)
-    return row
+
+
+def execute_task_on_worker(payload: dict, stop_variable: str) -> dict | None:
+    """execute_task in a Dask worker: the stop request is the scan's
+    distributed.Variable `stop_variable` (0, or the signal the scan got)."""
+    from distributed import Variable
+    variable = Variable(stop_variable)
+    return execute_task(payload, lambda: int(variable.get()))
