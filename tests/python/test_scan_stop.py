@@ -10,7 +10,7 @@ and exited 1; SIGTERM ended the scan at once and left its solver running;
 a relaunch ran a second writer on the orphan's file; a Dask scan left its
 workers' solvers running.
 
-Runs: configs/quickstart.toml at N = 64 for 400 L/c_s (~6 s of wall time on
+Runs: configs/quickstart.toml at N = 64 for 200 L/c_s (~3 s of wall time on
 a quiet core), long enough to be signalled mid-run.
 
 Run: /usr/bin/python3 -m pytest tests/python/test_scan_stop.py
@@ -32,7 +32,7 @@ sys.path.insert(0, str(REPO / "python"))
 scan = importlib.import_module("slipstrip.scan")
 runfile = importlib.import_module("slipstrip.runfile")
 
-LONG = {"geometry.nodes": 64, "time.duration_transits": 400, "output.snapshot_interval": 0}
+LONG = {"geometry.nodes": 64, "time.duration_transits": 200, "output.snapshot_interval": 0}
 WAIT_SECONDS = 120  # upper bound on anything here; a loaded machine is slow, a hung scan fails the test
 
 
