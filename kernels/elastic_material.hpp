@@ -1,5 +1,8 @@
 #pragma once
-// Isotropic linear-elastic bulk of the two identical strips (SI units).
+// Isotropic linear-elastic bulk of a body (SI units), and which deformation
+// the interface problem poses: in-plane (plane strain or plane stress; slip
+// along x, P and SV waves) or antiplane (slip along z, SH waves only;
+// docs/bodies.md).
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -8,10 +11,10 @@
 
 namespace slipstrip {
 
-enum class PlaneCondition { strain, stress };
+enum class PlaneCondition { strain, stress, antiplane };
 // The one spelling of each PlaneCondition (index = enumerator value), used by
-// the config schema and the Python binding.
-inline constexpr std::string_view kPlaneConditionNames[] = {"strain", "stress"};
+// the config schema, the kernel cache key and the Python binding.
+inline constexpr std::string_view kPlaneConditionNames[] = {"strain", "stress", "antiplane"};
 
 // Allowed Poisson ratios: 0 < nu < 0.5 (both exclusive).  nu -> 0.5 makes the
 // plane-strain c_d (and wave_speed_ratio_squared) infinite; nu <= 0 is
@@ -29,12 +32,14 @@ struct ElasticMaterial {
 
   double shear_wave_speed() const { return std::sqrt(shear_modulus / density); }
   // c_d^2/c_s^2: plane strain 2(1-nu)/(1-2nu); plane stress 2/(1-nu) (in-plane
-  // P wave of a thin plate).
+  // P wave of a thin plate).  An antiplane body is a body invariant in z, so
+  // its P wave (which the SH problem never excites) is the plane-strain one.
   double wave_speed_ratio_squared() const {
     const double nu = poisson_ratio;
-    return plane == PlaneCondition::strain ? 2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)
-                                           : 2.0 / (1.0 - nu);
+    return plane == PlaneCondition::stress ? 2.0 / (1.0 - nu)
+                                           : 2.0 * (1.0 - nu) / (1.0 - 2.0 * nu);
   }
+  bool antiplane() const { return plane == PlaneCondition::antiplane; }
   double dilatational_wave_speed() const {
     return shear_wave_speed() * std::sqrt(wave_speed_ratio_squared());
   }
@@ -42,7 +47,7 @@ struct ElasticMaterial {
   double effective_modulus() const {
     const double nu = poisson_ratio;
     const double E = 2.0 * shear_modulus * (1.0 + nu);
-    return plane == PlaneCondition::strain ? E / (1.0 - nu * nu) : E;
+    return plane == PlaneCondition::stress ? E : E / (1.0 - nu * nu);
   }
 };
 

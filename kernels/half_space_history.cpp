@@ -49,7 +49,10 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
     block_centre_ = 0.5 * (block_ + 1);
   }
   const double mu = material.shear_modulus, cs = material.shear_wave_speed();
-  const double r2 = 1.0 / material.wave_speed_ratio_squared();
+  // In-plane or antiplane (SH) kernel: the same machinery, another universal
+  // function g (kernels/half_space_kernel.hpp); antiplane has no P branch.
+  const HalfSpaceShape shape = half_space_shape(material);
+  const double static_value = half_space_static_value(shape);
   eta_ = mu / (2.0 * cs);
   const int n_modes = nodes / 2 + 1;
 
@@ -66,10 +69,10 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
   double tau_near_max = 0.0;
   for (int q = 1; q < n_modes; ++q) tau_near_max = std::max(tau_near_max, window[q] * h_[q]);
   const ExponentialSum near =
-      n_modes > 1 ? half_space_exponential_sum(r2, h_[1], 2.0 * tau_near_max + 1.0, 10)
+      n_modes > 1 ? half_space_exponential_sum(shape, h_[1], 2.0 * tau_near_max + 1.0, 10)
                   : ExponentialSum{};
   const ExponentialSum far =
-      half_space_exponential_sum(r2, design.near_field_tau, design.horizon_tau, 8);
+      half_space_exponential_sum(shape, design.near_field_tau, design.horizon_tau, 8);
 
   // Per-mode coefficients (independent across modes: computed in parallel into
   // per-mode vectors, then flattened).
@@ -93,13 +96,13 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
     try {
       const double h = h_[q];
       const double scale = mu / cs * h;  // dt mu |k|
-      static_weight_[q] = scale * (1.0 - r2);
-      const auto e = half_space_passivity_correction(r2, h, lags_, design.passivity_margin);
+      static_weight_[q] = scale * static_value;
+      const auto e = half_space_passivity_correction(shape, h, lags_, design.passivity_margin);
       correction[q] = e;
       auto& w = lag_weight[q];
       w.resize(window[q]);
       for (int j = 1; j <= window[q]; ++j) {
-        w[j - 1] = scale * (evaluate(near, j * h) - (1.0 - r2));
+        w[j - 1] = scale * (evaluate(near, j * h) - static_value);
         if (j <= lags_) w[j - 1] += mu / cs * e[j - 1];
       }
       const double shift_tau = window[q] * h;
@@ -169,7 +172,9 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
     first_slow_.push_back(slow_decay_.size());
   }
   rotation_.assign(static_cast<std::size_t>(block_) * n_modes * 2, 0.0);
-  const double b_pressure = std::sqrt(1.0 / r2);  // c_d / c_s: the P branch's frequency
+  // c_d / c_s: the P branch's frequency (antiplane: no P poles, the table's
+  // second column multiplies zero moments).
+  const double b_pressure = std::sqrt(1.0 / shape.speed_ratio_squared);
   for (int t = 1; t <= block_; ++t)
     for (int q = 0; q < n_modes; ++q) {
       const std::size_t at = (static_cast<std::size_t>(t - 1) * n_modes + q) * 2;

@@ -52,7 +52,14 @@ GaussRule gauss_legendre(int n) {
 // principal one, whose own cut (pointing left from its branch point) is not
 // crossed here; this is the continuation of G from Re p > 0 with all four cuts
 // turned horizontal.
-complex relaxation_on_cut(double r2, bool shear_branch, double x, int side) {
+complex relaxation_on_cut(const HalfSpaceShape& shape, bool shear_branch, double x, int side) {
+  const double r2 = shape.speed_ratio_squared;
+  if (shape.antiplane) {
+    // G = (a_s / p - 1) / 2: only the shear branch point i (and -i).
+    const complex zeta(-x, 1.0);
+    const complex alpha_s = complex(0.0, side * std::sqrt(x)) * std::sqrt(zeta + complex(0.0, 1.0));
+    return 0.5 * (alpha_s / zeta - 1.0);
+  }
   const double r = std::sqrt(r2);
   const double b = shear_branch ? 1.0 : 1.0 / r;
   const complex zeta(-x, b);
@@ -78,9 +85,41 @@ complex half_space_relaxation_transform(double r2, complex p) {
 
 double half_space_initial_slope(double r2) { return 1.75 - 2.0 * std::sqrt(r2); }
 
+HalfSpaceShape half_space_shape(const ElasticMaterial& material) {
+  return {1.0 / material.wave_speed_ratio_squared(), material.antiplane()};
+}
+
+complex half_space_relaxation_transform(const HalfSpaceShape& shape, complex p) {
+  if (!shape.antiplane) return half_space_relaxation_transform(shape.speed_ratio_squared, p);
+  // (sqrt(1 + p^2)/p - 1)/2 written without the cancellation of two O(1)
+  // terms at large p: sqrt(1+p^2)/p - 1 = 1 / (p (sqrt(1+p^2) + p)).
+  const complex a = std::sqrt(1.0 + p * p);
+  return 0.5 / (p * (a + p));
+}
+
+double half_space_static_value(const HalfSpaceShape& shape) {
+  return shape.antiplane ? 0.5 : 1.0 - shape.speed_ratio_squared;
+}
+
+double half_space_initial_slope(const HalfSpaceShape& shape) {
+  return shape.antiplane ? 0.25 : half_space_initial_slope(shape.speed_ratio_squared);
+}
+
+double half_space_fourth_coefficient(const HalfSpaceShape& shape) {
+  // In-plane: 19/16 - 1/r (docs/theory.md 8.1).  Antiplane:
+  // (sqrt(1 + 1/p^2) - 1)/2 = 1/(4 p^2) - 1/(16 p^4) + ...
+  return shape.antiplane ? -0.0625 : 1.1875 - 1.0 / std::sqrt(shape.speed_ratio_squared);
+}
+
 ExponentialSum half_space_exponential_sum(double r2, double tau_min, double tau_max,
                                           int nodes_per_panel) {
-  if (!(r2 > 0.0 && r2 < 1.0))
+  return half_space_exponential_sum(HalfSpaceShape{r2, false}, tau_min, tau_max, nodes_per_panel);
+}
+
+ExponentialSum half_space_exponential_sum(const HalfSpaceShape& shape, double tau_min,
+                                          double tau_max, int nodes_per_panel) {
+  const double r2 = shape.speed_ratio_squared;
+  if (!shape.antiplane && !(r2 > 0.0 && r2 < 1.0))
     throw std::invalid_argument("half_space_exponential_sum: c_s^2/c_d^2 = " + std::to_string(r2) +
                                 " must lie in (0, 1)");
   if (!(tau_min > 0.0 && tau_max > tau_min))
@@ -101,9 +140,10 @@ ExponentialSum half_space_exponential_sum(double r2, double tau_min, double tau_
   const auto rule = gauss_legendre(nodes_per_panel);
 
   ExponentialSum sum;
-  sum.static_value = 1.0 - r2;
-  const double b_values[2] = {1.0, 1.0 / std::sqrt(r2)};
-  for (int branch = 0; branch < 2; ++branch) {
+  sum.static_value = half_space_static_value(shape);
+  const double b_values[2] = {1.0, shape.antiplane ? 0.0 : 1.0 / std::sqrt(r2)};
+  const int branches = shape.antiplane ? 1 : 2;
+  for (int branch = 0; branch < branches; ++branch) {
     const bool shear = branch == 0;
     for (std::size_t p = 0; p + 1 < edges.size(); ++p) {
       const double a = edges[p], c = edges[p + 1];
@@ -112,7 +152,7 @@ ExponentialSum half_space_exponential_sum(double r2, double tau_min, double tau_
         const double w = 0.5 * (c - a) * rule.weight[j];
         const double x = u * u;
         const complex jump =
-            relaxation_on_cut(r2, shear, x, +1) - relaxation_on_cut(r2, shear, x, -1);
+            relaxation_on_cut(shape, shear, x, +1) - relaxation_on_cut(shape, shear, x, -1);
         const complex density = -jump / complex(0.0, 2.0 * pi);
         sum.rate.emplace_back(-x, b_values[branch]);
         sum.amplitude.push_back(w * 2.0 * u * density);

@@ -23,9 +23,28 @@
 
 namespace slipstrip {
 
+// Which universal relaxation function: the in-plane one above (material
+// through r^2 = c_s^2/c_d^2) or the antiplane (SH) one of two identical
+// half-spaces (docs/bodies.md),
+//     G(p) = (sqrt(1 + p^2) / p - 1) / 2,   g(tau) = (int_0^tau J0 - J1(tau)) / 2,
+// with the shear branch points p = +-i only, g(inf) = 1/2 (static stiffness
+// mu |k| / 2), g'(0) = 1/4.
+struct HalfSpaceShape {
+  double speed_ratio_squared = 0.0;  // r^2 (in-plane only)
+  bool antiplane = false;
+};
+HalfSpaceShape half_space_shape(const ElasticMaterial& material);
+
 // G(p) above, for Re p >= 0 (on the imaginary axis: the limit from Re p > 0).
 std::complex<double> half_space_relaxation_transform(double speed_ratio_squared,
                                                      std::complex<double> p);
+std::complex<double> half_space_relaxation_transform(const HalfSpaceShape& shape,
+                                                     std::complex<double> p);
+// g(inf): the residue of G at p = 0 (1 - r^2 in-plane, 1/2 antiplane).
+double half_space_static_value(const HalfSpaceShape& shape);
+// G(p) = c2/p^2 + c4/p^4 + O(p^-6) for large p: c2 = g'(0), c4.
+double half_space_initial_slope(const HalfSpaceShape& shape);
+double half_space_fourth_coefficient(const HalfSpaceShape& shape);
 
 // g(tau) ~= static_value + 2 Re sum_j amplitude_j exp(rate_j tau)  for
 // tau in [tau_min, tau_max].  Obtained by deforming the Bromwich contour onto
@@ -42,6 +61,9 @@ struct ExponentialSum {
 // nodes_per_panel = 10 gives |error| < ~1e-11 for tau in [tau_min, tau_max]
 // (tests/cpp/test_kernels_half_space_kernel.cpp measures it).
 ExponentialSum half_space_exponential_sum(double speed_ratio_squared, double tau_min,
+                                          double tau_max, int nodes_per_panel = 10);
+// The same for either shape (antiplane: the shear branch only).
+ExponentialSum half_space_exponential_sum(const HalfSpaceShape& shape, double tau_min,
                                           double tau_max, int nodes_per_panel = 10);
 
 double evaluate(const ExponentialSum& sum, double tau);

@@ -44,7 +44,7 @@ std::string strip_kernel_key(const ElasticMaterial& m, double strip_height, doub
   return std::string(kFormat) + "; shear_modulus=" + full_precision(m.shear_modulus) +
          "; poisson_ratio=" + full_precision(m.poisson_ratio) + "; density=" +
          full_precision(m.density) + "; plane=" +
-         (m.plane == PlaneCondition::strain ? "strain" : "stress") +
+         std::string(kPlaneConditionNames[static_cast<std::size_t>(m.plane)]) +
          "; height=" + full_precision(strip_height) + "; length=" + full_precision(length) +
          "; nodes=" + std::to_string(nodes) + "; time_step=" + full_precision(time_step);
 }

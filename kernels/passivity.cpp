@@ -160,19 +160,23 @@ std::pair<double, double> golden_section_minimum(F&& f, double lo, double hi) {
 }  // namespace
 
 double sampled_half_space_real_part(double r2, double h, double theta) {
+  return sampled_half_space_real_part(HalfSpaceShape{r2, false}, h, theta);
+}
+
+double sampled_half_space_real_part(const HalfSpaceShape& shape, double h, double theta) {
   constexpr double two_pi = 2.0 * std::numbers::pi;
   // Re G(i w) = -c2 / w^2 + c4 / w^4 + O(w^-6) for w > c_d / c_s: the two
   // leading terms are summed over all aliases in closed form, the O(w^-6)
   // remainder over |m| <= 8 (the rest is < 1e-10 (c_s k dt)^6).
+  // (Antiplane: w > 1 and the coefficients of kernels/half_space_kernel.hpp.)
   constexpr int M = 8;
-  const double r = std::sqrt(r2);
-  const double c2 = half_space_initial_slope(r2), c4 = 1.1875 - 1.0 / r;
+  const double c2 = half_space_initial_slope(shape), c4 = half_space_fourth_coefficient(shape);
   auto remainder = [&](double omega) {
     const double w2 = omega * omega;
-    return half_space_relaxation_transform(r2, std::complex<double>(0.0, omega)).real() + c2 / w2 -
+    return half_space_relaxation_transform(shape, std::complex<double>(0.0, omega)).real() + c2 / w2 -
            c4 / (w2 * w2);
   };
-  double value = 0.5 + half_space_relaxation_transform(r2, std::complex<double>(0.0, theta / h)).real();
+  double value = 0.5 + half_space_relaxation_transform(shape, std::complex<double>(0.0, theta / h)).real();
   for (int m = 1; m <= M; ++m)
     value += remainder((theta + two_pi * m) / h) + remainder((theta - two_pi * m) / h);
   const auto sums = alias_sums(theta);
@@ -181,6 +185,11 @@ double sampled_half_space_real_part(double r2, double h, double theta) {
 }
 
 std::vector<double> half_space_passivity_correction(double r2, double h, int lags, double margin) {
+  return half_space_passivity_correction(HalfSpaceShape{r2, false}, h, lags, margin);
+}
+
+std::vector<double> half_space_passivity_correction(const HalfSpaceShape& shape, double h, int lags,
+                                                    double margin) {
   constexpr double pi = std::numbers::pi;
   // The exact Re Z vanishes on (0, h) and touches zero at sqrt(2) h; both lie
   // in (0, 2.5 h), which gets a dense grid of its own.
@@ -193,8 +202,12 @@ std::vector<double> half_space_passivity_correction(double r2, double h, int lag
   // Re Z has square-root cusps at the branch points w = c_s k and c_d k and
   // touches zero at w = sqrt(2) c_s k: a minimum of Re Z_d can sit exactly
   // there, so those points and geometric clusters around them are constraints.
-  const double r = std::sqrt(r2);
-  for (double singular : {h, std::sqrt(2.0) * h, h / r}) {
+  // (Antiplane: the one cusp at w = c_s k; Re Z > 0 above it.)
+  std::vector<double> singular_points{h};
+  if (!shape.antiplane)
+    singular_points.insert(singular_points.end(),
+                           {std::sqrt(2.0) * h, h / std::sqrt(shape.speed_ratio_squared)});
+  for (double singular : singular_points) {
     if (singular >= pi) continue;
     if (singular != h) theta.push_back(singular);
     for (int k = 1; k <= 12; ++k)
@@ -209,7 +222,7 @@ std::vector<double> half_space_passivity_correction(double r2, double h, int lag
   };
   std::vector<Point> points;
   points.reserve(theta.size());
-  for (double t : theta) points.push_back({t, sampled_half_space_real_part(r2, h, t)});
+  for (double t : theta) points.push_back({t, sampled_half_space_real_part(shape, h, t)});
   auto by_theta = [](const Point& x, const Point& y) { return x.theta < y.theta; };
   std::sort(points.begin(), points.end(), by_theta);
 
@@ -251,12 +264,12 @@ std::vector<double> half_space_passivity_correction(double r2, double h, int lag
       const double lo = i == 0 ? 0.5 * points[0].theta : points[i - 1].theta;
       const double hi = i + 1 == rows ? 0.5 * (points[i].theta + pi) : points[i + 1].theta;
       const auto [t_min, f_min] = golden_section_minimum(
-          [&](double t) { return corrected(e, t, sampled_half_space_real_part(r2, h, t)); }, lo, hi);
+          [&](double t) { return corrected(e, t, sampled_half_space_real_part(shape, h, t)); }, lo, hi);
       // (the QP meets its constraints to ~1e-13, so only a clear miss counts)
       if (f_min < 0.5 * margin) added.push_back(t_min);
     }
     if (added.empty()) return e;
-    for (double t : added) points.push_back({t, sampled_half_space_real_part(r2, h, t)});
+    for (double t : added) points.push_back({t, sampled_half_space_real_part(shape, h, t)});
     std::sort(points.begin(), points.end(), by_theta);
   }
   throw fail();

@@ -14,6 +14,8 @@
 #include <span>
 #include <vector>
 
+#include "kernels/half_space_kernel.hpp"
+
 namespace slipstrip {
 
 // --- Time-step limits of passivity (beta = c_s dt / dx) ----------------------
@@ -43,12 +45,16 @@ std::vector<double> minimum_norm_point(std::span<const double> C, std::span<cons
 // formula: Re Z(i theta / h) plus the aliases Re G(i (theta + 2 pi m) / h),
 // m != 0 (|m| <= 64 summed, the rest from the asymptotic tail).
 double sampled_half_space_real_part(double speed_ratio_squared, double h, double theta);
+double sampled_half_space_real_part(const HalfSpaceShape& shape, double h, double theta);
 
 // Corrections e_1..e_lags (units mu / c_s) to add to the sampled weights
 // K_j / (mu / c_s) = h g(j h) so that Re Z_d >= margin on a grid that resolves
 // the lossless band (0, 2.5 h) and the whole circle.  Throws
 // std::runtime_error when no such correction exists (h too large).
 std::vector<double> half_space_passivity_correction(double speed_ratio_squared, double h,
+                                                    int lags, double margin);
+// The same for either shape (in-plane or antiplane, kernels/half_space_kernel.hpp).
+std::vector<double> half_space_passivity_correction(const HalfSpaceShape& shape, double h,
                                                     int lags, double margin);
 
 }  // namespace slipstrip

@@ -1,5 +1,7 @@
 #include "kernels/strip_response.hpp"
 
+#include "kernels/antiplane_response.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -44,6 +46,7 @@ complex shear_comb_response(const ElasticMaterial& material, double strip_height
 
 complex strip_response(const ElasticMaterial& material, double strip_height, double wavenumber,
                        complex s) {
+  if (material.antiplane()) return antiplane_strip_response(material, strip_height, wavenumber, s);
   const double k = std::abs(wavenumber);
   const double mu = material.shear_modulus;
   const double cs = material.shear_wave_speed();
@@ -75,6 +78,7 @@ complex half_space_response(const ElasticMaterial& material, double wavenumber, 
 
 double strip_static_stiffness(const ElasticMaterial& material, double strip_height,
                               double wavenumber) {
+  if (material.antiplane()) return antiplane_static_stiffness(material, strip_height, wavenumber);
   const double mu = material.shear_modulus;
   const double k = std::abs(wavenumber);
   const double factor = 1.0 - 1.0 / material.wave_speed_ratio_squared();
@@ -96,6 +100,8 @@ double strip_static_stiffness(const ElasticMaterial& material, double strip_heig
 
 std::vector<StripMode> strip_modes(const ElasticMaterial& material, double strip_height,
                                    double wavenumber, double max_frequency) {
+  if (material.antiplane())
+    return antiplane_strip_modes(material, strip_height, wavenumber, max_frequency);
   if (is_half_space(strip_height))
     throw std::invalid_argument("strip_modes: a half-space has no discrete normal modes");
   const double mu = material.shear_modulus;

@@ -2,6 +2,10 @@
 // Elastodynamic response of two identical strips of height H bonded by a
 // frictional interface, for the antisymmetric (mode-II) perturbation about
 // steady sliding.  See docs/theory.md for the derivation and the symbols.
+// For an antiplane material (PlaneCondition::antiplane) strip_response,
+// strip_static_stiffness and strip_modes give the antiplane (mode-III) pair
+// instead (kernels/antiplane_response.hpp, docs/bodies.md), so every operator
+// built from them serves both.
 //
 // Convention: the Fourier-Laplace shear-traction perturbation on the interface is
 //     tau^(k, s) = - S(k, s; H) * slip^(k, s),

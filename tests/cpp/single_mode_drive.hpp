@@ -58,4 +58,24 @@ inline std::vector<double> single_mode_stress(HistoryOperator& history, double r
   return stress;
 }
 
+// Free ringing of mode q after a short smooth load pulse (sin^4 over `pulse`
+// steps, amplitude 1e6 Pa): a free interface, eta v_n = load_n - history_q(t_n).
+// Returns the mean square of v_n over consecutive windows of `window` steps.
+inline std::vector<double> free_ringing_mean_square(HistoryOperator& op, int q, int steps, int window,
+                                                    int pulse) {
+  const double pi = std::numbers::pi;
+  const double eta = op.radiation_damping();
+  std::vector<std::complex<double>> spectrum(op.modes(), 0.0);
+  std::vector<double> mean_square(steps / window, 0.0);
+  for (int n = 0; n < steps; ++n) {
+    const double load = n < pulse ? std::pow(std::sin(pi * n / pulse), 4) * 1e6 : 0.0;
+    const double history = n == 0 ? 0.0 : op.history()[q].real();
+    const double v = (load - history) / eta;
+    mean_square[n / window] += v * v / window;
+    spectrum[q] = v;
+    op.push(spectrum);
+  }
+  return mean_square;
+}
+
 }  // namespace slipstrip::testing

@@ -75,6 +75,7 @@ TEST_CASE("block operator = modal operator, white input, many blocks") {
       {PlaneCondition::strain, 0.1, 0.8, 32, 0.25},
       {PlaneCondition::strain, 0.4, 0.8, 16, 0.3},
       {PlaneCondition::stress, 0.05, 1.0, 32, 0.25},
+      {PlaneCondition::antiplane, 0.2, 0.8, 16, 0.3},
   };
   for (const auto& g : cases) {
     for (BlockHistoryDesign design : {BlockHistoryDesign{8, 64, 14}, BlockHistoryDesign{4, 16, 14},

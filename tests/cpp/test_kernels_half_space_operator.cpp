@@ -132,7 +132,7 @@ double real_part(const HalfSpaceModeKernel& k, double eta, double theta) {
 }  // namespace
 
 TEST_CASE("half-space operator is passive: Re Z_d >= 0 on the unit circle, every mode") {
-  for (auto plane : {PlaneCondition::strain, PlaneCondition::stress}) {
+  for (auto plane : {PlaneCondition::strain, PlaneCondition::stress, PlaneCondition::antiplane}) {
     const auto m = table_s1(plane);
     const double cs = m.shear_wave_speed(), mu = m.shear_modulus;
     const int N = 256;
@@ -156,7 +156,7 @@ TEST_CASE("half-space operator is passive: Re Z_d >= 0 on the unit circle, every
         }
       }
     }
-    MESSAGE((plane == PlaneCondition::strain ? "strain" : "stress")
+    MESSAGE(kPlaneConditionNames[static_cast<std::size_t>(plane)]
             << ": min Re Z_d / (mu/c_s) = " << worst << " at c_s k dt = " << worst_h
             << ", theta = " << worst_theta);
     // Re Z is exactly 0 below the shear-wave frequency, so the bound is a
@@ -216,18 +216,7 @@ TEST_CASE("half-space operator: free ringing after a pulse never grows") {
   const double L = 1.0, dt = 0.35 * (L / N) / cs;
   for (int q : {2, 8, 32}) {
     HalfSpaceHistory op(m, L, N, dt);
-    const double eta = op.radiation_damping();
-    std::vector<cplx> spectrum(N / 2 + 1, 0.0);
-    const int steps = 40000, window = 4000, pulse = 40;
-    std::vector<double> mean_square(steps / window, 0.0);
-    for (int n = 0; n < steps; ++n) {
-      const double load = n < pulse ? std::pow(std::sin(pi * n / pulse), 4) * 1e6 : 0.0;
-      const double history = n == 0 ? 0.0 : op.history()[q].real();
-      const double v = (load - history) / eta;
-      mean_square[n / window] += v * v / window;
-      spectrum[q] = v;
-      op.push(spectrum);
-    }
+    const auto mean_square = testing::free_ringing_mean_square(op, q, 40000, 4000, 40);
     const double h = op.mode_kernel(q).h;
     MESSAGE("q = " << q << " (c_s k dt = " << h << "): mean-square slip rate, window 2 -> last: "
                    << mean_square[1] << " -> " << mean_square.back());
@@ -254,11 +243,11 @@ double prescribed_slip_error(PlaneCondition plane, double k, int steps_per_unit,
 }  // namespace
 
 TEST_CASE("half-space operator: prescribed slip matches the exact response, second order") {
-  for (auto plane : {PlaneCondition::strain, PlaneCondition::stress}) {
+  for (auto plane : {PlaneCondition::strain, PlaneCondition::stress, PlaneCondition::antiplane}) {
     const double k = 2 * pi;  // any k: the problem is self-similar in c_s k t
     const double coarse = prescribed_slip_error(plane, k, 8, 300.0);
     const double fine = prescribed_slip_error(plane, k, 16, 300.0);
-    MESSAGE((plane == PlaneCondition::strain ? "strain" : "stress")
+    MESSAGE(kPlaneConditionNames[static_cast<std::size_t>(plane)]
             << ": relative L2 error over c_s k t in [0, 300]: " << coarse << " (c_s k dt = 1/8), "
             << fine << " (1/16), ratio " << coarse / fine);
     CHECK(fine < 1e-3);

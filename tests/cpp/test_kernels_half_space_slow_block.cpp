@@ -135,7 +135,8 @@ TEST_CASE("slow exponentials: the same history as rotating every exponential, ov
     double radius, beta;
   };
   for (const Case c : {Case{PlaneCondition::strain, 128, 12, 0.25, 0.25}, Case{PlaneCondition::stress, 64, 12, 0.25, 0.35},
-                       Case{PlaneCondition::strain, 16, 16, 0.5, 0.3}, Case{PlaneCondition::strain, 256, 20, 1.0, 0.25}}) {
+                       Case{PlaneCondition::strain, 16, 16, 0.5, 0.3}, Case{PlaneCondition::strain, 256, 20, 1.0, 0.25},
+                       Case{PlaneCondition::antiplane, 128, 12, 0.25, 0.35}}) {
     const auto m = material(c.plane);
     const int N = 128;
     const double L = 4.0, dt = c.beta * (L / N) / m.shear_wave_speed();

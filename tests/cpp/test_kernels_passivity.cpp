@@ -198,7 +198,7 @@ TEST_CASE("the test cases cover odd and even echo step counts M") {
 }
 
 TEST_CASE("discrete operator is positive real: every weight <= 0 and Re Z_d > 0 outside |z| = 1") {
-  for (auto plane : {PlaneCondition::strain, PlaneCondition::stress}) {
+  for (auto plane : {PlaneCondition::strain, PlaneCondition::stress, PlaneCondition::antiplane}) {
     ElasticMaterial material;
     material.plane = plane;
     for (const auto& c : cases) {
@@ -207,7 +207,7 @@ TEST_CASE("discrete operator is positive real: every weight <= 0 and Re Z_d > 0 
       for (int q : wavenumber_indices(c.nodes)) {
         const double k = 2 * pi * q / c.length;
         const auto modes = discrete_modes(material, c.height, k, d.dt, d.echo_steps);
-        INFO("plane " << (plane == PlaneCondition::strain ? "strain" : "stress") << ", H = "
+        INFO("plane " << kPlaneConditionNames[static_cast<std::size_t>(plane)] << ", H = "
                       << c.height << ", N = " << c.nodes << ", M = " << d.echo_steps
                       << ", q = " << q << ", kH = " << k * c.height);
         // Foster coefficient -w dt/4 at e^{+-i phi} must be >= 0.
@@ -228,7 +228,7 @@ TEST_CASE("discrete operator is positive real: every weight <= 0 and Re Z_d > 0 
           worst[i] = std::min(worst[i], p.min_re_over_scale);
         }
       }
-      MESSAGE((plane == PlaneCondition::strain ? "strain" : "stress")
+      MESSAGE(kPlaneConditionNames[static_cast<std::size_t>(plane)]
               << " M = " << d.echo_steps << ": min Re Z_d / scale over q, theta: r=1.0005 "
               << worst[0] << ", r=1.01 " << worst[1] << ", r=1.2 " << worst[2]);
     }
@@ -276,7 +276,7 @@ TEST_CASE("static limit of the discrete operator equals strip_static_stiffness")
   // cancel), so the rounding bound is on the magnitude: recursive summation of
   // n terms errs by at most n eps sum|terms|, and the sum is formed twice
   // (in discrete_modes and here).  The relative-to-S error is reported.
-  for (auto plane : {PlaneCondition::strain, PlaneCondition::stress}) {
+  for (auto plane : {PlaneCondition::strain, PlaneCondition::stress, PlaneCondition::antiplane}) {
     ElasticMaterial material;
     material.plane = plane;
     const double mu = material.shear_modulus;
