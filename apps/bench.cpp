@@ -12,7 +12,7 @@
 #include <limits>
 #include <string>
 
-#include "core/simulation.hpp"
+#include "solver/simulation.hpp"
 #include "kernels/block_strip_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/elastic_material.hpp"

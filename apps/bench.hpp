@@ -2,7 +2,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/simulation_config.hpp"
+#include "config/simulation_config.hpp"
 
 namespace slipstrip {
 

@@ -25,16 +25,16 @@
 #include <vector>
 
 #include "apps/bench.hpp"
-#include "core/checkpoint.hpp"
-#include "core/config.hpp"
-#include "core/config_schema.hpp"
-#include "core/resource_estimate.hpp"
-#include "core/run.hpp"
-#include "core/run_output.hpp"
+#include "solver/checkpoint.hpp"
+#include "config/config.hpp"
+#include "config/config_schema.hpp"
+#include "config/resource_estimate.hpp"
+#include "solver/run.hpp"
+#include "solver/run_output.hpp"
 #include "kernels/history_convolution.hpp"
-#include "core/steady_sliding.hpp"
+#include "stability/steady_sliding.hpp"
 #include "events/catalog_io.hpp"
-#include "friction/linear_stability.hpp"
+#include "stability/linear_stability.hpp"
 #include "slipstrip/version.hpp"
 
 namespace {
@@ -393,7 +393,7 @@ int forward_to_python(const std::string& command, const std::vector<std::string>
 }
 
 // docs/config.md's key tables are generated from the config schema
-// (core/config_schema.hpp): rewrite them in place, or with --check report
+// (config/config_schema.hpp): rewrite them in place, or with --check report
 // (exit 1) that the file differs from what the schema gives.
 int config_docs_command(const std::string& path, bool check) {
   std::ifstream in(path, std::ios::binary);
@@ -410,7 +410,7 @@ int config_docs_command(const std::string& path, bool check) {
     while (std::getline(want, want_line) && std::getline(have, have_line) && want_line == have_line)
       ++line;
     std::fprintf(stderr,
-                 "error: %s is out of date with the config schema (core/config_schema.cpp), first "
+                 "error: %s is out of date with the config schema (config/config_schema.cpp), first "
                  "at line %d: run `slipstrip config-docs %s`\n",
                  path.c_str(), line, path.c_str());
     return 1;
@@ -424,7 +424,7 @@ int config_docs_command(const std::string& path, bool check) {
   return 0;
 }
 
-// The config's spelling of the history algorithms (core/simulation_config.hpp).
+// The config's spelling of the history algorithms (config/simulation_config.hpp).
 std::map<std::string, slipstrip::HistoryAlgorithm> history_algorithms_by_name() {
   std::map<std::string, slipstrip::HistoryAlgorithm> out;
   for (std::size_t i = 0; i < std::size(slipstrip::kHistoryAlgorithmNames); ++i)
@@ -530,7 +530,7 @@ int main(int argc, char** argv) {
   std::string docs_path = "docs/config.md";
   bool docs_check = false;
   auto* docs = app.add_subcommand("config-docs", "Regenerate the key tables of docs/config.md from the "
-                                                 "config schema (core/config_schema.cpp)");
+                                                 "config schema (config/config_schema.cpp)");
   docs->add_option("file", docs_path, "The Markdown file holding the generated blocks")
       ->capture_default_str();
   docs->add_flag("--check", docs_check, "Change nothing; exit 1 if the file is out of date");

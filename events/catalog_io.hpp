@@ -35,7 +35,7 @@ SlipSamplingInfo read_slip_sampling_info(const std::string& path);
 EventCatalog detect_events_in_file(const std::string& path, const EventDetectionOptions& options = {});
 
 // The attributes of a /slip_sampling group (delta_th, dx, v0, mu, D, L): one
-// definition for the solver's run file (core/run_output.cpp) and for
+// definition for the solver's run file (solver/run_output.cpp) and for
 // write_slip_sampling.
 void write_slip_sampling_attributes(hid_t group, const SlipSamplingInfo& info);
 

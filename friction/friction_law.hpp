@@ -21,7 +21,7 @@ enum class StrengthLaw { paper, dieterich_ruina, regularized };
 enum class StateLaw { aging, slip };
 
 // The one spelling of each enumerator (index = enumerator value), shared by
-// parse/to_string below, the config schema (core/config_schema.cpp) and the
+// parse/to_string below, the config schema (config/config_schema.cpp) and the
 // Python binding.
 inline constexpr std::string_view kStrengthLawNames[] = {"paper", "dieterich_ruina", "regularized"};
 inline constexpr std::string_view kStateLawNames[] = {"aging", "slip"};

@@ -5,7 +5,7 @@
 // docs/config.md).  A profile is resolved once, at set-up, into one value per
 // node; the time loop only ever sees those per-node arrays.
 //
-// This file knows nothing about TOML: core/friction_profile_toml.hpp turns a
+// This file knows nothing about TOML: config/friction_profile_toml.hpp turns a
 // TOML value into a ParameterProfile and back.
 #include <cstddef>
 #include <optional>

@@ -6,8 +6,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tests=(test_kernels_nufft test_kernels_block_history test_kernels_time_domain test_kernels_cache
-       test_core_history_algorithms test_core_config test_core_run_output test_core_reliability
-       test_core_free_interface test_friction_batch_solve test_friction_local_solve test_friction_laws
+       test_solver_history_algorithms test_config_parsing test_solver_run_output test_solver_reliability
+       test_solver_free_interface test_friction_batch_solve test_friction_local_solve test_friction_laws
        test_events_detection test_events_io)
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSLIPSTRIP_SANITIZE=ON -DSLIPSTRIP_NATIVE=OFF \
       -DSLIPSTRIP_PYTHON=OFF -DSLIPSTRIP_TOOLS=OFF > build-asan-configure.log

@@ -1,4 +1,4 @@
-// Configuration: load/validate (core/config.hpp) and the elastic material
+// Configuration: load/validate (config/config.hpp) and the elastic material
 // (kernels/elastic_material.hpp).  Python's Config class (python/slipstrip/
 // config.py) subclasses _Config, so a Config *is* a SimulationConfig and can be
 // passed to every C++ function without conversion.
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "core/config.hpp"
-#include "core/config_schema.hpp"
+#include "config/config.hpp"
+#include "config/config_schema.hpp"
 #include "kernels/elastic_material.hpp"
 
 namespace py = pybind11;
@@ -151,7 +151,7 @@ void bind_config(py::module_& m) {
       .def_property_readonly("material", [](const SimulationConfig& c) { return c.material; });
 
   m.def("config_schema", &config_schema,
-        "Every config key (core/config_schema.cpp) as a dict: section, name, type, unit, default, "
+        "Every config key (config/config_schema.cpp) as a dict: section, name, type, unit, default, "
         "allowed, help, alternative_to, choices.");
   m.def("load_config_file", &slipstrip::load_config_file, py::arg("path"),
         py::arg("overrides") = std::vector<std::string>{},

@@ -10,8 +10,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "core/config.hpp"
-#include "core/simulation.hpp"
+#include "config/config.hpp"
+#include "solver/simulation.hpp"
 #include "friction/friction_law.hpp"
 #include "slipstrip/version.hpp"
 

@@ -1,5 +1,5 @@
-// Simulation (core/simulation.hpp) with zero-copy NumPy views of the interface
-// fields, and run_simulation (core/run.hpp) with a Python progress callback
+// Simulation (solver/simulation.hpp) with zero-copy NumPy views of the interface
+// fields, and run_simulation (solver/run.hpp) with a Python progress callback
 // and Ctrl-C support.
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
@@ -13,9 +13,9 @@
 #include <span>
 #include <string>
 
-#include "core/run.hpp"
+#include "solver/run.hpp"
 #include "kernels/history_convolution.hpp"
-#include "core/simulation.hpp"
+#include "solver/simulation.hpp"
 
 namespace py = pybind11;
 using slipstrip::RunProgress;
@@ -159,7 +159,7 @@ RunResult run(const slipstrip::SimulationConfig& config, const std::string& outp
       progress, progress_interval);
 }
 
-// Continues an interrupted run from its restart point (core/run.hpp).
+// Continues an interrupted run from its restart point (solver/run.hpp).
 RunResult resume(const std::string& output_path, py::object progress, double progress_interval) {
   return run_with_hooks(
       [&](const slipstrip::RunHooks& hooks) { return slipstrip::resume_simulation(output_path, hooks); },

@@ -1,4 +1,4 @@
-// Linear stability of steady sliding (friction/linear_stability.hpp) and the
+// Linear stability of steady sliding (stability/linear_stability.hpp) and the
 // strip response functions (kernels/strip_response.hpp).  Steady sliding is
 // described by a config, exactly as the CLI's `slipstrip stability` does.
 #include <pybind11/complex.h>
@@ -8,10 +8,10 @@
 
 #include <vector>
 
-#include "core/steady_sliding.hpp"
-#include "core/simulation_config.hpp"
+#include "stability/steady_sliding.hpp"
+#include "config/simulation_config.hpp"
 #include "friction/friction_law.hpp"
-#include "friction/linear_stability.hpp"
+#include "stability/linear_stability.hpp"
 #include "kernels/strip_response.hpp"
 
 namespace py = pybind11;

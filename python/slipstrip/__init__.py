@@ -119,7 +119,7 @@ def resume(run_path: str | os.PathLike, progress: Callable[[dict], Any] | None =
     return _slipstrip._resume(os.fspath(run_path), progress, progress_interval)
 
 
-# --- linear stability of steady sliding (friction/linear_stability.hpp) -----------
+# --- linear stability of steady sliding (stability/linear_stability.hpp) -----------
 # `config` is anything load_config accepts; material, friction, loading and
 # geometry.height describe the steady sliding state, as in `slipstrip stability`.
 

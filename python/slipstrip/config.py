@@ -1,8 +1,8 @@
 """Run configuration: load from a TOML file, TOML text or a Python dict, apply
 overrides, and read the resolved values back as a dict.
 
-All parsing and validation happens in C++ (core/config.cpp, from the key
-table of core/config_schema.cpp), so errors carry
+All parsing and validation happens in C++ (config/config.cpp, from the key
+table of config/config_schema.cpp), so errors carry
 exactly the messages of the command-line program (e.g. the suggestion for a
 misspelt key).  A dict is turned into TOML text here and then parsed by the
 same C++ code.
@@ -102,7 +102,7 @@ def overrides_from(overrides: Mapping[str, Any] | Iterable[str] | str | None) ->
 
 
 def config_schema() -> list[dict[str, Any]]:
-    """Every config key as declared in the C++ schema (core/config_schema.cpp):
+    """Every config key as declared in the C++ schema (config/config_schema.cpp):
     dicts with section, name, type, unit, default, allowed, help,
     alternative_to and choices, in the order of to_toml."""
     return _slipstrip.config_schema()
@@ -148,7 +148,7 @@ class Config(_slipstrip._Config):
 
     def as_dict(self) -> dict[str, dict[str, Any]]:
         """The resolved config as a nested dict {section: {key: value}} (a fresh copy),
-        built from the config schema (core/config_schema.cpp): the same values
+        built from the config schema (config/config_schema.cpp): the same values
         tomllib reads from to_toml()."""
         return self._as_dict()
 

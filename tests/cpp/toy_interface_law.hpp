@@ -6,9 +6,9 @@
 #include <memory>
 #include <vector>
 
-#include "core/interface_law.hpp"
-#include "core/interface_pulse.hpp"
-#include "core/simulation_config.hpp"
+#include "laws/interface_law.hpp"
+#include "laws/interface_pulse.hpp"
+#include "config/simulation_config.hpp"
 
 namespace slipstrip::testing {
 

@@ -2,7 +2,7 @@
 // library and prints the time step and the maximum slip rate.
 #include <cstdio>
 
-#include "core/simulation.hpp"
+#include "solver/simulation.hpp"
 #include "slipstrip/version.hpp"
 
 int main() {

@@ -164,7 +164,7 @@ def test_simulation_error_same_message_as_cli_divergence(ss, cli, tmp_path):
     # An absurd imposed stress (free interface) overflows within a few steps.
     # Slip sampling off: with it, the finite-but-huge slips of the steps before
     # the overflow make the run file record ~1e300 threshold crossings (the
-    # process runs out of memory; reported as a bug in core/run_output).
+    # process runs out of memory; reported as a bug in solver/run_output).
     overrides = ["geometry.nodes=32", "interface.law=free", "interface.stress_amplitude=1e308",
                  "interface.rise_time=1e-9", "time.duration_transits=1", "output.delta_th=0"]
     out = tmp_path / "diverged.h5"

@@ -1,4 +1,4 @@
-"""The config schema seen from Python (core/config_schema.cpp): the key list,
+"""The config schema seen from Python (config/config_schema.cpp): the key list,
 Config.as_dict() built from it, and docs/config.md generated from it.
 
 References: tomllib reading the resolved TOML text (an independent parser of

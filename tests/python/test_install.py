@@ -1,5 +1,5 @@
 """`cmake --install` gives a working CMake package: a tiny C++ program
-(tests/install/) finds it with find_package(slipstrip), links slipstrip::core
+(tests/install/) finds it with find_package(slipstrip), links slipstrip::solver
 and runs ten steps; the installed CLI runs too."""
 import os
 import subprocess
@@ -23,7 +23,7 @@ def test_installed_package_is_found_and_linked(tmp_path):
     subprocess.run(["cmake", "--install", str(build_dir()), "--prefix", str(prefix)], check=True,
                    capture_output=True, text=True)
     assert (prefix / "bin" / "slipstrip").exists()
-    assert (prefix / "include" / "slipstrip" / "core" / "simulation.hpp").exists()
+    assert (prefix / "include" / "slipstrip" / "solver" / "simulation.hpp").exists()
     assert list(prefix.glob("lib*/cmake/slipstrip/slipstripConfig.cmake"))
     version = subprocess.run([str(prefix / "bin" / "slipstrip"), "--version"], capture_output=True, text=True)
     assert version.returncode == 0 and version.stdout.startswith("0.")

@@ -2,12 +2,12 @@
 on, and after the writer is killed with SIGKILL it still holds every row up to
 the last flush.
 
-The writer is the doctest helper in tests/cpp/test_core_run_output.cpp
+The writer is the doctest helper in tests/cpp/test_solver_run_output.cpp
 ("writer child ..."), run as
-    test_core_run_output -tc="writer child*" --no-skip=true
+    test_solver_run_output -tc="writer child*" --no-skip=true
 It writes a deterministic run (step k at t = k*dt, node i slipping at a constant
 rate) and prints "flushed <steps>" after every flush.  The binary is taken from
-$SLIPSTRIP_TEST_CORE_RUN_OUTPUT, else the newest build*/test_core_run_output in
+$SLIPSTRIP_TEST_SOLVER_RUN_OUTPUT, else the newest build*/test_solver_run_output in
 the repository.
 
 Run: /usr/bin/python3 -m pytest tests/python/test_output_readable.py
@@ -24,7 +24,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 
-# Must match write_until_killed() in tests/cpp/test_core_run_output.cpp.
+# Must match write_until_killed() in tests/cpp/test_solver_run_output.cpp.
 NODES = 16
 DT = 1e-3
 DELTA_TH = 1e-6
@@ -35,12 +35,12 @@ def writer_rate(i):
 
 
 def find_writer():
-    explicit = os.environ.get("SLIPSTRIP_TEST_CORE_RUN_OUTPUT")
+    explicit = os.environ.get("SLIPSTRIP_TEST_SOLVER_RUN_OUTPUT")
     if explicit:
         return Path(explicit)
-    candidates = sorted(REPO.glob("build*/test_core_run_output"), key=lambda p: p.stat().st_mtime)
+    candidates = sorted(REPO.glob("build*/test_solver_run_output"), key=lambda p: p.stat().st_mtime)
     if not candidates:
-        pytest.skip("test_core_run_output not built (cmake --build <dir> --target test_core_run_output)")
+        pytest.skip("test_solver_run_output not built (cmake --build <dir> --target test_solver_run_output)")
     return candidates[-1]
 
 

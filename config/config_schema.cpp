@@ -1,0 +1,737 @@
+// The config schema: the table of every key (config_keys) and what is derived
+// from it without parsing a file: value text for to_toml, the TOML table for
+// Python, allowed-range texts for messages, and docs/config.md's key tables.
+// Adding a key: docs/developing.md, "Adding a config key".
+#include "config/config_schema.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <iterator>
+#include <sstream>
+
+#include "config/friction_profile_toml.hpp"
+#include "config/interface_law_name.hpp"
+#include "friction/friction_law.hpp"
+#include "friction/parameter_profile.hpp"
+#include "kernels/elastic_material.hpp"
+#include "kernels/passivity.hpp"
+
+namespace slipstrip {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The largest node count accepted: keeps N and N/2+1 spectral modes far from
+// int overflow and any run within memory of one machine.
+constexpr std::int64_t kMaxNodes = std::int64_t{1} << 24;
+// A nonzero slip-sampling threshold below a picometre is a typo: every node
+// writes one crossing time per delta_th of slip.
+constexpr double kMinDeltaTh = 1e-12;
+
+// ---------------------------------------------------------------------------
+// Bindings: one member of one part of SimulationConfig (Part: &SimulationConfig::geometry,
+// Member: &GeometryConfig::length).  Capture-less lambdas, so the table is constant.
+
+template <auto Part, auto Member>
+constexpr KeyBinding real_member() {
+  return {.get_real = [](const SimulationConfig& c) -> double { return (c.*Part).*Member; },
+          .set_real = [](SimulationConfig& c, double v) { (c.*Part).*Member = v; }};
+}
+
+template <auto Part, auto Member>
+constexpr KeyBinding integer_member() {
+  return {.get_integer = [](const SimulationConfig& c) -> std::int64_t {
+            return static_cast<std::int64_t>((c.*Part).*Member);
+          },
+          .set_integer = [](SimulationConfig& c, std::int64_t v) {
+            using Field = std::remove_reference_t<decltype((c.*Part).*Member)>;
+            (c.*Part).*Member = static_cast<Field>(v);
+          }};
+}
+
+// An enum member spelt by Names (index = enumerator).
+template <auto Part, auto Member, const auto& Names>
+constexpr KeyBinding enum_member() {
+  return {.get_text = [](const SimulationConfig& c) -> std::string {
+            const auto i = static_cast<std::size_t>((c.*Part).*Member);
+            if (i >= std::size(Names)) throw std::logic_error("enum value outside its name table");
+            return std::string(Names[i]);
+          },
+          .set_text = [](SimulationConfig& c, const std::string& name) {
+            using Enum = std::remove_reference_t<decltype((c.*Part).*Member)>;
+            const auto* at = std::find(std::begin(Names), std::end(Names), name);
+            if (at == std::end(Names)) throw std::logic_error("name not in its enum table: " + name);
+            (c.*Part).*Member = static_cast<Enum>(at - std::begin(Names));
+          }};
+}
+
+template <const auto& Names>
+std::vector<std::string_view> names_of() {
+  return {std::begin(Names), std::end(Names)};
+}
+
+// A friction parameter: a scalar member of FrictionParameters and its optional
+// profile in FrictionProfiles.  A profile leaves the scalar NaN, so nothing can
+// use one value for the whole interface by accident (friction/parameter_profile.hpp).
+template <auto Scalar, auto Profile>
+constexpr KeyBinding friction_parameter() {
+  return {.get_real = [](const SimulationConfig& c) -> double { return c.friction.*Scalar; },
+          .set_real = [](SimulationConfig& c, double v) { c.friction.*Scalar = v; },
+          .get_profile = [](const SimulationConfig& c) -> const std::optional<ParameterProfile>& {
+            return c.friction_along_x.*Profile;
+          },
+          .set_profile = [](SimulationConfig& c, ParameterProfile p) {
+            c.friction_along_x.*Profile = std::move(p);
+            c.friction.*Scalar = std::numeric_limits<double>::quiet_NaN();
+          }};
+}
+
+constexpr ValueRange positive{.low = 0.0};
+constexpr ValueRange non_negative{.low = 0.0, .low_inclusive = true};
+
+// ---------------------------------------------------------------------------
+// Rules that involve other keys or the physics.
+
+void dx_rule(const SimulationConfig& c, double dx) {
+  const double ratio = c.geometry.length / dx;
+  const double whole = std::round(ratio);
+  // dx must tile the period: a rounded N would silently change dx.  The
+  // tolerance only absorbs the decimal representation of dx (e.g. 4/0.0025).
+  if (std::abs(ratio - whole) > 1e-9 * ratio)
+    throw ConfigRuleError({"dx"}, "geometry.dx = " + format_config_number(dx) +
+                                      " does not divide geometry.length = " +
+                                      format_config_number(c.geometry.length) +
+                                      " into a whole number of nodes (length/dx = " +
+                                      format_config_number(ratio) +
+                                      "): expected dx = length/N with N an integer");
+  if (whole < 8 || whole > static_cast<double>(kMaxNodes))
+    throw KeyOutOfRange(format_config_number(dx),
+                        "a spacing giving length/dx between 8 and " + std::to_string(kMaxNodes) +
+                            " nodes (got " + format_config_number(whole) + ")");
+}
+
+// Mode numbers stay below Nyquist: mode N/2 has no sine partner on the grid.
+void below_nyquist(const SimulationConfig& c, std::int64_t mode, std::string_view key) {
+  const int half = c.geometry.nodes / 2;
+  if (mode < 0 || mode >= half)
+    throw KeyOutOfRange(std::to_string(mode), "an integer 0 <= " + std::string(key) +
+                                                  " < nodes/2 = " + std::to_string(half));
+}
+
+void beta_rule(const SimulationConfig& c, double beta) {
+  const double beta_max = strip_passivity_beta_limit(c.material.wave_speed_ratio_squared());
+  if (beta > beta_max)
+    throw KeyOutOfRange(format_config_number(beta),
+                        "0 < beta <= " + format_config_number(std::floor(beta_max * 1e4) / 1e4) +
+                            " for this material (1/(pi (1 - c_s^2/c_d^2)), the limit of a passive "
+                            "discrete strip operator; docs/theory.md)");
+  if (is_half_space(c.geometry.height) && beta > kHalfSpaceBetaLimit)
+    throw KeyOutOfRange(format_config_number(beta),
+                        "0 < beta <= " + format_bound(kHalfSpaceBetaLimit) +
+                            " for a half-space (geometry.height = \"inf\"): above it the sampled "
+                            "half-space kernel cannot be made passive at the shortest "
+                            "wavelength; docs/theory.md");
+}
+
+void friction_rule(const SimulationConfig& c) {
+  // The regularized law divides by a (exp(psi/a)); the others stay defined at
+  // a = 0 because radiation damping alone fixes the slip rate.
+  if (c.friction.strength_law == StrengthLaw::regularized && !c.friction_along_x.a &&
+      !(c.friction.a > 0.0))
+    throw ConfigRuleError({"a", "law"},
+                          "friction.a = " + format_config_number(c.friction.a) +
+                              " is out of range for friction.law = \"regularized\": expected a > 0");
+  if (c.friction_along_x.any()) {
+    // Every node's values against the scalar rules (a profile may not carry a
+    // value its key would refuse as a number).
+    try {
+      (void)resolve_friction_nodes(c.friction, c.friction_along_x,
+                                   static_cast<std::size_t>(c.geometry.nodes),
+                                   c.geometry.length / c.geometry.nodes);
+    } catch (const std::invalid_argument& e) {
+      throw ConfigRuleError({}, e.what());
+    }
+  }
+}
+
+void initial_rule(const SimulationConfig& c) {
+  const InitialConfig& init = c.initial;
+  if (init.local_amplitude != 0.0 && !(init.local_width > 0.0))
+    throw ConfigRuleError({"local_amplitude", "local_width"},
+                          "initial.local_amplitude = " + format_config_number(init.local_amplitude) +
+                              " needs initial.local_width > 0 [m] (got " +
+                              format_config_number(init.local_width) +
+                              "): the perturbation is a Gaussian of that standard deviation");
+}
+
+// A position on the periodic interface: 0 <= x <= L for a point such as a bump's
+// centre, 0 <= x < L for stations (x = L is the node at x = 0 again).
+void require_on_interface(double x, double length, bool closed_at_length, const std::string& noun) {
+  const bool inside = x >= 0.0 && (closed_at_length ? x <= length : x < length);
+  if (!inside)
+    throw KeyOutOfRange(format_config_number(x), noun + " 0 <= x " + (closed_at_length ? "<=" : "<") +
+                                                     " geometry.length = " + format_config_number(length) + " [m]");
+}
+
+// ---------------------------------------------------------------------------
+// The sections, in reading order: a rule reads only keys of earlier sections
+// (geometry bounds the mode numbers, material sets c_s for duration_transits).
+constexpr ConfigSection kSections[] = {
+    {"geometry"}, {"material"},  {"loading"}, {"friction", friction_rule}, {"state"},
+    {"interface"}, {"initial", initial_rule}, {"time"}, {"output"},
+};
+
+using C = SimulationConfig;
+
+// The keys.  Within a section, the order is that of to_toml and of the docs.
+constexpr ConfigKey kKeys[] = {
+    // [geometry] ------------------------------------------------------------
+    {.section = "geometry", .name = "length", .unit = "m", .noun = "a length",
+     .allowed = positive, .generous = {1e-6, true, 1e6, true},
+     .help = "L, the period along the interface",
+     .comment = "L [m], period along the interface",
+     .bind = real_member<&C::geometry, &GeometryConfig::length>()},
+    {.section = "geometry", .name = "height", .type = KeyType::number_or_inf, .unit = "m",
+     .noun = "a height", .allowed = positive, .allowed_note = " or \"inf\" (half-space)",
+     .generous = {1e-6, true, 1e6, true},
+     .help = "H, height of each of the two strips; `\"inf\"` (or TOML `inf`) = two half-spaces",
+     .comment = "H [m] of each strip; \"inf\" = half-space",
+     .bind = real_member<&C::geometry, &GeometryConfig::height>()},
+    {.section = "geometry", .name = "nodes", .type = KeyType::integer, .noun = "an integer",
+     .allowed = {8.0, true, static_cast<double>(kMaxNodes), true},
+     .help = "N interface nodes, dx = L/N", .comment = "N, dx = L/N",
+     .bind = integer_member<&C::geometry, &GeometryConfig::nodes>()},
+    {.section = "geometry", .name = "dx", .unit = "m", .noun = "a node spacing",
+     .allowed = positive, .rule_text = "L/dx a whole number (to 1e-9 relative) in the range of `nodes`",
+     .help = "node spacing L/N", .alternative_to = "nodes",
+     .bind = {.set_real = [](C& c, double dx) {
+       c.geometry.nodes = static_cast<int>(std::round(c.geometry.length / dx));
+     }},
+     .real_rule = dx_rule},
+
+    // [material] ------------------------------------------------------------
+    {.section = "material", .name = "shear_modulus", .unit = "Pa", .noun = "a modulus",
+     .allowed = positive, .generous = {1.0, true, 1e13, true}, .help = "mu (Table S1)",
+     .comment = "mu [Pa]", .bind = real_member<&C::material, &ElasticMaterial::shear_modulus>()},
+    {.section = "material", .name = "youngs_modulus", .unit = "Pa", .noun = "a modulus",
+     .allowed = positive, .generous = {1.0, true, 1e13, true},
+     .help = "Young's modulus E; mu = E / (2 (1 + nu)) (finite-element codes take E and nu)",
+     .alternative_to = "shear_modulus",
+     .bind = {.set_real = [](C& c, double E) {
+       c.material.shear_modulus = E / (2.0 * (1.0 + c.material.poisson_ratio));
+     }}},
+    {.section = "material", .name = "poisson_ratio", .noun = "poisson_ratio",
+     .allowed = {kMinPoissonRatio, false, kMaxPoissonRatio, false},
+     .help = "nu (Table S1); nu >= 0.5 makes the plane-strain c_d infinite",
+     .comment = "nu [-]", .bind = real_member<&C::material, &ElasticMaterial::poisson_ratio>()},
+    {.section = "material", .name = "density", .unit = "kg/m^3", .noun = "a density",
+     .allowed = positive, .generous = {1e-3, true, 1e6, true},
+     .help = "rho (Table S1); c_s = sqrt(mu/rho)", .comment = "rho [kg/m^3]",
+     .bind = real_member<&C::material, &ElasticMaterial::density>()},
+    {.section = "material", .name = "plane", .type = KeyType::choice,
+     .help = "in-plane condition (sets c_d/c_s)", .choices = names_of<kPlaneConditionNames>,
+     .bind = enum_member<&C::material, &ElasticMaterial::plane, kPlaneConditionNames>()},
+
+    // [loading] -------------------------------------------------------------
+    {.section = "loading", .name = "driving_velocity", .unit = "m/s", .noun = "a velocity",
+     .allowed = positive, .generous = {1e-15, true, 1e3, true},
+     .help = "v0; outer faces move at +-v0/2 (the initial state is steady sliding at v0)",
+     .comment = "v0 [m/s]", .bind = real_member<&C::loading, &LoadingConfig::driving_velocity>()},
+    {.section = "loading", .name = "normal_stress", .unit = "Pa", .noun = "a compressive stress",
+     .allowed = positive, .generous = {1.0, true, 1e11, true}, .help = "sigma0, compressive",
+     .comment = "sigma0 [Pa]", .bind = real_member<&C::loading, &LoadingConfig::normal_stress>()},
+
+    // [friction] ------------------------------------------------------------
+    {.section = "friction", .name = "law", .type = KeyType::choice,
+     .help = "strength law (friction/friction_law.hpp)", .choices = names_of<kStrengthLawNames>,
+     .bind = enum_member<&C::friction, &FrictionParameters::strength_law, kStrengthLawNames>()},
+    {.section = "friction", .name = "f0", .type = KeyType::friction_parameter, .noun = "f0",
+     .allowed = positive, .generous = {.high = kMaxFrictionCoefficient, .high_inclusive = true},
+     .help = "reference friction coefficient", .comment = "[-]",
+     .bind = friction_parameter<&FrictionParameters::f0, &FrictionProfiles::f0>()},
+    {.section = "friction", .name = "a", .type = KeyType::friction_parameter, .noun = "a",
+     .allowed = non_negative, .generous = {.high = kMaxFrictionCoefficient, .high_inclusive = true},
+     .rule_text = "> 0 for `\"regularized\"`, which divides by a",
+     .help = "direct effect", .comment = "[-]",
+     .bind = friction_parameter<&FrictionParameters::a, &FrictionProfiles::a>()},
+    {.section = "friction", .name = "b", .type = KeyType::friction_parameter, .noun = "b",
+     .allowed = non_negative, .generous = {.high = kMaxFrictionCoefficient, .high_inclusive = true},
+     .help = "state effect", .comment = "[-]",
+     .bind = friction_parameter<&FrictionParameters::b, &FrictionProfiles::b>()},
+    {.section = "friction", .name = "characteristic_slip", .type = KeyType::friction_parameter,
+     .unit = "m", .noun = "a slip distance D", .allowed = positive,
+     .generous = {kMinCharacteristicSlip, true, kMaxCharacteristicSlip, true},
+     .help = "D, the characteristic slip of state evolution", .comment = "D [m]",
+     .bind = friction_parameter<&FrictionParameters::characteristic_slip,
+                                &FrictionProfiles::characteristic_slip>()},
+    {.section = "friction", .name = "v_star", .unit = "m/s", .noun = "a velocity v*",
+     .allowed = positive, .generous = {1e-20, true, 1e3, true}, .help = "v*, reference slip rate",
+     .comment = "v* [m/s]", .bind = real_member<&C::friction, &FrictionParameters::v_star>()},
+    {.section = "friction", .name = "phi_star", .unit = "s", .noun = "a time phi*",
+     .allowed = positive, .generous = {1e-15, true, 1e15, true}, .help = "phi*, reference state",
+     .comment = "phi* [s]", .bind = real_member<&C::friction, &FrictionParameters::phi_star>()},
+
+    // [state] ---------------------------------------------------------------
+    {.section = "state", .name = "law", .type = KeyType::choice,
+     .help = "aging: Eq. S2 with the sqrt(1 + (v*/v)^2) regularisation; slip: Eq. 2",
+     .choices = names_of<kStateLawNames>,
+     .bind = enum_member<&C::friction, &FrictionParameters::state_law, kStateLawNames>()},
+
+    // [interface] -----------------------------------------------------------
+    {.section = "interface", .name = "law", .type = KeyType::choice,
+     .help = "how the interface closes the problem: the registered laws "
+             "(config/interface_laws.inc); `prescribed_slip` and `free` are verification modes "
+             "(docs/developing.md: adding a law)",
+     .choices = names_of<kBuiltinInterfaceLawNames>,
+     .bind = {.get_text = [](const C& c) { return std::string(c.interface.law.name); },
+              .set_text = [](C& c, const std::string& name) {
+                // The name kept is the built-in list's (static storage), not the parsed string.
+                const auto* entry = std::find(std::begin(kBuiltinInterfaceLawNames),
+                                              std::end(kBuiltinInterfaceLawNames), name);
+                if (entry == std::end(kBuiltinInterfaceLawNames))
+                  throw std::logic_error("unregistered interface law " + name);
+                c.interface.law = InterfaceLaw{*entry};
+              }}},
+    {.section = "interface", .name = "slip_amplitude", .unit = "m",
+     .help = "prescribed_slip: slip = amplitude cos(2 pi mode x/L) g(t)",
+     .comment = "[m] (prescribed_slip)",
+     .bind = real_member<&C::interface, &InterfaceConfig::slip_amplitude>()},
+    {.section = "interface", .name = "mode", .type = KeyType::integer,
+     .rule_text = "0 <= mode < N/2", .help = "prescribed_slip: mode number m (0 = uniform slip)",
+     .comment = "m (prescribed_slip)", .bind = integer_member<&C::interface, &InterfaceConfig::mode>(),
+     .integer_rule = [](const C& c, std::int64_t m) { below_nyquist(c, m, "mode"); }},
+    {.section = "interface", .name = "profile", .type = KeyType::choice,
+     .help = "g(t): ramp (1 - cos(pi t/T))/2 then 1; bump sin^4(pi t/T) on [0, T]",
+     .choices = names_of<kTimeProfileNames>,
+     .bind = enum_member<&C::interface, &InterfaceConfig::profile, kTimeProfileNames>()},
+    {.section = "interface", .name = "rise_time", .unit = "s", .noun = "a time",
+     .allowed = positive, .help = "T of the profile", .comment = "T [s]",
+     .bind = real_member<&C::interface, &InterfaceConfig::rise_time>()},
+    {.section = "interface", .name = "stress_amplitude", .unit = "Pa",
+     .help = "free: imposed shear-stress pulse amplitude", .comment = "[Pa] (free)",
+     .bind = real_member<&C::interface, &InterfaceConfig::stress_amplitude>()},
+    {.section = "interface", .name = "load_pulse_amplitude", .unit = "Pa",
+     .help = "rate_and_state: extra shear load P0 g(x) profile(t) added to the interface load "
+             "(g: the Gaussian of `pulse_center`/`pulse_width`; profile: `profile`/`rise_time`), "
+             "a smooth trigger used by the benchmark docs/benchmarks/strip_pulse_problem.md; "
+             "0 = off",
+     .comment = "[Pa] extra shear-load pulse on the rate_and_state interface (same shape); 0 = off",
+     .bind = real_member<&C::interface, &InterfaceConfig::load_pulse_amplitude>()},
+    {.section = "interface", .name = "pulse_center", .unit = "m", .help = "free: pulse centre x0",
+     .comment = "x0 [m] (free)", .bind = real_member<&C::interface, &InterfaceConfig::pulse_center>()},
+    {.section = "interface", .name = "pulse_width", .type = KeyType::number_or_inf, .unit = "m",
+     .noun = "a width", .allowed = positive, .allowed_note = " or \"inf\" (uniform stress)",
+     .help = "free: Gaussian standard deviation; `\"inf\"` = uniform",
+     .comment = "w [m] (free); \"inf\" = uniform",
+     .bind = real_member<&C::interface, &InterfaceConfig::pulse_width>()},
+
+    // [initial] -------------------------------------------------------------
+    {.section = "initial", .name = "noise_amplitude", .noun = "a relative amplitude",
+     .allowed = non_negative, .help = "relative std of the noise (paper: \"small amplitude\")",
+     .comment = "relative std of the noise in phi",
+     .bind = real_member<&C::initial, &InitialConfig::noise_amplitude>()},
+    {.section = "initial", .name = "noise_seed", .type = KeyType::integer, .noun = "an integer",
+     .allowed = non_negative, .help = "seed of the noise generator", .comment = "seed of the noise",
+     .bind = integer_member<&C::initial, &InitialConfig::noise_seed>()},
+    // White noise per node is what the paper's "small amplitude" noise most
+    // likely was, but it is a different field on every mesh; a band-limited
+    // field is the same on every mesh, so a refinement study changes only the
+    // discretisation (docs/fig5_resolution.md).
+    {.section = "initial", .name = "noise_modes", .type = KeyType::integer,
+     .rule_text = "0 <= M < N/2",
+     .help = "0: independent noise per node (white); M > 0: the first M Fourier modes with random "
+             "normal coefficients, the same field on every mesh with N/2 > M",
+     .comment = "0 = white noise per node; M = first M Fourier modes (mesh-independent)",
+     .bind = integer_member<&C::initial, &InitialConfig::noise_modes>(),
+     .integer_rule = [](const C& c, std::int64_t m) { below_nyquist(c, m, "noise_modes"); }},
+    // |eps| < 1 keeps phi_ss (1 + eps sin) positive everywhere.
+    {.section = "initial", .name = "sine_amplitude", .noun = "sine_amplitude",
+     .allowed = {-1.0, false, 1.0, false},
+     .help = "eps of the sinusoidal perturbation (Sect. S2 of the paper: eps = 1e-4)",
+     .comment = "eps in phi_ss eps sin(2 pi m x/L + pi/2)",
+     .bind = real_member<&C::initial, &InitialConfig::sine_amplitude>()},
+    {.section = "initial", .name = "sine_mode", .type = KeyType::integer,
+     .rule_text = "0 <= m < N/2", .help = "mode number m", .comment = "m",
+     .bind = integer_member<&C::initial, &InitialConfig::sine_mode>(),
+     .integer_rule = [](const C& c, std::int64_t m) { below_nyquist(c, m, "sine_mode"); }},
+    // > -1 keeps phi positive at the centre of a weakening (negative) bump.
+    {.section = "initial", .name = "local_amplitude", .noun = "a relative amplitude",
+     .allowed = {.low = -1.0},
+     .help = "relative Gaussian bump; negative = weaker (younger) patch that nucleates slip",
+     .comment = "relative Gaussian bump in phi",
+     .bind = real_member<&C::initial, &InitialConfig::local_amplitude>()},
+    {.section = "initial", .name = "local_center", .unit = "m", .rule_text = "0 <= x <= L",
+     .help = "centre of the bump", .comment = "[m]",
+     .bind = real_member<&C::initial, &InitialConfig::local_center>(),
+     .real_rule = [](const C& c, double x) { require_on_interface(x, c.geometry.length, true, "a position"); }},
+    {.section = "initial", .name = "local_width", .unit = "m", .noun = "a width",
+     .allowed = non_negative, .rule_text = "> 0 if local_amplitude != 0",
+     .help = "standard deviation of the bump", .comment = "standard deviation [m]",
+     .bind = real_member<&C::initial, &InitialConfig::local_width>()},
+
+    // [time] ----------------------------------------------------------------
+    // Below ~1e-3 the number of steps per shear echo (and the strip operator's
+    // memory) explodes for no gain in accuracy.
+    {.section = "time", .name = "beta", .noun = "beta",
+     .allowed = {.low = 0.0, .high = kStripBetaLimit, .high_inclusive = true},
+     .allowed_note = " (dt = beta dx / c_s)",
+     .generous = {1e-3, true, kStripBetaLimit, true},
+     .rule_text = "<= 1/(pi (1 - c_s^2/c_d^2)) (passivity of the strip operator), <= 0.35 for a "
+                  "half-space",
+     .help = "time step dt = beta dx / c_s (adjusted down so 2H/c_s is a whole number of steps)",
+     .comment = "dt = beta dx / c_s", .bind = real_member<&C::time, &TimeConfig::beta>(),
+     .real_rule = beta_rule},
+    {.section = "time", .name = "duration", .unit = "s", .noun = "a time", .allowed = positive,
+     .help = "simulated time", .comment = "[s]",
+     .bind = real_member<&C::time, &TimeConfig::duration>()},
+    {.section = "time", .name = "duration_transits", .unit = "L/c_s", .allowed = positive,
+     .allowed_message = "a number > 0 of L/c_s",
+     .help = "simulated time in shear-wave transit times of the period",
+     .alternative_to = "duration",
+     .bind = {.set_real = [](C& c, double transits) {
+       c.time.duration = transits * c.geometry.length / c.material.shear_wave_speed();
+     }}},
+    {.section = "time", .name = "history", .type = KeyType::choice,
+     .help = "how the strip's history operator is applied: `modal` rotates every strip normal "
+             "mode every step (cost ∝ H/dx per Fourier mode), `block` uses FFT block "
+             "convolutions and NUFFT-moved mode states (cost ∝ log²(H/dx), more memory); both "
+             "are the same discrete operator to ~1e-13 (docs/performance.md). `auto` takes "
+             "`block` when a Fourier mode has ≥ 128 normal modes. Ignored for a half-space",
+     .comment = "(strip history algorithm; same operator)",
+     .choices = names_of<kHistoryAlgorithmNames>,
+     .bind = enum_member<&C::time, &TimeConfig::history, kHistoryAlgorithmNames>()},
+
+    // [output] --------------------------------------------------------------
+    {.section = "output", .name = "timeseries_interval", .unit = "s", .noun = "a time",
+     .allowed = non_negative, .allowed_note = " (0 = every step)",
+     .help = "between rows of the global time series; 0 = every step",
+     .comment = "[s]; 0 = every step",
+     .bind = real_member<&C::output, &OutputConfig::timeseries_interval>()},
+    {.section = "output", .name = "snapshot_interval", .unit = "s", .noun = "a time",
+     .allowed = non_negative, .allowed_note = " (0 = off)",
+     .help = "between full interface snapshots; 0 = off", .comment = "[s]; 0 = off",
+     .bind = real_member<&C::output, &OutputConfig::snapshot_interval>()},
+    {.section = "output", .name = "snapshot_slip_increment", .unit = "m", .noun = "a slip",
+     .allowed = non_negative, .allowed_note = " (0 = off)",
+     .help = "mean slip between extra snapshots; 0 = off", .comment = "[m]; 0 = off",
+     .bind = real_member<&C::output, &OutputConfig::snapshot_slip_increment>()},
+    {.section = "output", .name = "delta_th", .unit = "m", .noun = "a slip threshold",
+     .allowed = non_negative, .allowed_note = " (0 = off)",
+     .rule_text = "nonzero values >= 1e-12",
+     .help = "slip-sampling threshold of the event identification (paper: 1e-8 m = 0.02 D); 0 = off",
+     .comment = "[m] slip-sampling threshold; 0 = off",
+     .bind = real_member<&C::output, &OutputConfig::delta_th>(),
+     .real_rule = [](const C&, double v) {
+       if (v > 0.0 && v < kMinDeltaTh)
+         throw KeyOutOfRange(format_config_number(v),
+                             "0 (off) or a slip threshold >= " + format_config_number(kMinDeltaTh) +
+                                 " [m] (every node writes one crossing time per delta_th of slip)");
+     }},
+    {.section = "output", .name = "flush_interval", .unit = "s (wall clock)",
+     .noun = "a wall-clock time", .allowed = positive,
+     .allowed_message = "a wall-clock time > 0 [s]", .help = "between writes of the output file",
+     .comment = "[s of wall time]", .bind = real_member<&C::output, &OutputConfig::flush_interval>()},
+    {.section = "output", .name = "checkpoint_interval", .unit = "s (wall clock)",
+     .allowed = non_negative,
+     .allowed_message = "0 (restart points only on SIGTERM/SIGINT) or a finite wall-clock time > 0 [s]",
+     .help = "between restart points `RUN.h5.restart` (docs/output.md); 0 = a restart point only "
+             "when SIGTERM/SIGINT stops the run (always written then). Each one flushes and "
+             "`fsync`s the run file and writes the whole solver state, whose size is that of the "
+             "history operator's state: measured at N = 2048 (quickstart material, beta = 0.25) "
+             "10 MB for the half-space, 54 MB for H = 0.025 m and 214 MB for H = 0.1 m (modal), "
+             "933 MB for H = 0.5 m (block); at most one restart point (plus its `.tmp` while one "
+             "is written) exists per run",
+     .comment = "[s of wall time] between restart points (RUN.h5.restart); 0 = only on SIGTERM/SIGINT",
+     .bind = real_member<&C::output, &OutputConfig::checkpoint_interval>()},
+    {.section = "output", .name = "stations", .type = KeyType::numbers, .unit = "m",
+     .rule_text = "positions 0 <= x < L",
+     .help = "on-fault stations recorded in `/stations` (docs/output.md); linear interpolation "
+             "between the two neighbouring nodes, exact on a node",
+     .comment = "station positions x [m]; [] = none",
+     .bind = {.get_list = [](const C& c) { return c.output.stations; },
+              .set_list = [](C& c, const std::vector<double>& v) { c.output.stations = v; }},
+     .list_rule = [](const C& c, const std::vector<double>& stations) {
+       for (double x : stations) require_on_interface(x, c.geometry.length, false, "positions");
+     }},
+    {.section = "output", .name = "station_interval", .unit = "s", .noun = "a time",
+     .allowed = non_negative, .allowed_note = " (0 = every step)",
+     .help = "between station records; 0 = every step", .comment = "[s]; 0 = every step",
+     .bind = real_member<&C::output, &OutputConfig::station_interval>()},
+    {.section = "output", .name = "front_slip_rate", .unit = "m/s", .noun = "a slip rate",
+     .allowed = non_negative, .allowed_note = " (0 = off)",
+     .help = "rupture-front threshold: per node, the first time the slip rate exceeds it goes to "
+             "`/rupture_front`; 0 = off (above v0, e.g. 10 v0)",
+     .comment = "[m/s] rupture-front threshold; 0 = off",
+     .bind = real_member<&C::output, &OutputConfig::front_slip_rate>()},
+    {.section = "output", .name = "kernel_cache", .type = KeyType::text,
+     .help = "directory caching the strip kernels (normal-mode phases and weights per Fourier "
+             "mode), one HDF5 file per set of inputs they depend on, so a scan computes them "
+             "once; `\"\"` = no cache",
+     .comment = "directory caching the strip kernels (HDF5, one file per key); \"\" = off",
+     .bind = {.get_text = [](const C& c) { return c.output.kernel_cache; },
+              .set_text = [](C& c, const std::string& v) { c.output.kernel_cache = v; }}},
+};
+
+bool dimensionless(const ConfigKey& k) { return k.unit.empty(); }
+
+std::string unit_suffix(const ConfigKey& k) {
+  return dimensionless(k) ? std::string() : " [" + std::string(k.unit) + "]";
+}
+
+// "> 0", "<= 0.4"
+std::string low_relation(const ValueRange& r) { return r.low_inclusive ? ">=" : ">"; }
+std::string high_relation(const ValueRange& r) { return r.high_inclusive ? "<=" : "<"; }
+std::string flip(const std::string& relation) { return relation == ">" ? "<" : "<="; }
+
+// A range in words for `subject`, numbers through `format`.
+template <typename Format>
+std::string relation_text(const ValueRange& r, std::string_view subject, bool bare_symbol,
+                          Format format) {
+  const std::string s(subject);
+  if (r.has_low() && r.has_high()) {
+    if (!bare_symbol && r.low_inclusive && r.high_inclusive)
+      return s + " between " + format(r.low) + " and " + format(r.high);
+    return format(r.low) + " " + flip(low_relation(r)) + " " + s + " " + high_relation(r) + " " +
+           format(r.high);
+  }
+  if (r.has_low()) return s + " " + low_relation(r) + " " + format(r.low);
+  if (r.has_high()) return s + " " + high_relation(r) + " " + format(r.high);
+  return s;
+}
+
+bool is_bare_symbol(std::string_view noun) { return noun.find(' ') == std::string_view::npos; }
+
+std::string default_text(const ConfigKey& k) {
+  if (!k.alternative_to.empty()) return "–";
+  const SimulationConfig defaults;
+  if (k.type == KeyType::number || k.type == KeyType::number_or_inf ||
+      k.type == KeyType::friction_parameter) {
+    const double v = k.bind.get_real(defaults);
+    if (std::isinf(v)) return "`\"inf\"`";
+    return format_bound(v);
+  }
+  if (k.type == KeyType::integer) return std::to_string(k.bind.get_integer(defaults));
+  return "`" + toml_value_text(k, defaults) + "`";
+}
+
+std::string doc_allowed(const ConfigKey& k) {
+  std::vector<std::string> parts;
+  if (k.type == KeyType::integer) parts.emplace_back("integer");
+  if (k.allowed.bounded()) {
+    std::string range = relation_text(k.allowed, k.name, true, format_bound);
+    // "x > 0" reads as "> 0" in the column of key x.
+    if (!(k.allowed.has_low() && k.allowed.has_high())) range = range.substr(k.name.size() + 1);
+    if (k.type == KeyType::number_or_inf) range += ", or `\"inf\"`";
+    parts.push_back(range);
+  } else if (k.type == KeyType::number) {
+    if (k.rule_text.empty()) parts.emplace_back("finite");
+  }
+  if (k.type == KeyType::choice) {
+    std::string names;
+    for (const auto name : k.choices()) names += (names.empty() ? "`\"" : ", `\"") + std::string(name) + "\"`";
+    parts.push_back(names);
+  }
+  if (k.type == KeyType::text) parts.emplace_back("a string");
+  if (!k.rule_text.empty()) parts.emplace_back(k.rule_text);
+  if (k.type == KeyType::friction_parameter) parts.emplace_back("or a profile (below)");
+  std::string out;
+  for (const auto& p : parts) out += (out.empty() ? "" : ", ") + p;
+  return out;
+}
+
+std::string doc_meaning(const ConfigKey& k) {
+  std::string meaning(k.help);
+  if (!k.alternative_to.empty())
+    meaning = "alternative to `" + std::string(k.alternative_to) + "`: " + meaning;
+  return meaning;
+}
+
+std::string keys_table(std::string_view section) {
+  std::ostringstream out;
+  out << "| key | unit | default | allowed | meaning |\n|---|---|---|---|---|\n";
+  for (const auto& k : kKeys) {
+    if (k.section != section) continue;
+    out << "| `" << k.name << "` | " << (k.unit.empty() ? "–" : std::string(k.unit)) << " | "
+        << default_text(k) << " | " << doc_allowed(k) << " | " << doc_meaning(k) << " |\n";
+  }
+  return out.str();
+}
+
+std::string ranges_table() {
+  std::ostringstream out;
+  out << "| key | allowed |\n|---|---|\n";
+  for (const auto& k : kKeys) {
+    const ValueRange& g = k.generous;
+    if (!g.bounded()) continue;
+    std::string text;
+    if (g.has_low() && g.has_high())
+      text = format_bound(g.low) + " ... " + format_bound(g.high);
+    else if (g.has_high())
+      text = "at most " + format_bound(g.high);
+    else
+      text = "at least " + format_bound(g.low);
+    if (!dimensionless(k)) text.append(" ").append(k.unit);
+    if (k.type == KeyType::number_or_inf) text += " (also `\"inf\"`)";
+    out << "| `" << k.full_name() << "` | " << text << " |\n";
+  }
+  return out.str();
+}
+
+constexpr std::string_view kBlockStart = "<!-- generated by slipstrip config-docs: ";
+constexpr std::string_view kBlockEnd = "<!-- end of generated block -->";
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+
+std::span<const ConfigSection> config_sections() { return kSections; }
+std::span<const ConfigKey> config_keys() { return kKeys; }
+
+const ConfigSection* find_config_section(std::string_view section) {
+  for (const auto& s : kSections)
+    if (s.name == section) return &s;
+  return nullptr;
+}
+
+const ConfigKey* find_config_key(std::string_view section, std::string_view name) {
+  for (const auto& k : kKeys)
+    if (k.section == section && k.name == name) return &k;
+  return nullptr;
+}
+
+std::string format_config_number(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  std::string text(buffer, result.ptr);
+  if (text.find_first_of(".eE") == std::string::npos) text += ".0";
+  return text;
+}
+
+std::string format_bound(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+std::string quote_toml(std::string_view text) {
+  std::string out = "\"";
+  for (char c : text) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char hex[8];
+          std::snprintf(hex, sizeof hex, "\\u%04x", static_cast<unsigned>(c));
+          out += hex;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string allowed_text(const ConfigKey& k) {
+  if (!k.allowed_message.empty()) return std::string(k.allowed_message);
+  return relation_text(k.allowed, k.noun, is_bare_symbol(k.noun), format_bound) + unit_suffix(k) +
+         std::string(k.allowed_note);
+}
+
+std::string generous_text(const ConfigKey& k) {
+  const ValueRange& g = k.generous;
+  const bool bare = is_bare_symbol(k.noun);
+  std::string text;
+  if (bare && g.has_low() && g.has_high())
+    text = format_config_number(g.low) + " " + flip(low_relation(g)) + " " + std::string(k.noun) +
+           " " + high_relation(g) + " " + format_config_number(g.high);
+  else
+    text = relation_text(g, k.noun, bare, format_config_number);
+  return text + unit_suffix(k) + (dimensionless(k) ? " (dimensionless; " : " (") +
+         "the physically generous range of docs/config.md)";
+}
+
+std::string toml_value_text(const ConfigKey& k, const SimulationConfig& c) {
+  switch (k.type) {
+    case KeyType::friction_parameter:
+      if (const auto& profile = k.bind.get_profile(c)) return parameter_profile_toml(*profile);
+      return format_config_number(k.bind.get_real(c));
+    case KeyType::number: return format_config_number(k.bind.get_real(c));
+    case KeyType::number_or_inf: {
+      const double v = k.bind.get_real(c);
+      return std::isinf(v) && v > 0 ? "\"inf\"" : format_config_number(v);
+    }
+    case KeyType::integer: return std::to_string(k.bind.get_integer(c));
+    case KeyType::choice:
+    case KeyType::text: return quote_toml(k.bind.get_text(c));
+    case KeyType::numbers: {
+      std::string out = "[";
+      const auto values = k.bind.get_list(c);
+      for (std::size_t i = 0; i < values.size(); ++i)
+        out += (i ? ", " : "") + format_config_number(values[i]);
+      return out + "]";
+    }
+  }
+  throw std::logic_error("config key of unknown type: " + k.full_name());
+}
+
+toml::table config_to_table(const SimulationConfig& c) {
+  // Through the TOML text of each value, so the table is exactly what a
+  // reader of to_toml gets (profiles as tables, "inf" as a string).
+  std::ostringstream text;
+  for (const auto& section : kSections) {
+    text << "[" << section.name << "]\n";
+    for (const auto& k : kKeys)
+      if (k.section == section.name && k.alternative_to.empty())
+        text << k.name << " = " << toml_value_text(k, c) << "\n";
+  }
+  return toml::parse(text.str());
+}
+
+std::string update_config_docs(std::string_view markdown) {
+  std::string out;
+  std::vector<std::string_view> documented;
+  std::size_t pos = 0;
+  while (pos < markdown.size()) {
+    std::size_t end = markdown.find('\n', pos);
+    end = end == std::string_view::npos ? markdown.size() : end + 1;
+    const std::string_view line = markdown.substr(pos, end - pos);
+    out += line;
+    pos = end;
+    if (line.substr(0, kBlockStart.size()) != kBlockStart) continue;
+    const auto close = line.find(" -->");
+    if (close == std::string_view::npos)
+      throw std::invalid_argument("config docs: unterminated marker: " + std::string(line));
+    const std::string_view id = line.substr(kBlockStart.size(), close - kBlockStart.size());
+    if (id == "ranges") {
+      out += ranges_table();
+    } else if (id.substr(0, 5) == "keys " && find_config_section(id.substr(5)) != nullptr) {
+      out += keys_table(id.substr(5));
+      documented.push_back(find_config_section(id.substr(5))->name);
+    } else {
+      throw std::invalid_argument("config docs: unknown generated block '" + std::string(id) +
+                                  "' (expected 'ranges' or 'keys SECTION')");
+    }
+    const auto block_end = markdown.find(kBlockEnd, pos);
+    if (block_end == std::string_view::npos)
+      throw std::invalid_argument("config docs: block '" + std::string(id) + "' has no '" +
+                                  std::string(kBlockEnd) + "'");
+    pos = block_end;  // the end marker line is copied as an ordinary line
+  }
+  for (const auto& section : kSections)
+    if (std::find(documented.begin(), documented.end(), section.name) == documented.end())
+      throw std::invalid_argument("config docs: no generated key table for [" +
+                                  std::string(section.name) + "] (add a line '" +
+                                  std::string(kBlockStart) + "keys " + std::string(section.name) +
+                                  " -->' and '" + std::string(kBlockEnd) + "')");
+  return out;
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,126 @@
+#include "config/resource_estimate.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+
+#include "config/config.hpp"
+#include "kernels/strip_response.hpp"
+
+namespace slipstrip {
+namespace {
+
+constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+
+// The strip algorithms switch at this many normal modes per Fourier mode
+// (solver/simulation.cpp, block_history_threshold).
+constexpr double kBlockThreshold = 128.0;
+
+// Bytes per strip normal mode: modal keeps 7 doubles (kernels/history_convolution.hpp),
+// block ~64 P + 48 B with B < 2P (kernels/block_strip_history.hpp); both also
+// hold the kernels (phase + weight, 16 bytes) while they are built.
+constexpr double kModalBytesPerMode = 56.0 + 16.0;
+constexpr double kBlockBytesPerMode = 64.0 + 48.0 * 2.0 + 16.0;
+// Half-space: ~300 exponentials per Fourier mode, 8 doubles each, plus a
+// direct window of sampled weights (kernels/half_space_history.hpp).
+constexpr double kHalfSpaceBytesPerFourierMode = 300.0 * 64.0 + 512.0 * 24.0;
+
+std::string number(double value) {
+  char buffer[64];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 3);
+  return std::string(buffer, r.ptr);
+}
+
+}  // namespace
+
+ResourceEstimate estimate_resources(const SimulationConfig& c) {
+  ResourceEstimate e;
+  const double n = c.geometry.nodes;
+  const double dx = c.geometry.length / n;
+  const double cs = c.material.shear_wave_speed();
+  const double cd = c.material.dilatational_wave_speed();
+  const double fourier_modes = std::floor(n / 2.0) + 1.0;
+  const double dt_max = c.time.beta * dx / cs;
+  if (is_half_space(c.geometry.height)) {
+    e.time_step = dt_max;
+    e.operator_bytes = fourier_modes * kHalfSpaceBytesPerFourierMode;
+  } else {
+    // As strip_time_step, without its rounding to a whole number of steps
+    // (which needs M to fit an integer, the very thing checked here).
+    e.echo_steps = std::ceil(2.0 * c.geometry.height / cs / dt_max * (1.0 - 1e-12));
+    e.time_step = e.echo_steps >= 1.0 ? 2.0 * c.geometry.height / cs / e.echo_steps : dt_max;
+    e.modes_per_fourier_mode = 0.5 * e.echo_steps * (1.0 + cs / cd);
+    e.block_history = c.time.history == HistoryAlgorithm::block ||
+                      (c.time.history == HistoryAlgorithm::automatic &&
+                       e.modes_per_fourier_mode >= kBlockThreshold);
+    const double per_mode = e.block_history ? kBlockBytesPerMode : kModalBytesPerMode;
+    e.operator_bytes = fourier_modes * e.modes_per_fourier_mode * per_mode + 8.0 * e.echo_steps;
+  }
+  e.steps = c.time.duration / e.time_step;
+
+  // Output: uncompressed sizes (snapshots are compressed in the file, so this
+  // is an upper bound for them; slip sampling is not compressed).
+  const auto& o = c.output;
+  const double rows = o.timeseries_interval > 0.0
+                          ? std::min(e.steps, c.time.duration / o.timeseries_interval)
+                          : e.steps;
+  double snapshots = 0.0;
+  if (o.snapshot_interval > 0.0) snapshots += std::min(e.steps, c.time.duration / o.snapshot_interval);
+  // At most one snapshot per step (solver/run.cpp); mean slip ~ v0 t.
+  if (o.snapshot_slip_increment > 0.0)
+    snapshots += std::min(e.steps, c.loading.driving_velocity * c.time.duration / o.snapshot_slip_increment);
+  // Slip sampling: one row of N crossing times per delta_th of slip; the
+  // mean slip v0 t gives the number of rows a uniformly sliding run fills.
+  const double levels =
+      o.delta_th > 0.0 ? c.loading.driving_velocity * c.time.duration / o.delta_th : 0.0;
+  e.output_bytes = 32.0 * rows + (8.0 + 32.0 * n) * snapshots + 8.0 * n * levels;
+  return e;
+}
+
+void check_resources(const SimulationConfig& c, const ResourceLimits& limits) {
+  const ResourceEstimate e = estimate_resources(c);
+  // Steps first: an overflowing count makes every other estimate meaningless.
+  if (!(e.steps <= limits.max_steps))
+    throw ConfigError("time.duration = " + number(c.time.duration) + " s needs " + number(e.steps) +
+                      " time steps of dt = " + number(e.time_step) +
+                      " s (set by geometry.length/geometry.nodes, geometry.height, time.beta and "
+                      "the wave speed sqrt(material.shear_modulus/material.density)): allowed at "
+                      "most " + number(limits.max_steps) + " steps (--max-steps raises the limit)");
+  if (e.steps < 0.5)
+    throw ConfigError("time.duration = " + number(c.time.duration) +
+                      " s is shorter than half a time step (dt = " + number(e.time_step) +
+                      " s): the run would take 0 steps; expected a duration >= dt");
+  // An index of strip normal modes must fit an int (kernels/strip_response.cpp).
+  if (e.modes_per_fourier_mode > 1e9)
+    throw ConfigError("geometry.height = " + number(c.geometry.height) + " m is " +
+                      number(c.geometry.height / (c.geometry.length / c.geometry.nodes)) +
+                      " grid spacings: the strip would carry " + number(e.modes_per_fourier_mode) +
+                      " normal modes per Fourier mode (time.beta = " + number(c.time.beta) +
+                      "); allowed at most 1e9 (use geometry.height = \"inf\" for a half-space)");
+  const double gib = e.operator_bytes / kGiB;
+  if (!(gib <= limits.max_operator_gib)) {
+    std::string drivers = is_half_space(c.geometry.height)
+                              ? "geometry.nodes = " + std::to_string(c.geometry.nodes)
+                              : "geometry.nodes = " + std::to_string(c.geometry.nodes) +
+                                    ", geometry.height = " + number(c.geometry.height) +
+                                    " m, time.beta = " + number(c.time.beta) + " (" +
+                                    number(e.modes_per_fourier_mode) +
+                                    " strip normal modes per Fourier mode, " +
+                                    (e.block_history ? "block" : "modal") + " history)";
+    throw ConfigError("history operator needs ~" + number(gib) + " GiB for " + drivers +
+                      ": allowed at most " + number(limits.max_operator_gib) +
+                      " GiB (--max-memory-gib raises the limit)");
+  }
+  const double out_gib = e.output_bytes / kGiB;
+  if (!(out_gib <= limits.max_output_gib))
+    throw ConfigError("output file would hold ~" + number(out_gib) + " GiB (time.duration = " +
+                      number(c.time.duration) + " s, output.delta_th = " + number(c.output.delta_th) +
+                      " m, output.timeseries_interval = " + number(c.output.timeseries_interval) +
+                      " s, output.snapshot_interval = " + number(c.output.snapshot_interval) +
+                      " s, output.snapshot_slip_increment = " +
+                      number(c.output.snapshot_slip_increment) + " m, geometry.nodes = " +
+                      std::to_string(c.geometry.nodes) + "): allowed at most " +
+                      number(limits.max_output_gib) + " GiB (--max-output-gib raises the limit)");
+}
+
+}  // namespace slipstrip

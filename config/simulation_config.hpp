@@ -1,0 +1,128 @@
+#pragma once
+// The fully resolved description of one run.  Every field is in SI units and
+// maps one-to-one onto a TOML key; the defaults below are the defaults of the
+// config.  The keys themselves (unit, range, help) are declared once in
+// config/config_schema.cpp, from which parsing, to_toml and docs/config.md follow.
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "config/interface_law_name.hpp"
+#include "friction/friction_law.hpp"
+#include "friction/parameter_profile.hpp"
+#include "kernels/elastic_material.hpp"
+
+namespace slipstrip {
+
+struct GeometryConfig {
+  double length = 4.0;   // [geometry] length L [m], period in x
+  double height = 0.1;   // [geometry] height H [m] of each strip; +inf = half-space
+  int nodes = 1600;      // [geometry] nodes N (power of two recommended for FFT speed)
+};
+
+struct LoadingConfig {
+  double driving_velocity = 2e-3;  // [loading] driving_velocity v0 [m/s]
+  double normal_stress = 1e6;      // [loading] normal_stress sigma0 [Pa]
+};
+
+// How the interface closes the elastodynamic problem: InterfaceLaw
+// (laws/interface_law.hpp) names a registered law.  Built in:
+//   rate_and_state  : the paper's friction (default)
+//   prescribed_slip : slip(x,t) = amplitude cos(2 pi mode x / L) g(t)   (verification)
+//   free            : no friction, an imposed shear-stress perturbation   (verification)
+
+// Time profile g(t) used by the verification laws.
+//   ramp : g = 0 for t<0, (1 - cos(pi t / T))/2 for 0<=t<T, 1 after   (C1 ramp)
+//   bump : g = sin^4(pi t / T) for 0<=t<T, 0 otherwise                  (C3 bump)
+enum class TimeProfile { ramp, bump };
+inline constexpr std::string_view kTimeProfileNames[] = {"ramp", "bump"};  // index = enumerator
+
+struct InterfaceConfig {
+  InterfaceLaw law = InterfaceLaw::rate_and_state;  // [interface] law
+  // prescribed_slip: [interface] slip_amplitude [m], mode (integer m), profile, rise_time [s]
+  double slip_amplitude = 1e-6;
+  int mode = 1;
+  TimeProfile profile = TimeProfile::ramp;
+  double rise_time = 1e-4;
+  // free: shear-stress pulse dtau(x,t) = stress_amplitude * exp(-((x-x0)/w)^2 / 2) * g(t)
+  //   [interface] stress_amplitude [Pa], pulse_center [m], pulse_width [m] (<=0 or inf: uniform)
+  double stress_amplitude = 1e5;
+  double pulse_center = 0.0;
+  double pulse_width = std::numeric_limits<double>::infinity();
+  // rate_and_state: an extra shear-load pulse of this amplitude [Pa] with the
+  // same shape (pulse_center, pulse_width, profile, rise_time); 0 = off.  A
+  // smooth way to nucleate at a chosen place, and a problem that is smooth in
+  // time (an initial state perturbation makes v jump at t = 0+).
+  double load_pulse_amplitude = 0.0;
+};
+
+// Initial perturbations on top of steady sliding at v0 (phi = phi_ss(v0)).
+struct InitialConfig {
+  double noise_amplitude = 0.0;      // [initial] noise_amplitude: relative std of the noise in phi
+  std::uint64_t noise_seed = 1;      // [initial] noise_seed
+  int noise_modes = 0;               // [initial] noise_modes: 0 = white noise per node; M = first M
+                                     // Fourier modes (the same field on every mesh, laws/initial_state.hpp)
+  double sine_amplitude = 0.0;       // [initial] sine_amplitude eps: phi_ss eps sin(2 pi m x/L + pi/2)
+  int sine_mode = 1;                 // [initial] sine_mode m
+  double local_amplitude = 0.0;      // [initial] local_amplitude: relative bump in phi (Gaussian)
+  double local_center = 0.0;         // [initial] local_center x [m]
+  double local_width = 0.0;          // [initial] local_width [m]
+};
+
+// How the strip's history operator is applied (both give the same discrete
+// operator, to ~1e-13; docs/performance.md):
+//   modal : one rotation per strip normal mode and step, O(H/dx) per Fourier mode
+//   block : FFT block convolutions + NUFFT-moved normal-mode states, O(log^2(H/dx))
+//   auto  : block when a Fourier mode has >= 128 normal modes, else modal
+// The half-space has its own operator and ignores this key.
+enum class HistoryAlgorithm { automatic, modal, block };
+inline constexpr std::string_view kHistoryAlgorithmNames[] = {"auto", "modal", "block"};  // index = enumerator
+
+struct TimeConfig {
+  HistoryAlgorithm history = HistoryAlgorithm::automatic;  // [time] history
+  double beta = 0.25;       // [time] beta: dt <= beta dx / c_s (see docs: dt is adjusted so 2H/c_s is a whole number of steps)
+  double duration = 1e-3;   // [time] duration [s] (or duration_transit in units of L/c_s, resolved here)
+};
+
+struct OutputConfig {
+  double timeseries_interval = 0.0;  // [output] timeseries_interval [s]; 0 = every step
+  double snapshot_interval = 0.0;    // [output] snapshot_interval [s]; 0 = no time snapshots
+  double snapshot_slip_increment = 0.0;  // [output] snapshot_slip_increment [m] (mean slip); 0 = off
+  double delta_th = 1e-8;            // [output] delta_th [m], slip-sampling threshold; 0 = off
+  double flush_interval = 5.0;       // [output] flush_interval [s of wall time]
+  // [output] checkpoint_interval [s of wall time] between restart points
+  // (RUN.h5.restart, docs/output.md); 0 = only when SIGTERM/SIGINT stops the run.
+  double checkpoint_interval = 600.0;
+  // [output] kernel_cache: directory where the strip kernels (normal-mode
+  // phases and weights per Fourier mode) are cached, one HDF5 file per set of
+  // inputs they depend on, so a scan computes them once; "" = no cache.
+  std::string kernel_cache;
+  // [output] stations: positions x [m] (0 <= x < L) of on-fault stations whose
+  // slip, slip_rate, shear_stress, state and normal_stress are recorded
+  // (linear interpolation between the two neighbouring nodes; exact on a
+  // node) every station_interval [s] (0 = every step) in /stations, with the
+  // global max slip rate and moment rate.  Empty = no stations.
+  std::vector<double> stations;
+  double station_interval = 0.0;
+  // [output] front_slip_rate [m/s]: per node, the first time the slip rate
+  // exceeds it is stored in /rupture_front (0 = off).
+  double front_slip_rate = 0.0;
+};
+
+struct SimulationConfig {
+  GeometryConfig geometry;
+  ElasticMaterial material;  // [material] shear_modulus, poisson_ratio, density, plane
+  LoadingConfig loading;
+  FrictionParameters friction;  // [friction] law, f0, a, b, characteristic_slip, v_star, phi_star; [state] law
+  // [friction] f0, a, b, characteristic_slip given as profiles along x (the
+  // matching field of `friction` is then NaN; friction/parameter_profile.hpp).
+  FrictionProfiles friction_along_x;
+  InterfaceConfig interface;
+  InitialConfig initial;
+  TimeConfig time;
+  OutputConfig output;
+};
+
+}  // namespace slipstrip

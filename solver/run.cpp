@@ -1,0 +1,272 @@
+#include "solver/run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "solver/checkpoint.hpp"
+#include "config/config.hpp"
+#include "solver/run_output.hpp"
+#include "solver/simulation.hpp"
+#include "solver/stations.hpp"
+#include "slipstrip/version.hpp"
+
+namespace slipstrip {
+
+double next_slip_trigger(double next, double mean_slip, double increment) {
+  // The usual case: step the trigger by whole increments past the slip (the
+  // historical rule, kept so that existing runs take the same snapshots).
+  if ((mean_slip - next) / increment < 1e6) {
+    while (next <= mean_slip) {
+      const double advanced = next + increment;
+      if (!(advanced > next)) break;  // increment below the rounding of next
+      next = advanced;
+    }
+  } else {
+    next = (std::floor(mean_slip / increment) + 1.0) * increment;
+  }
+  // An increment lost in the rounding of the slip (e.g. 1e-30 m on 1e-6 m)
+  // would leave the trigger at or below the slip forever: move it just past
+  // the slip, so at most one snapshot is taken per step.
+  if (!(next > mean_slip)) next = std::nextafter(mean_slip, std::numeric_limits<double>::infinity());
+  return next;
+}
+
+namespace {
+
+// The time loop of a new run (resume_from == nullptr) or of a resumed one.
+RunResult drive(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
+                const RunCheckpoint* resume_from) {
+  using clock = std::chrono::steady_clock;
+  // The set-up polls the same stop request as the time loop: a signal during
+  // a long kernel set-up ends it with SetupCancelled, before any file exists
+  // (or, on resume, before the run file is touched).
+  // A local friction solve that fails already at t = 0 is not a divergence of
+  // the run but a combination of [friction], [loading] and [initial] values
+  // without a steady state to start from: an input error (exit code 2).
+  const auto sim_owner = [&] {
+    try {
+      return std::make_unique<Simulation>(config, hooks.stop_requested);
+    } catch (const SimulationError& e) {
+      throw std::invalid_argument(
+          std::string("the initial state (t = 0) cannot be solved for this combination of "
+                      "[friction], [loading] and [initial] values: ") + e.what());
+    }
+  }();
+  Simulation& sim = *sim_owner;
+  if (resume_from) sim.restore_state(resume_from->simulation);
+  // Half a step of slack so rounding never adds or drops a final step.  The
+  // count must fit a long long (a huge duration once overflowed to "0 steps").
+  const double step_count = std::ceil(config.time.duration / sim.time_step() - 0.5);
+  if (!(step_count < 0.5 * static_cast<double>(std::numeric_limits<long long>::max())))
+    throw std::invalid_argument("time.duration = " + std::to_string(config.time.duration) +
+                                " s is " + std::to_string(step_count) + " time steps of dt = " +
+                                std::to_string(sim.time_step()) +
+                                " s: the step count does not fit a 64-bit integer");
+  const long long total_steps = static_cast<long long>(step_count);
+  const auto& out_cfg = config.output;
+  const std::string config_toml = to_toml(config);
+
+  SlipSamplingSetup sampling;
+  sampling.delta_th = out_cfg.delta_th;
+  sampling.dx = sim.dx();
+  sampling.v0 = config.loading.driving_velocity;
+  sampling.mu = config.material.shear_modulus;
+  sampling.D = config.friction.characteristic_slip;
+  sampling.L = config.geometry.length;
+  sampling.x.assign(sim.x().begin(), sim.x().end());
+  RunOutputOptions options;
+  options.snapshots_by_slip = out_cfg.snapshot_slip_increment > 0.0;
+  options.station_x = out_cfg.stations;
+  options.front_slip_rate = out_cfg.front_slip_rate;
+  if (config.interface.law == InterfaceLaw::rate_and_state) {
+    // The parameters every node ran with (profiles resolved), so the file is
+    // interpretable without the profile files the config may name.
+    const auto nodes = resolve_friction_nodes(config.friction, config.friction_along_x,
+                                              sim.x().size(), sim.dx());
+    options.node_parameters = {{"f0", "1", nodes.f0},
+                               {"a", "1", nodes.a},
+                               {"b", "1", nodes.b},
+                               {"characteristic_slip", "m", nodes.characteristic_slip}};
+  }
+  // A resumed run cuts every record of the file back to the restart point:
+  // whatever was written after it (before the kill) is written again, the same.
+  std::unique_ptr<RunOutput> output_owner =
+      resume_from ? std::make_unique<RunOutput>(output_path, resume_from->output, sampling, options)
+                  : std::make_unique<RunOutput>(output_path, config_toml, sampling, options);
+  RunOutput& output = *output_owner;
+
+  // Stations (one buffer per field, sampled in turn) and rupture-front arrival times.
+  StationSampler station_slip(out_cfg.stations, sim.dx(), sim.x().size()),
+      station_rate(out_cfg.stations, sim.dx(), sim.x().size()),
+      station_stress(out_cfg.stations, sim.dx(), sim.x().size()),
+      station_state(out_cfg.stations, sim.dx(), sim.x().size());
+  const double mu_dx = config.material.shear_modulus * sim.dx();
+  auto record_stations = [&] {
+    if (station_slip.empty()) return;
+    double sum_rate = 0.0;
+    for (double v : sim.slip_rate()) sum_rate += v;
+    output.append_stations(sim.time(), station_slip.sample(sim.slip()), station_rate.sample(sim.slip_rate()),
+                           station_stress.sample(sim.shear_stress()), station_state.sample(sim.state()),
+                           config.loading.normal_stress, sim.max_slip_rate(), mu_dx * sum_rate);
+  };
+  std::vector<double> front_arrival(out_cfg.front_slip_rate > 0.0 ? sim.x().size() : 0,
+                                    std::numeric_limits<double>::quiet_NaN());
+  if (resume_from) front_arrival = resume_from->output.rupture_front;  // sizes checked by RunOutput
+  auto record_front = [&] {
+    bool changed = false;
+    const auto v = sim.slip_rate();
+    for (std::size_t i = 0; i < front_arrival.size(); ++i)
+      if (std::isnan(front_arrival[i]) && std::abs(v[i]) > out_cfg.front_slip_rate) {
+        front_arrival[i] = sim.time();
+        changed = true;
+      }
+    if (changed) output.set_rupture_front(front_arrival);
+  };
+
+  RunResult result;
+  result.time_step = sim.time_step();
+  const double duration = config.time.duration;
+  std::vector<double> previous_slip(sim.slip().begin(), sim.slip().end());
+
+  auto write_snapshot = [&] {
+    output.write_snapshot(sim.time(), sim.slip(), sim.slip_rate(), sim.state(), sim.shear_stress());
+  };
+  double next_station = out_cfg.station_interval;
+  double next_timeseries = out_cfg.timeseries_interval;
+  double next_snapshot = out_cfg.snapshot_interval;
+  double next_snapshot_slip = out_cfg.snapshot_slip_increment;
+  if (resume_from) {
+    // The records of t = 0 are in the file already; the triggers continue.
+    next_station = resume_from->next_station;
+    next_timeseries = resume_from->next_timeseries;
+    next_snapshot = resume_from->next_snapshot;
+    next_snapshot_slip = resume_from->next_snapshot_slip;
+    result.resumed_from_step = sim.step_index();
+  } else {
+    record_stations();
+    record_front();
+    output.append_timeseries(sim.time(), sim.max_slip_rate(), sim.mean_slip(), sim.mean_shear_stress());
+    const bool snapshots_on = out_cfg.snapshot_interval > 0.0 || out_cfg.snapshot_slip_increment > 0.0;
+    if (snapshots_on) write_snapshot();
+  }
+
+  // A restart point: the run file flushed (so its records end exactly at the
+  // cursors), then the state after the current step.  force: also when a
+  // reader holds the file (the run is stopping); otherwise a held file
+  // postpones the restart point to the next interval check.  Allocates: only
+  // every checkpoint_interval seconds and at the stop, never per step.
+  auto write_restart_point = [&](bool force) {
+    auto cursor = output.flush_for_checkpoint(force);
+    if (!cursor) return false;
+    RunCheckpoint checkpoint;
+    checkpoint.config_toml = config_toml;
+    checkpoint.git_hash = slipstrip::git_hash;
+    checkpoint.simulation = sim.save_state();
+    checkpoint.output = std::move(*cursor);
+    checkpoint.next_timeseries = next_timeseries;
+    checkpoint.next_snapshot = next_snapshot;
+    checkpoint.next_snapshot_slip = next_snapshot_slip;
+    checkpoint.next_station = next_station;
+    write_checkpoint(output_path, checkpoint);
+    result.restart_point = checkpoint_path(output_path);
+    return true;
+  };
+
+  const auto start = clock::now();
+  auto last_flush = start, last_progress = start, last_checkpoint = start;
+  auto seconds_since = [](clock::time_point t) {
+    return std::chrono::duration<double>(clock::now() - t).count();
+  };
+  try {
+    while (sim.step_index() < total_steps) {
+      std::copy(sim.slip().begin(), sim.slip().end(), previous_slip.begin());
+      const double t_old = sim.time();
+      sim.step();
+      output.record_slip(t_old, sim.time(), previous_slip, sim.slip());
+      if (!station_slip.empty() && sim.time() >= next_station * (1 - 1e-12)) {
+        record_stations();
+        next_station += out_cfg.station_interval;
+      }
+      if (!front_arrival.empty()) record_front();
+      if (sim.time() >= next_timeseries * (1 - 1e-12)) {
+        output.append_timeseries(sim.time(), sim.max_slip_rate(), sim.mean_slip(), sim.mean_shear_stress());
+        next_timeseries += out_cfg.timeseries_interval;
+      }
+      if (out_cfg.snapshot_interval > 0.0 && sim.time() >= next_snapshot * (1 - 1e-12)) {
+        write_snapshot();
+        next_snapshot += out_cfg.snapshot_interval;
+      } else if (out_cfg.snapshot_slip_increment > 0.0 && sim.mean_slip() >= next_snapshot_slip) {
+        write_snapshot();
+        next_snapshot_slip = next_slip_trigger(next_snapshot_slip, sim.mean_slip(),
+                                               out_cfg.snapshot_slip_increment);
+      }
+      // Wall-clock checks are cheap but not free: every 16 steps is plenty.
+      if ((sim.step_index() & 15) == 0) {
+        if (out_cfg.checkpoint_interval > 0.0 && seconds_since(last_checkpoint) >= out_cfg.checkpoint_interval &&
+            write_restart_point(false))
+          last_checkpoint = last_flush = clock::now();
+        if (seconds_since(last_flush) >= out_cfg.flush_interval) {
+          output.flush();
+          last_flush = clock::now();
+        }
+        if (hooks.progress && seconds_since(last_progress) >= hooks.progress_interval) {
+          hooks.progress({sim.time(), duration, sim.step_index(), sim.max_slip_rate(), seconds_since(start)});
+          last_progress = clock::now();
+        }
+      }
+      if ((hooks.stop_requested && hooks.stop_requested()) ||
+          (hooks.stop_after_steps >= 0 && sim.step_index() >= hooks.stop_after_steps)) {
+        write_restart_point(/*force=*/true);
+        result.status = "interrupted";
+        break;
+      }
+    }
+    if (result.status.empty()) result.status = "completed";
+  } catch (const SimulationError& e) {
+    result.status = std::string("diverged: ") + e.what();
+  } catch (const SlipSamplingOverflow& e) {
+    result.status = std::string("diverged: ") + e.what();
+  }
+  result.simulated_time = sim.time();
+  result.steps = sim.step_index();
+  result.wall_seconds = seconds_since(start);
+  if (hooks.progress)
+    hooks.progress({sim.time(), duration, sim.step_index(), sim.max_slip_rate(), result.wall_seconds});
+  output.close(result.status);
+  if (result.status != "interrupted") {
+    // Completed: nothing left to resume.  Diverged: a resume would diverge
+    // again, bit for bit.  Either way the restart point is dead weight.
+    remove_checkpoint(output_path);
+    result.restart_point.clear();
+  }
+  return result;
+}
+
+}  // namespace
+
+RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
+                         const RunHooks& hooks) {
+  return drive(config, output_path, hooks, nullptr);
+}
+
+RunResult resume_simulation(const std::string& output_path, const RunHooks& hooks) {
+  const RunFileHeader header = read_run_file_header(output_path);
+  if (header.status == "completed")
+    throw std::invalid_argument("run file '" + output_path + "' is completed: nothing to resume");
+  if (header.status.rfind("diverged", 0) == 0)
+    throw std::invalid_argument("run file '" + output_path + "' has status '" + header.status +
+                                "': a resumed run would diverge again; nothing to resume");
+  const RunCheckpoint checkpoint = read_checkpoint(output_path);
+  if (checkpoint.config_toml != header.config_toml)
+    throw std::invalid_argument("restart point '" + checkpoint_path(output_path) +
+                                "' was written for another config than the run file '" + output_path +
+                                "' holds (not its restart point)");
+  const SimulationConfig config = load_config_string(header.config_toml);
+  return drive(config, output_path, hooks, &checkpoint);
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,68 @@
+#pragma once
+// Drive one Simulation to the end of its duration, writing the HDF5 run file.
+#include <functional>
+#include <string>
+
+#include "config/simulation_config.hpp"
+
+namespace slipstrip {
+
+struct RunProgress {
+  double time;            // simulated time [s]
+  double duration;        // target [s]
+  long long step;
+  double max_slip_rate;   // [m/s]
+  double wall_seconds;    // since the start of the time loop
+};
+
+struct RunHooks {
+  // Called about every progress_interval seconds of wall time.
+  std::function<void(const RunProgress&)> progress;
+  double progress_interval = 0.5;
+  // Polled every step; true stops the run cleanly ("interrupted") after
+  // writing a restart point.
+  std::function<bool()> stop_requested;
+  // >= 0: stop as stop_requested does once this many steps (counted from
+  // t = 0) are done.  A deterministic interruption for tests (`slipstrip run
+  // --stop-after-steps`).
+  long long stop_after_steps = -1;
+};
+
+struct RunResult {
+  std::string status;  // "completed", "interrupted" or "diverged: ..."
+  double simulated_time = 0.0;
+  long long steps = 0;
+  double wall_seconds = 0.0;
+  double time_step = 0.0;
+  long long resumed_from_step = -1;  // resume_simulation: the restart point's step
+  std::string restart_point;         // path of the restart point left behind ("" if none)
+};
+
+// The next mean-slip level at which a snapshot is taken after one was taken at
+// mean slip `mean_slip` with the previous trigger `next`: the smallest
+// next + m increment above mean_slip, and always > mean_slip, so a tiny
+// increment gives at most one snapshot per step and never loops forever.
+double next_slip_trigger(double next, double mean_slip, double increment);
+
+// Runs `config` and writes `output_path`.  hooks.stop_requested is also polled
+// during the set-up of the history operator; a stop there throws
+// SetupCancelled (kernels/history_convolution.hpp) before the file is created.  A divergence (non-finite field,
+// failed local solve) ends the run with status "diverged: <diagnostic>" and a
+// readable file; it is reported in the result, not thrown.
+//
+// Restart points (solver/checkpoint.hpp): every output.checkpoint_interval
+// seconds of wall time (0: never on a timer) and whenever stop_requested
+// stops the run, the run file is flushed and RUN.h5.restart written.  A run
+// that completes or diverges removes it.
+RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
+                         const RunHooks& hooks = {});
+
+// Continues the run of `output_path` from its restart point, appending to the
+// same file, with the config stored in it; the result is bitwise the file an
+// uninterrupted run writes (docs/reliability.md).  Throws std::invalid_argument
+// if there is no usable restart point, or it does not belong to this file
+// (other config), or the run is not resumable (status "completed" or
+// "diverged: ...").  The set-up polls hooks.stop_requested as run_simulation's.
+RunResult resume_simulation(const std::string& output_path, const RunHooks& hooks = {});
+
+}  // namespace slipstrip

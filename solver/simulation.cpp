@@ -1,0 +1,187 @@
+#include "solver/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "kernels/block_strip_history.hpp"
+#include "kernels/half_space_history.hpp"
+#include "kernels/kernel_cache.hpp"
+
+namespace slipstrip {
+namespace {
+// Both algorithms apply the same discrete operator (to ~1e-13,
+// tests/cpp/test_kernels_block_history.cpp); the block one wins once a
+// Fourier mode carries more than ~100 normal modes (bench_kernels_history:
+// 1.8x faster at 150 modes per Fourier mode, 55x at 6000) but needs ~2-3x the
+// memory, so below that the modal one is kept.
+constexpr std::size_t block_history_threshold = 128;
+
+std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& material,
+                                                    const StripKernels& kernels,
+                                                    HistoryAlgorithm algorithm,
+                                                    const CancelCheck& cancelled) {
+  if (algorithm == HistoryAlgorithm::automatic) {
+    std::size_t most = 0;
+    for (std::size_t q = 0; q + 1 < kernels.first_oscillator.size(); ++q)
+      most = std::max(most, kernels.first_oscillator[q + 1] - kernels.first_oscillator[q]);
+    algorithm = most >= block_history_threshold ? HistoryAlgorithm::block : HistoryAlgorithm::modal;
+  }
+  if (algorithm == HistoryAlgorithm::block)
+    return std::make_unique<BlockStripHistory>(material, kernels, BlockHistoryDesign{}, cancelled);
+  return std::make_unique<StripHistory>(material, kernels, cancelled);
+}
+}
+
+Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancelled,
+                       const InterfaceLawRegistry& laws)
+    : config_(config), nodes_(config.geometry.nodes) {
+  const auto& g = config_.geometry;
+  dx_ = g.length / nodes_;
+  dt_ = strip_time_step(config_.material, g.height, dx_, config_.time.beta);
+  eta_ = config_.material.shear_modulus / (2.0 * config_.material.shear_wave_speed());
+  fft_ = std::make_unique<RealFft>(nodes_);
+  if (is_half_space(g.height)) {
+    // Sampled exact half-space kernel, made passive, with bounded memory
+    // (kernels/half_space_history.hpp, docs/theory.md "bounded-memory half-space").
+    history_ = std::make_unique<HalfSpaceHistory>(config_.material, g.length, nodes_, dt_,
+                                                  HalfSpaceOperatorDesign{}, cancelled);
+  } else {
+    const auto kernels =
+        config_.output.kernel_cache.empty()
+            ? compute_strip_kernels(config_.material, g.height, g.length, nodes_, dt_, cancelled)
+            : load_or_compute_strip_kernels(config_.output.kernel_cache, config_.material,
+                                            g.height, g.length, nodes_, dt_, nullptr, cancelled);
+    history_ = make_strip_history(config_.material, kernels, config_.time.history, cancelled);
+  }
+
+  const auto n = static_cast<std::size_t>(nodes_);
+  x_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) x_[i] = i * dx_;
+  slip_.assign(n, 0.0);
+  slip_rate_.assign(n, 0.0);
+  state_.assign(n, 0.0);
+  shear_stress_.assign(n, 0.0);
+  previous_slip_rate_.assign(n, 0.0);
+  previous_state_.assign(n, 0.0);
+  history_stress_.assign(n, 0.0);
+  work_real_.assign(n, 0.0);
+  spectrum_.assign(n / 2 + 1, 0.0);
+
+  law_ = laws.make(InterfaceSetup{config_, x_, eta_});
+  driving_velocity_ = law_->driving_velocity();
+  InterfaceFields f = fields();
+  run_law([&] { law_->initialise(f); });
+  check_finite("initial fields");
+}
+
+InterfaceFields Simulation::fields() {
+  return InterfaceFields{x_, history_stress_, previous_slip_rate_, previous_state_,
+                         slip_,  slip_rate_,     state_,              shear_stress_};
+}
+
+template <class Call>
+void Simulation::run_law(Call&& call) {
+  try {
+    call();
+  } catch (const InterfaceFailure& e) {
+    const std::size_t i = e.node;
+    std::ostringstream msg;
+    msg << e.failed << " at node " << i << " (x = " << x_[i] << " m), t = " << time_
+        << " s, step " << step_index_ << ": " << e.what();
+    throw SimulationError(msg.str());
+  }
+}
+
+double Simulation::reference_shear_stress() const {
+  const auto tau0 = law_->reference_shear_stress();
+  if (tau0.empty()) return 0.0;
+  if (std::all_of(tau0.begin(), tau0.end(), [&](double t) { return t == tau0[0]; })) return tau0[0];
+  return std::accumulate(tau0.begin(), tau0.end(), 0.0) / static_cast<double>(tau0.size());
+}
+
+void Simulation::step() {
+  // 1. history stress at t_{n+1} from slip rates up to t_n.
+  // The perturbation v - v0 is zero before t = 0 and may jump at t = 0+ (an
+  // initial state perturbation changes v at once).  The trapezoidal rule over
+  // the history puts weight 1/2 on that end point (equivalently: a delta of the
+  // echo comb that lands on the jump samples its mean), so the first sample
+  // enters the history at half weight.  Full weight costs an O(dt) error for
+  // the whole run (tests/cpp/test_solver_convergence.cpp).
+  const double first_sample_weight = step_index_ == 0 ? 0.5 : 1.0;
+  for (int i = 0; i < nodes_; ++i)
+    work_real_[i] = first_sample_weight * (slip_rate_[i] - driving_velocity_);
+  fft_->forward(work_real_, spectrum_);
+  history_->push(spectrum_);
+  fft_->inverse(history_->history(), history_stress_);
+
+  std::copy(slip_rate_.begin(), slip_rate_.end(), previous_slip_rate_.begin());
+  std::copy(state_.begin(), state_.end(), previous_state_.begin());
+  const double t_new = time_ + dt_;
+
+  // 2. interface law at t_{n+1}.
+  InterfaceFields f = fields();
+  run_law([&] { law_->advance(InterfaceStep{time_, dt_, step_index_}, f); });
+  time_ = t_new;
+  ++step_index_;
+  check_finite("interface fields");
+}
+
+void Simulation::check_finite(const char* what) const {
+  for (int i = 0; i < nodes_; ++i) {
+    if (!std::isfinite(slip_rate_[i]) || !std::isfinite(slip_[i]) ||
+        !std::isfinite(shear_stress_[i]) || !std::isfinite(state_[i])) {
+      std::ostringstream msg;
+      msg << "non-finite " << what << " at node " << i << " (x = " << x_[i] << " m), t = "
+          << time_ << " s, step " << step_index_ << ": slip = " << slip_[i]
+          << " m, slip_rate = " << slip_rate_[i] << " m/s, state = " << state_[i]
+          << " s, shear_stress = " << shear_stress_[i] << " Pa";
+      throw SimulationError(msg.str());
+    }
+  }
+}
+
+SimulationState Simulation::save_state() const {
+  SimulationState saved;
+  saved.time = time_;
+  saved.step_index = step_index_;
+  saved.slip = slip_;
+  saved.slip_rate = slip_rate_;
+  saved.state = state_;
+  saved.shear_stress = shear_stress_;
+  saved.history_stress = history_stress_;
+  saved.history = history_->save_state();
+  return saved;
+}
+
+void Simulation::restore_state(const SimulationState& saved) {
+  const std::pair<const std::vector<double>*, std::vector<double>*> fields[] = {
+      {&saved.slip, &slip_}, {&saved.slip_rate, &slip_rate_}, {&saved.state, &state_},
+      {&saved.shear_stress, &shear_stress_}, {&saved.history_stress, &history_stress_}};
+  const char* names[] = {"slip", "slip_rate", "state", "shear_stress", "history_stress"};
+  for (std::size_t f = 0; f < std::size(fields); ++f)
+    if (fields[f].first->size() != fields[f].second->size())
+      throw std::invalid_argument(std::string("saved simulation state: ") + names[f] + " has " +
+                                  std::to_string(fields[f].first->size()) + " values, this config has " +
+                                  std::to_string(nodes_) + " nodes");
+  if (!(saved.step_index >= 0) || !std::isfinite(saved.time))
+    throw std::invalid_argument("saved simulation state: step " + std::to_string(saved.step_index) +
+                                ", t = " + std::to_string(saved.time) + " s is not a valid time level");
+  history_->restore_state(saved.history);
+  for (const auto& [from, to] : fields) std::copy(from->begin(), from->end(), to->begin());
+  time_ = saved.time;
+  step_index_ = saved.step_index;
+}
+
+double Simulation::max_slip_rate() const {
+  return *std::max_element(slip_rate_.begin(), slip_rate_.end());
+}
+double Simulation::mean_slip() const {
+  return std::accumulate(slip_.begin(), slip_.end(), 0.0) / nodes_;
+}
+double Simulation::mean_shear_stress() const {
+  return std::accumulate(shear_stress_.begin(), shear_stress_.end(), 0.0) / nodes_;
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,106 @@
+#pragma once
+// One simulation: interface fields, the spectral history operator and the
+// explicit time step.  A process may hold several Simulation objects; nothing
+// here is global.
+#include <complex>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "laws/interface_law.hpp"
+#include "config/simulation_config.hpp"
+#include "kernels/fft.hpp"
+#include "kernels/history_convolution.hpp"
+
+namespace slipstrip {
+
+// A run that cannot continue (non-finite value, failed local solve): the
+// message names the node, the time and the values involved.
+struct SimulationError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Everything a Simulation carries from one step to the next: the interface
+// fields, the time, and the history operator's state.  What a restart point
+// holds (solver/checkpoint.hpp); the other members are per-step scratch or are
+// rebuilt from the config.
+struct SimulationState {
+  double time = 0.0;
+  long long step_index = 0;
+  std::vector<double> slip, slip_rate, state, shear_stress, history_stress;
+  HistoryOperatorState history;
+};
+
+class Simulation {
+ public:
+  // `cancelled` is polled during the kernel and operator set-up (which takes
+  // seconds for thick strips); when it returns true the constructor throws
+  // SetupCancelled (kernels/history_convolution.hpp).
+  // The interface law is config.interface.law, looked up in `laws`.
+  explicit Simulation(const SimulationConfig& config, const CancelCheck& cancelled = {},
+                      const InterfaceLawRegistry& laws = builtin_interface_laws());
+
+  // Advance one time step dt.
+  void step();
+
+  const SimulationConfig& config() const { return config_; }
+  double time() const { return time_; }
+  long long step_index() const { return step_index_; }
+  double time_step() const { return dt_; }
+  double dx() const { return dx_; }
+  double radiation_damping() const { return eta_; }  // mu / (2 c_s) [Pa s/m]
+  const HistoryOperator& history_operator() const { return *history_; }
+
+  std::span<const double> x() const { return x_; }
+  std::span<const double> slip() const { return slip_; }                // [m]
+  std::span<const double> slip_rate() const { return slip_rate_; }      // [m/s]
+  std::span<const double> state() const { return state_; }              // phi [s]
+  std::span<const double> shear_stress() const { return shear_stress_; }  // [Pa]
+
+  // Save (allocates: outside the time loop) and restore into a Simulation
+  // built from the same config; the restored one then steps bit for bit as
+  // the saved one would.  restore_state throws std::invalid_argument naming
+  // the field if a size does not match this config.
+  SimulationState save_state() const;
+  void restore_state(const SimulationState& saved);
+
+  double max_slip_rate() const;
+  double mean_slip() const;
+  double mean_shear_stress() const;
+
+  // Steady sliding reference: tau_0 = strength(v0, phi_ss(v0)) (rate_and_state),
+  // 0 for the verification laws: the value of every node when it is the same
+  // everywhere, else the mean over the nodes (per node: reference_shear_stresses()).
+  double reference_shear_stress() const;
+  std::span<const double> reference_shear_stresses() const {
+    return law_->reference_shear_stress();
+  }
+
+ private:
+  InterfaceFields fields();
+  // Runs the law; a failed node becomes a SimulationError naming x, t and the step.
+  template <class Call>
+  void run_law(Call&& call);
+  void check_finite(const char* what) const;
+
+  SimulationConfig config_;
+  int nodes_;
+  double dx_, dt_, eta_;
+  double driving_velocity_;  // v0 used for the perturbation split (0 for verification laws)
+  double time_ = 0.0;
+  long long step_index_ = 0;
+
+  std::vector<double> x_, slip_, slip_rate_, state_, shear_stress_;
+  std::vector<double> previous_slip_rate_, previous_state_;
+  std::vector<double> history_stress_;  // history part in x [Pa]
+  std::vector<double> work_real_;
+  std::vector<std::complex<double>> spectrum_;
+
+  std::unique_ptr<RealFft> fft_;
+  std::unique_ptr<HistoryOperator> history_;
+  std::unique_ptr<InterfaceCondition> law_;
+};
+
+}  // namespace slipstrip

@@ -1,0 +1,390 @@
+#include "stability/linear_stability.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace slipstrip {
+namespace {
+
+constexpr double pi = std::numbers::pi;
+
+std::string shortest(double x) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, x).ptr;
+  return std::string(buffer, end);
+}
+
+void require_positive(double value, const char* name) {
+  if (!(value > 0.0))
+    throw std::invalid_argument(std::string("linear stability: ") + name + " = " +
+                                std::to_string(value) + " is not allowed; it must be > 0");
+}
+
+void validate(const SteadySliding& sliding) {
+  require_positive(sliding.material.shear_modulus, "material.shear_modulus");
+  require_positive(sliding.material.density, "material.density");
+  const double nu = sliding.material.poisson_ratio;
+  if (!poisson_ratio_allowed(nu))
+    throw std::invalid_argument("linear stability: material.poisson_ratio = " + std::to_string(nu) +
+                                " is not allowed; it must lie in (" + shortest(kMinPoissonRatio) +
+                                ", " + shortest(kMaxPoissonRatio) + ")");
+  require_positive(sliding.strip_height, "strip_height");
+  require_positive(sliding.normal_stress, "normal_stress");
+  require_positive(sliding.driving_velocity, "driving_velocity");
+  slipstrip::validate(sliding.friction);
+}
+
+// Everything about F that depends on the wavelength only; built once per wavelength
+// so the contour sweeps do not allocate.
+struct Characteristic {
+  const SteadySliding& sliding;
+  LinearisedFriction lin;
+  double wavenumber;
+  // Pole frequencies omega_p of S(k, s; H) on the imaginary axis (finite H only).
+  std::vector<double> pole_frequencies;
+
+  complex response(complex z) const {
+    return strip_response(sliding.material, sliding.strip_height, wavenumber, z);
+  }
+
+  // F itself (has the poles of S and the pole at g_phi).
+  complex raw(complex z) const {
+    return response(z) + z * (lin.strength_dv + lin.strength_dstate * lin.state_rate_dv /
+                                                    (z - lin.state_rate_dstate));
+  }
+
+  // G = F (z - g_phi) prod_p (z - i w_p)(z + i w_p) / w_p^2 : same zeros as F in the
+  // boxes used, but no poles, so the argument principle counts zeros only and the
+  // contour sweep stays smooth next to the lossless strip resonances.
+  complex regular(complex z) const {
+    const double g_phi = lin.state_rate_dstate;
+    complex value = response(z);
+    for (double w : pole_frequencies) value *= (z - complex(0.0, w)) * (z + complex(0.0, w)) / (w * w);
+    complex friction = z * (lin.strength_dv * (z - g_phi) + lin.strength_dstate * lin.state_rate_dv);
+    for (double w : pole_frequencies) friction *= (z - complex(0.0, w)) * (z + complex(0.0, w)) / (w * w);
+    return value * (z - g_phi) + friction;
+  }
+
+  bool near_removed_pole(complex z) const {
+    for (double w : pole_frequencies)
+      if (std::abs(z - complex(0.0, w)) < 1e-7 * w || std::abs(z + complex(0.0, w)) < 1e-7 * w)
+        return true;
+    return false;
+  }
+};
+
+// Poles of S(k, s; H): sinh(alpha H) = 0 with the residues of strip_modes() that do
+// not cancel: omega = c_s k (m = 0), c_s sqrt(k^2 + kappa^2), c_d sqrt(k^2 + kappa^2)
+// (m >= 1, kappa = m pi / H).  The comb frequencies c_s kappa are NOT poles of S (the
+// k-dependent part cancels the pole of coth(s H / c_s)); the tests check both facts.
+std::vector<double> strip_pole_frequencies(const ElasticMaterial& material, double H, double k,
+                                           double max_frequency) {
+  std::vector<double> poles;
+  if (is_half_space(H) || k == 0.0) return poles;  // k = 0: shear comb poles, not used here
+  const double cs = material.shear_wave_speed();
+  const double cd = material.dilatational_wave_speed();
+  if (cs * k <= max_frequency) poles.push_back(cs * k);
+  for (int m = 1;; ++m) {
+    const double kappa = m * pi / H;
+    const double q = std::sqrt(k * k + kappa * kappa);
+    if (cs * q > max_frequency) break;
+    // Residue of the shear family vanishes when kappa == k (d2 = 0 in strip_modes).
+    if (std::abs(kappa * kappa - k * k) > 1e-12 * kappa * kappa) poles.push_back(cs * q);
+    if (cd * q <= max_frequency) poles.push_back(cd * q);
+  }
+  std::sort(poles.begin(), poles.end());
+  // Coincident frequencies of different families are one (simple) pole, not two.
+  poles.erase(std::unique(poles.begin(), poles.end(),
+                          [](double x, double y) { return std::abs(x - y) <= 1e-13 * y; }),
+              poles.end());
+  return poles;
+}
+
+Characteristic make_characteristic(const SteadySliding& sliding, double wavelength,
+                                   const SearchBox& box) {
+  validate(sliding);
+  require_positive(wavelength, "wavelength");
+  const double k = 2.0 * pi / wavelength;
+  const double reach = 2.0 * std::hypot(std::max(std::abs(box.min_re), std::abs(box.max_re)),
+                                        box.max_im);
+  return Characteristic{sliding, linearise_friction(sliding), k,
+                        strip_pole_frequencies(sliding.material, sliding.strip_height, k, reach)};
+}
+
+// Sum of arg changes of G along the segment, refined until each step turns by less
+// than max_turn (a zero passing at distance d from the contour is resolved once the
+// step is ~d).  Throws rather than return an unresolved count.
+double segment_turn(const Characteristic& c, complex z1, complex g1, complex z2, complex g2,
+                    int depth) {
+  constexpr double max_turn = 0.25 * pi;
+  const double turn = std::arg(g2 / g1);
+  if (std::abs(turn) < max_turn) return turn;
+  if (depth > 64)
+    throw std::runtime_error("linear stability: argument principle did not resolve near Lambda = " +
+                             std::to_string(z1.real()) + " + " + std::to_string(z1.imag()) +
+                             " i (zero on the contour?)");
+  const complex zm = 0.5 * (z1 + z2);
+  const complex gm = c.regular(zm);
+  if (!std::isfinite(gm.real()) || !std::isfinite(gm.imag()) || gm == 0.0)
+    throw std::runtime_error("linear stability: F not finite or zero on the contour at Lambda = " +
+                             std::to_string(zm.real()) + " + " + std::to_string(zm.imag()) + " i");
+  return segment_turn(c, z1, g1, zm, gm, depth + 1) + segment_turn(c, zm, gm, z2, g2, depth + 1);
+}
+
+int winding_number(const Characteristic& c, double re0, double re1, double im0, double im1) {
+  constexpr int samples_per_edge = 256;  // dense enough that two nearby zeros do not alias
+  const complex corners[5] = {{re0, im0}, {re1, im0}, {re1, im1}, {re0, im1}, {re0, im0}};
+  double total = 0.0;
+  complex z_prev = corners[0];
+  complex g_prev = c.regular(z_prev);
+  for (int e = 0; e < 4; ++e) {
+    for (int j = 1; j <= samples_per_edge; ++j) {
+      const complex z = corners[e] + (corners[e + 1] - corners[e]) * (double(j) / samples_per_edge);
+      const complex g = c.regular(z);
+      if (!std::isfinite(g.real()) || !std::isfinite(g.imag()) || g == 0.0)
+        throw std::runtime_error("linear stability: F not finite or zero on the contour");
+      total += segment_turn(c, z_prev, g_prev, z, g, 0);
+      z_prev = z;
+      g_prev = g;
+    }
+  }
+  const double w = total / (2.0 * pi);
+  const double n = std::round(w);
+  if (std::abs(w - n) > 0.05)
+    throw std::runtime_error("linear stability: winding number " + std::to_string(w) +
+                             " is not an integer");
+  return static_cast<int>(n);
+}
+
+// Newton on G with a central-difference derivative; returns nullopt if it leaves
+// the (slightly enlarged) rectangle or does not converge.
+std::optional<complex> newton_in_box(const Characteristic& c, double re0, double re1, double im0,
+                                     double im1) {
+  const double size = std::max(re1 - re0, im1 - im0);
+  complex z(0.5 * (re0 + re1), 0.5 * (im0 + im1));
+  const double slack = 1e-6 * size;
+  for (int it = 0; it < 100; ++it) {
+    const double h = 1e-7 * (size + 1e-3 * std::abs(z));
+    const complex g = c.regular(z);
+    const complex dg = (c.regular(z + h) - c.regular(z - h)) / (2.0 * h);
+    if (dg == 0.0) return std::nullopt;
+    const complex step = g / dg;
+    z -= step;
+    if (z.real() < re0 - slack || z.real() > re1 + slack || z.imag() < im0 - slack ||
+        z.imag() > im1 + slack)
+      return std::nullopt;
+    if (std::abs(step) <= 1e-14 * (std::abs(z) + size)) return z;
+  }
+  return std::nullopt;
+}
+
+void locate(const Characteristic& c, double re0, double re1, double im0, double im1, int count,
+            double min_size, std::vector<complex>& roots) {
+  if (count <= 0) return;
+  const double size = std::max(re1 - re0, im1 - im0);
+  if (count == 1 || size < min_size) {
+    if (const auto z = newton_in_box(c, re0, re1, im0, im1)) {
+      for (int j = 0; j < count; ++j) roots.push_back(*z);  // count > 1 only for a multiple root
+      return;
+    }
+    if (size < min_size)
+      throw std::runtime_error("linear stability: Newton failed in a tiny rectangle near Lambda = " +
+                               std::to_string(0.5 * (re0 + re1)) + " + " +
+                               std::to_string(0.5 * (im0 + im1)) + " i");
+  }
+  // Split off-centre so that symmetric features (real roots, conjugate pairs) never
+  // sit on a cut.
+  constexpr double cut = 0.4861;
+  if (re1 - re0 >= im1 - im0) {
+    const double rm = re0 + cut * (re1 - re0);
+    const int left = winding_number(c, re0, rm, im0, im1);
+    const int right = winding_number(c, rm, re1, im0, im1);
+    if (left + right != count)
+      throw std::runtime_error("linear stability: subdivision counts do not add up");
+    locate(c, re0, rm, im0, im1, left, min_size, roots);
+    locate(c, rm, re1, im0, im1, right, min_size, roots);
+  } else {
+    const double im = im0 + cut * (im1 - im0);
+    const int lower = winding_number(c, re0, re1, im0, im);
+    const int upper = winding_number(c, re0, re1, im, im1);
+    if (lower + upper != count)
+      throw std::runtime_error("linear stability: subdivision counts do not add up");
+    locate(c, re0, re1, im0, im, lower, min_size, roots);
+    locate(c, re0, re1, im, im1, upper, min_size, roots);
+  }
+}
+
+bool has_unstable_root(const SteadySliding& sliding, double wavelength) {
+  return count_roots(sliding, wavelength, unstable_search_box(sliding)) > 0;
+}
+
+}  // namespace
+
+LinearisedFriction linearise_friction(const SteadySliding& sliding) {
+  validate(sliding);
+  const auto& f = sliding.friction;
+  const double v0 = sliding.driving_velocity;
+  const double s0 = sliding.normal_stress;
+  const double phi0 = steady_state(f, v0);
+  return LinearisedFriction{phi0, frictional_strength_dv(f, s0, v0, phi0),
+                            frictional_strength_dstate(f, s0, v0, phi0),
+                            state_rate_dv(f, v0, phi0), state_rate_dstate(f, v0, phi0)};
+}
+
+complex characteristic_function(const SteadySliding& sliding, double wavenumber, complex growth) {
+  validate(sliding);
+  const Characteristic c{sliding, linearise_friction(sliding), wavenumber, {}};
+  return c.raw(growth);
+}
+
+SearchBox unstable_search_box(const SteadySliding& sliding) {
+  const LinearisedFriction lin = linearise_friction(sliding);
+  if (!(lin.strength_dv > 0.0))
+    throw std::invalid_argument("linear stability: d tau / d v = " + std::to_string(lin.strength_dv) +
+                                " at the driving velocity; the search bound needs it > 0");
+  // Roots with Re > 0 satisfy |Lambda - g_phi| <= radius (see header); the 1.0137
+  // margin keeps roots off the contour and makes exact coincidences unlikely.
+  const double radius = std::abs(lin.strength_dstate * lin.state_rate_dv) / lin.strength_dv;
+  const double min_re = 1e-9 * radius;
+  const double max_re = std::max(lin.state_rate_dstate + 1.0137 * radius, 2.0 * min_re);
+  return SearchBox{min_re, max_re, 1.0137 * radius};
+}
+
+SearchBox damped_search_box(const SteadySliding& sliding) {
+  if (is_half_space(sliding.strip_height))
+    throw std::invalid_argument("damped_search_box: strip_height = inf; the half-space response has "
+                                "branch cuts on the imaginary axis, only Re Lambda > 0 is searched");
+  SearchBox box = unstable_search_box(sliding);
+  box.min_re = -0.9913 * box.max_im;
+  return box;
+}
+
+int count_roots(const SteadySliding& sliding, double wavelength, const SearchBox& box) {
+  if (!(box.max_re > box.min_re) || !(box.max_im > 0.0))
+    throw std::invalid_argument("count_roots: box must have max_re > min_re and max_im > 0");
+  if (is_half_space(sliding.strip_height) && !(box.min_re > 0.0))
+    throw std::invalid_argument("count_roots: box.min_re = " + std::to_string(box.min_re) +
+                                " with a half-space; it must be > 0 (branch cuts on Re = 0)");
+  const Characteristic c = make_characteristic(sliding, wavelength, box);
+  return winding_number(c, box.min_re, box.max_re, -box.max_im, box.max_im);
+}
+
+std::vector<complex> characteristic_roots(const SteadySliding& sliding, double wavelength,
+                                          const SearchBox& box) {
+  const int n = count_roots(sliding, wavelength, box);
+  const Characteristic c = make_characteristic(sliding, wavelength, box);
+  std::vector<complex> roots;
+  const double min_size = 1e-9 * std::max(box.max_re - box.min_re, 2.0 * box.max_im);
+  locate(c, box.min_re, box.max_re, -box.max_im, box.max_im, n, min_size, roots);
+  // Zeros of G sitting exactly on a removed pole frequency would be artefacts of the
+  // pole removal (only possible if a listed frequency is not a true pole).
+  std::erase_if(roots, [&](complex z) { return c.near_removed_pole(z); });
+  std::sort(roots.begin(), roots.end(), [](complex x, complex y) {
+    return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag();
+  });
+  return roots;
+}
+
+std::vector<complex> characteristic_roots(const SteadySliding& sliding, double wavelength) {
+  return characteristic_roots(sliding, wavelength, unstable_search_box(sliding));
+}
+
+std::optional<complex> most_unstable_root(const SteadySliding& sliding, double wavelength) {
+  const auto roots = characteristic_roots(sliding, wavelength);
+  if (roots.empty()) return std::nullopt;
+  return roots.front();
+}
+
+double critical_wavelength(const SteadySliding& sliding, double lower, double upper,
+                           double relative_tolerance) {
+  require_positive(lower, "lower wavelength");
+  if (!(upper > lower))
+    throw std::invalid_argument("critical_wavelength: upper = " + std::to_string(upper) +
+                                " must exceed lower = " + std::to_string(lower));
+  if (has_unstable_root(sliding, lower))
+    throw std::invalid_argument("critical_wavelength: lower = " + std::to_string(lower) +
+                                " m is already unstable; it must bracket Lc from below");
+  if (!has_unstable_root(sliding, upper))
+    throw std::invalid_argument("critical_wavelength: upper = " + std::to_string(upper) +
+                                " m is stable; it must bracket Lc from above");
+  // Bisection on the (provably complete) existence of an unstable root: it cannot
+  // jump to a different branch the way root tracking could.
+  while (upper - lower > relative_tolerance * upper) {
+    const double mid = 0.5 * (lower + upper);
+    (has_unstable_root(sliding, mid) ? upper : lower) = mid;
+  }
+  return 0.5 * (lower + upper);
+}
+
+std::vector<double> critical_wavelength_vs_height(const SteadySliding& sliding,
+                                                  const std::vector<double>& heights) {
+  SteadySliding half_space = sliding;
+  half_space.strip_height = std::numeric_limits<double>::infinity();
+  const double guess = quasi_static_critical_wavelength(half_space);
+  if (!std::isfinite(guess))
+    throw std::invalid_argument("critical_wavelength_vs_height: steady sliding is stable at every "
+                                "wavelength (tau_v g_phi - tau_phi g_v <= 0)");
+  std::vector<double> result;
+  result.reserve(heights.size());
+  for (double H : heights) {
+    SteadySliding s = sliding;
+    s.strip_height = H;
+    double lo = guess, hi = guess;
+    for (int i = 0; i < 60 && has_unstable_root(s, lo); ++i) lo *= 0.5;
+    for (int i = 0; i < 60 && !has_unstable_root(s, hi); ++i) hi *= 2.0;
+    if (lo == hi) hi *= 1.0 + 1e-12;  // guess itself is the boundary (degenerate)
+    result.push_back(critical_wavelength(s, lo, hi));
+  }
+  return result;
+}
+
+double quasi_static_critical_wavelength(const SteadySliding& sliding) {
+  const LinearisedFriction lin = linearise_friction(sliding);
+  const double stiffness_needed =
+      lin.strength_dv * lin.state_rate_dstate - lin.strength_dstate * lin.state_rate_dv;
+  if (!(stiffness_needed > 0.0)) return std::numeric_limits<double>::infinity();
+  const ElasticMaterial& m = sliding.material;
+  const double mu_star = m.shear_modulus * (1.0 - 1.0 / m.wave_speed_ratio_squared());
+  const double k_half_space = stiffness_needed / mu_star;
+  if (is_half_space(sliding.strip_height)) return 2.0 * pi / k_half_space;
+  // The static strip stiffness increases with k and stays below mu* k, so the
+  // neutral wavenumber lies above the half-space one: bracket and bisect.
+  const double H = sliding.strip_height;
+  double lo = k_half_space, hi = 2.0 * k_half_space;
+  while (strip_static_stiffness(m, H, hi) < stiffness_needed) hi *= 2.0;
+  for (int i = 0; i < 200 && hi - lo > 1e-15 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (strip_static_stiffness(m, H, mid) < stiffness_needed ? lo : hi) = mid;
+  }
+  return 2.0 * pi / (0.5 * (lo + hi));
+}
+
+std::vector<GrowthRate> growth_rates(const SteadySliding& sliding,
+                                     const std::vector<double>& wavelengths) {
+  std::vector<GrowthRate> out;
+  out.reserve(wavelengths.size());
+  for (double L : wavelengths) {
+    if (const auto z = most_unstable_root(sliding, L)) {
+      out.push_back({L, z->real(), std::abs(z->imag()), true});
+      continue;
+    }
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    if (is_half_space(sliding.strip_height)) {
+      out.push_back({L, nan, nan, false});
+      continue;
+    }
+    const auto roots = characteristic_roots(sliding, L, damped_search_box(sliding));
+    if (roots.empty())
+      out.push_back({L, nan, nan, false});
+    else
+      out.push_back({L, roots.front().real(), std::abs(roots.front().imag()), false});
+  }
+  return out;
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,181 @@
+// The initial state phi(x, 0) (laws/initial_state.hpp): steady sliding plus the
+// [initial] perturbations.  The band-limited noise must be one field on every
+// mesh (what a refinement study needs); the white noise must stay exactly the
+// field that runs made before band-limited noise existed started from.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "config_test_helpers.hpp"
+#include "config/config.hpp"
+#include "laws/initial_state.hpp"
+#include "solver/simulation.hpp"
+
+using namespace slipstrip;
+using slipstrip::testing::contains;
+using slipstrip::testing::error_of;
+
+namespace {
+
+constexpr double length = 4.0;
+constexpr double phi_steady = 2.5e-4;  // D/v0 of Table S1 [s]
+
+std::vector<double> nodes(int n) {
+  std::vector<double> x(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] = i * (length / n);
+  return x;
+}
+
+// The relative noise n(x) = phi/phi_ss - 1 of a config with only noise.
+std::vector<double> relative_noise(const InitialConfig& init, int n) {
+  const std::vector<double> x = nodes(n);
+  const std::vector<double> phi_ss(x.size(), phi_steady);
+  std::vector<double> phi = perturbed_steady_state(init, x, length, phi_ss);
+  for (double& p : phi) p = p / phi_steady - 1.0;
+  return phi;
+}
+
+InitialConfig band_limited(int modes, std::uint64_t seed, double amplitude = 1e-3) {
+  InitialConfig init;
+  init.noise_amplitude = amplitude;
+  init.noise_seed = seed;
+  init.noise_modes = modes;
+  return init;
+}
+
+// |DFT coefficient k|^2 of a real field, by the definition (O(N^2): an
+// independent check, no FFT library involved).
+double power_of_mode(const std::vector<double>& f, int k) {
+  std::complex<double> sum = 0.0;
+  const auto n = static_cast<double>(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i)
+    sum += f[i] * std::polar(1.0, -2.0 * std::numbers::pi * k * static_cast<double>(i) / n);
+  return std::norm(sum);
+}
+
+}  // namespace
+
+TEST_CASE("band-limited noise is the same field on every mesh") {
+  // Node i of N = 64 sits at node 2i of 128 and 8i of 512 (x exact: L/N are
+  // powers of two apart).  The field there agrees to rounding of the cosines
+  // (1e-13 of the amplitude: ~ M terms of relative error ~ 1e-16 each).
+  const InitialConfig init = band_limited(12, 7);
+  const auto coarse = relative_noise(init, 64);
+  const auto fine = relative_noise(init, 128);
+  const auto finest = relative_noise(init, 512);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < coarse.size(); ++i) {
+    worst = std::max(worst, std::abs(coarse[i] - fine[2 * i]));
+    worst = std::max(worst, std::abs(coarse[i] - finest[8 * i]));
+  }
+  CHECK(worst < 1e-13 * init.noise_amplitude);
+  // White noise, by contrast, is a different field on the finer mesh: the
+  // reason band-limited noise exists.
+  InitialConfig white = init;
+  white.noise_modes = 0;
+  const auto white_coarse = relative_noise(white, 64);
+  const auto white_fine = relative_noise(white, 128);
+  int equal = 0;
+  for (std::size_t i = 0; i < white_coarse.size(); ++i) equal += white_coarse[i] == white_fine[2 * i];
+  CHECK(equal == 1);  // node 0 draws the same first number; no other node coincides
+}
+
+TEST_CASE("band-limited noise holds modes 1..M only") {
+  // By construction the field is a trigonometric polynomial of degree M with no
+  // constant term; on N = 256 nodes its DFT must vanish at k = 0 and M < k <= N/2
+  // to rounding (1e-24 of the total power: squared 1e-12 amplitude errors).
+  const int modes = 20;
+  const auto f = relative_noise(band_limited(modes, 3), 256);
+  double inside = 0.0, outside = power_of_mode(f, 0);
+  for (int k = 1; k <= modes; ++k) inside += power_of_mode(f, k);
+  for (int k = modes + 1; k <= 128; ++k) outside += power_of_mode(f, k);
+  CHECK(inside > 0.0);
+  CHECK(outside < 1e-24 * inside);
+}
+
+TEST_CASE("both kinds of noise have relative standard deviation noise_amplitude") {
+  // Mean square over the grid, averaged over S seeds.  For the band-limited
+  // field it is (1/(2M)) sum_k (c_k^2 + s_k^2): chi-square with 2M degrees of
+  // freedom over 2M, relative std 1/sqrt(M S); for white noise on N nodes,
+  // sqrt(2/(N S)).  The tolerance is 4 of those standard deviations.
+  const double amplitude = 2e-3;
+  const int seeds = 200;
+  for (int modes : {0, 16}) {
+    CAPTURE(modes);
+    const int n = 256;
+    double mean_square = 0.0;
+    for (int s = 1; s <= seeds; ++s) {
+      const auto f = relative_noise(band_limited(modes, static_cast<std::uint64_t>(s), amplitude), n);
+      for (double value : f) mean_square += value * value;
+    }
+    mean_square /= static_cast<double>(seeds) * n * amplitude * amplitude;
+    const double sigma = modes > 0 ? 1.0 / std::sqrt(static_cast<double>(modes) * seeds)
+                                   : std::sqrt(2.0 / (static_cast<double>(n) * seeds));
+    CHECK(std::abs(mean_square - 1.0) < 4.0 * sigma);
+  }
+}
+
+TEST_CASE("white noise is the per-node draw of earlier versions, bit for bit") {
+  // Runs made before laws/initial_state.hpp existed (docs/reproduction.md)
+  // started from phi_ss + phi_ss * A * n_i, n_i the i-th standard normal of
+  // mt19937_64(seed); restating that formula here pins it.
+  InitialConfig init;
+  init.noise_amplitude = 1e-3;
+  init.noise_seed = 11;
+  init.sine_amplitude = 1e-4;
+  init.sine_mode = 3;
+  const int n = 100;
+  const std::vector<double> x = nodes(n);
+  const std::vector<double> phi_ss(x.size(), phi_steady);
+  const auto phi = perturbed_steady_state(init, x, length, phi_ss);
+  std::mt19937_64 rng(init.noise_seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    double expected = phi_steady;
+    expected += phi_steady * init.noise_amplitude * normal(rng);
+    expected += phi_steady * init.sine_amplitude *
+                std::sin(2.0 * std::numbers::pi * init.sine_mode * x[i] / length + std::numbers::pi / 2.0);
+    CHECK(phi[i] == expected);
+  }
+}
+
+TEST_CASE("a simulation starts from the band-limited field on any mesh") {
+  // Through the config and the solver: the state at t = 0 of N = 64 and
+  // N = 256 agree at the common nodes, to the same 1e-13 as above.
+  auto initial_state = [](int n) {
+    SimulationConfig c;
+    c.geometry = {length, 0.1, n};
+    c.initial.noise_amplitude = 1e-3;
+    c.initial.noise_modes = 10;
+    Simulation sim(c);
+    return std::vector<double>(sim.state().begin(), sim.state().end());
+  };
+  const auto coarse = initial_state(64);
+  const auto fine = initial_state(256);
+  const double phi_scale = coarse[0];  // phi_ss (1 + O(1e-3)): sets the scale of the tolerance
+  int compared = 0;
+  for (std::size_t i = 0; i < coarse.size(); ++i, ++compared)
+    CHECK(std::abs(coarse[i] - fine[4 * i]) < 1e-13 * 1e-3 * phi_scale);
+  CHECK(compared == 64);
+  CHECK(coarse[1] != coarse[2]);  // the field is not uniform: the noise is on
+}
+
+TEST_CASE("noise_modes must be below Nyquist, and the error names the key") {
+  const std::string message = error_of("[geometry]\nnodes = 16\n[initial]\nnoise_modes = 8\n");
+  CHECK(contains(message, "initial.noise_modes = 8 is out of range"));
+  CHECK(contains(message, "noise_modes < nodes/2 = 8"));
+  CHECK(error_of("[geometry]\nnodes = 16\n[initial]\nnoise_modes = 7\n") == "<no error>");
+  CHECK(contains(error_of("[initial]\nnoise_modes = -1\n"), "initial.noise_modes = -1"));
+}
+
+TEST_CASE("a perturbation that makes phi non-positive is refused, naming the keys") {
+  InitialConfig init = band_limited(4, 1, 10.0);  // ten times phi_ss: phi < 0 somewhere
+  const std::vector<double> x = nodes(64);
+  const std::vector<double> phi_ss(x.size(), phi_steady);
+  CHECK_THROWS_WITH_AS(perturbed_steady_state(init, x, length, phi_ss),
+                       doctest::Contains("initial.noise_amplitude"), std::invalid_argument);
+}

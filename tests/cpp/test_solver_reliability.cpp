@@ -1,0 +1,184 @@
+// Guards before computing (docs/reliability.md): range checks with units,
+// config files that are not regular files, resource estimates against their
+// limits, the snapshot trigger for tiny slip increments, and a set-up that
+// honours a cancellation request.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "config_test_helpers.hpp"
+#include "config/config.hpp"
+#include "config/resource_estimate.hpp"
+#include "solver/run.hpp"
+#include "solver/simulation.hpp"
+
+using namespace slipstrip;
+
+namespace {
+
+using testing::contains;
+using testing::error_of;
+
+std::string resource_error(const SimulationConfig& c, const ResourceLimits& limits = {}) {
+  try {
+    check_resources(c, limits);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+}  // namespace
+
+TEST_CASE("absurd but finite values are refused naming the key, the value and the unit") {
+  struct Case {
+    std::string override_text, expected;
+  };
+  const Case cases[] = {
+      {"geometry.height=1e308", "geometry.height = 1e+308 is out of range"},
+      {"geometry.height=5e-324", "geometry.height = 5e-324 is out of range"},
+      {"geometry.length=1e7", "geometry.length = 1e+07 is out of range"},
+      {"material.density=1e-300", "material.density = 1e-300 is out of range: expected a density between 0.001 and 1e+06 [kg/m^3]"},
+      {"material.shear_modulus=5e-324", "material.shear_modulus = 5e-324 is out of range: expected a modulus between 1.0 and 1e+13 [Pa]"},
+      {"material.youngs_modulus=1e20", "material.youngs_modulus = 1e+20 is out of range"},
+      {"loading.driving_velocity=1e308", "loading.driving_velocity = 1e+308 is out of range: expected a velocity between 1e-15 and 1000.0 [m/s]"},
+      {"loading.normal_stress=1e300", "loading.normal_stress = 1e+300 is out of range"},
+      {"friction.characteristic_slip=1e308", "friction.characteristic_slip = 1e+308 is out of range"},
+      {"friction.v_star=5e-324", "friction.v_star = 5e-324 is out of range"},
+      {"friction.phi_star=5e-324", "friction.phi_star = 5e-324 is out of range"},
+      {"friction.f0=1e308", "friction.f0 = 1e+308 is out of range: expected f0 <= 10.0"},
+      {"friction.b=50", "friction.b = 50.0 is out of range: expected b <= 10.0"},
+      {"time.beta=1e-9", "time.beta = 1e-09 is out of range: expected 0.001 <= beta <= 0.4"},
+      {"time.beta=1e-300", "time.beta = 1e-300 is out of range"},
+      {"output.delta_th=1e-16", "output.delta_th = 1e-16 is out of range: expected 0 (off) or a slip threshold >= 1e-12 [m]"},
+  };
+  for (const auto& c : cases) {
+    CAPTURE(c.override_text);
+    CHECK(contains(error_of("", {c.override_text}), c.expected));
+  }
+  // A value from --set names its override, not "line 1" of a text nobody wrote.
+  CHECK(contains(error_of("", {"material.density=1e-300"}),
+                 "override 'material.density=1e-300': material.density = 1e-300 is out of range"));
+  CHECK(contains(error_of("", {"geometry.nodes=many"}),
+                 "override 'geometry.nodes=many': geometry.nodes = \"many\" has the wrong type"));
+  // The ends of the ranges are allowed.
+  CHECK(error_of("", {"geometry.height=1e-6"}) == "<no error>");
+  CHECK(error_of("", {"geometry.height=1e6"}) == "<no error>");
+  CHECK(error_of("", {"time.beta=0.001"}) == "<no error>");
+  CHECK(error_of("", {"output.delta_th=0"}) == "<no error>");
+  CHECK(error_of("", {"output.delta_th=1e-12"}) == "<no error>");
+}
+
+TEST_CASE("a config file must be a regular file of at most 1 MiB") {
+  const auto dir = std::filesystem::temp_directory_path() / "slipstrip_test_reliability";
+  std::filesystem::create_directories(dir);
+  auto error_of_file = [](const std::string& path) -> std::string {
+    try {
+      load_config_file(path);
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "<no error>";
+  };
+  CHECK(contains(error_of_file(dir.string()), "config file '" + dir.string() + "' is not a regular file (a directory)"));
+  CHECK(contains(error_of_file("/dev/zero"), "config file '/dev/zero' is not a regular file"));
+  CHECK(contains(error_of_file((dir / "missing.toml").string()), "cannot open config file"));
+  const auto big = dir / "big.toml";
+  {
+    std::ofstream out(big);
+    for (int i = 0; i < 120000; ++i) out << "# padding\n";
+  }
+  CHECK(contains(error_of_file(big.string()), "allowed at most 1048576 (1 MiB"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("resource estimates follow the strip geometry") {
+  SimulationConfig c = load_config_string("");  // reference: N = 1600, H = 0.1 m, beta = 0.25
+  const auto e = estimate_resources(c);
+  // M = 2H/(beta dx) = 320 echo steps; P = (M/2)(1 + c_s/c_d) ~ 160 x 1.5.
+  CHECK(e.echo_steps == doctest::Approx(320.0));
+  CHECK(e.modes_per_fourier_mode == doctest::Approx(160.0 * (1.0 + c.material.shear_wave_speed() /
+                                                                       c.material.dilatational_wave_speed())));
+  CHECK(e.block_history);
+  // bench (N = 1600, H = 0.1): 188433 oscillators, RSS 30 MiB; the estimate bounds the operator.
+  CHECK(e.modes_per_fourier_mode * 801 > 188433);
+  CHECK(e.operator_bytes < 64.0 * 1024 * 1024);
+  CHECK(e.steps == doctest::Approx(c.time.duration / e.time_step));
+  CHECK(resource_error(c) == "<no error>");
+
+  c.geometry.height = 1e5;  // within the height range, far beyond the memory limit
+  const std::string memory = resource_error(c);
+  CHECK(contains(memory, "history operator needs ~"));
+  CHECK(contains(memory, "geometry.nodes = 1600, geometry.height = 1e+05 m, time.beta = 0.25"));
+  CHECK(contains(memory, "allowed at most 8 GiB (--max-memory-gib"));
+  c.geometry.height = 1e6;  // 2.4e9 normal modes per Fourier mode: an int overflow, whatever the limit
+  CHECK(contains(resource_error(c, {1e12, 1e10, 64}), "geometry.height = 1e+06 m is"));
+  CHECK(contains(resource_error(c, {1e12, 1e10, 64}), "normal modes per Fourier mode"));
+
+  c = load_config_string("");
+  c.time.duration = 1e308;  // once overflowed the step count into "0 steps"
+  const std::string steps = resource_error(c);
+  CHECK(contains(steps, "time.duration = 1e+308 s needs inf time steps"));
+  CHECK(contains(steps, "allowed at most 1e+10 steps (--max-steps"));
+  c.time.duration = 6.5e12;
+  CHECK(contains(resource_error(c), "time.duration = 6.5e+12 s needs"));
+  c.time.duration = 1e-12;
+  CHECK(contains(resource_error(c), "the run would take 0 steps"));
+
+  c = load_config_string("[output]\ndelta_th = 1e-12\n[time]\nduration = 0.15\n");
+  const std::string output = resource_error(c);
+  CHECK(contains(output, "output file would hold ~"));
+  CHECK(contains(output, "output.delta_th = 1e-12 m"));
+  CHECK(contains(output, "--max-output-gib"));
+}
+
+TEST_CASE("snapshot trigger: historical steps for normal increments, at most one per step for tiny ones") {
+  // Normal increment: the trigger moves by whole increments past the slip.
+  CHECK(next_slip_trigger(1e-6, 2.5e-6, 1e-6) == doctest::Approx(3e-6));
+  double expected = 1e-6;
+  while (expected <= 4.5e-6) expected += 1e-6;  // the historical loop, bit for bit
+  CHECK(next_slip_trigger(1e-6, 4.5e-6, 1e-6) == expected);
+  // An increment lost in the rounding of the slip used to loop forever.
+  const double slip = 1e-6;
+  const double t = next_slip_trigger(1e-30, slip, 1e-30);
+  CHECK(t > slip);
+  CHECK(t == std::nextafter(slip, 1.0));
+  // Far behind with a small increment: jumps instead of adding 1e12 times.
+  const double far = next_slip_trigger(1e-18, 1.0, 1e-12);
+  CHECK(far > 1.0);
+  CHECK(far <= 1.0 + 1e-12 + 1e-16);
+}
+
+TEST_CASE("the set-up honours a cancellation request") {
+  SimulationConfig c = load_config_string("[geometry]\nnodes = 64\n");
+  int polls = 0;
+  CHECK_THROWS_AS((Simulation{c, [&polls] { return ++polls > 3; }}), SetupCancelled);
+  CHECK(polls > 3);
+  c.time.history = HistoryAlgorithm::modal;
+  CHECK_THROWS_AS((Simulation{c, [] { return true; }}), SetupCancelled);
+  c.geometry.height = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_AS((Simulation{c, [] { return true; }}), SetupCancelled);
+  // Never cancelled: builds as before.
+  CHECK_NOTHROW((Simulation{c, [] { return false; }}));
+}
+
+TEST_CASE("a friction solve that fails at t = 0 is an input error, and no file is written") {
+  // Past the config's ranges (set directly): used to exit 1 from the CLI.
+  SimulationConfig c = load_config_string("[geometry]\nnodes = 32\n");
+  c.friction.f0 = 1e308;
+  const auto path = std::filesystem::temp_directory_path() / "slipstrip_test_t0_failure.h5";
+  std::filesystem::remove(path);
+  std::string message;
+  try {
+    run_simulation(c, path.string());
+  } catch (const std::invalid_argument& e) {
+    message = e.what();
+  }
+  CHECK(contains(message, "the initial state (t = 0) cannot be solved"));
+  CHECK(contains(message, "[friction]"));
+  CHECK_FALSE(std::filesystem::exists(path));
+}
