@@ -1,7 +1,7 @@
 // The whole solver with the block history algorithm against the whole solver
 // with the modal one (time.history = "block" vs "modal").  The modal solver is
 // the verified one (growth rates, Lc, dt^2 convergence, free ringing: the other
-// test_core_* files); the two apply the same discrete operator, so every field
+// test_solver_* files); the two apply the same discrete operator, so every field
 // must agree to the block operator's round-off (~1e-13 per history value,
 // tests/cpp/test_kernels_block_history.cpp) amplified by the dynamics.
 // Tolerance 1e-8 relative to the field's maximum: over these runs the unstable

@@ -248,7 +248,7 @@ def dry_run_lines(spec: ScanSpec) -> list[str]:
 def invalid_runs(spec: ScanSpec) -> list[str]:
     """The runs whose config (base config + overrides) the solver would refuse:
     one line per run, "run <i> (<file>): <the config reader's message>".
-    The same C++ reader as `slipstrip run` (core/config.cpp), so a misspelt
+    The same C++ reader as `slipstrip run` (config/config.cpp), so a misspelt
     key gets its "did you mean" here, before anything runs."""
     from ..config import Config  # the compiled bindings: only needed here
     errors = []

@@ -216,7 +216,7 @@ def task_payload(task: RunTask, base_config: Path, binary: str, simulate: bool =
 
 # How often a running task looks for a stop request, and how long a solver
 # that was told to stop may take to write its restart point before it is
-# killed (the solver stops within about a second, core/run.hpp; the rest is
+# killed (the solver stops within about a second, solver/run.hpp; the rest is
 # margin for a large restart point on a slow file system).
 STOP_POLL_SECONDS = 0.25
 STOP_GRACE_SECONDS = 60.0
