@@ -163,7 +163,30 @@ std::vector<FaceMode> face_modes(const ElasticMaterial& material, double height,
     throw std::invalid_argument("face_modes: a half-space has no discrete normal modes");
   if (!(height > 0.0)) throw std::invalid_argument("face_modes: height must be > 0");
   std::vector<FaceMode> modes;
-  if (wavenumber == 0.0) return modes;
+  if (wavenumber == 0.0) {
+    // Uniform mode: a 1D shear wave (u_x = 0 at the outer face for both faces:
+    // mu alpha coth(alpha H) = mu/H + sum 2 mu s^2 / (H (s^2 + (m pi c_s/H)^2))) and a
+    // 1D P wave (driven: rho c_d s tanh(s H / c_d), poles (m + 1/2) pi c_d / H;
+    // clamped: rho c_d s coth(s H / c_d), poles m pi c_d / H), weights -2 mu / H and
+    // -2 rho c_d^2 / H (the partial fractions of z coth z and z tanh z).
+    const double H = height, mu = material.shear_modulus;
+    const double cs = material.shear_wave_speed(), cd = material.dilatational_wave_speed();
+    const double p_weight = -2.0 * material.density * cd * cd / H;
+    for (int m = 1; m * pi * cs / H <= max_frequency; ++m) {
+      FaceMatrix w;
+      w.xx = -2.0 * mu / H;
+      modes.push_back({m * pi * cs / H, w});
+    }
+    const double offset = outer_face == OuterFace::driven ? 0.5 : 1.0;
+    for (int m = 0; (m + offset) * pi * cd / H <= max_frequency; ++m) {
+      FaceMatrix w;
+      w.yy = p_weight;
+      modes.push_back({(m + offset) * pi * cd / H, w});
+    }
+    std::sort(modes.begin(), modes.end(),
+              [](const FaceMode& a, const FaceMode& b) { return a.frequency < b.frequency; });
+    return modes;
+  }
   if (outer_face == OuterFace::driven) {
     layer_modes(material, Layer::driven, height, wavenumber, max_frequency, 1.0, grid_divisions, modes);
   } else {

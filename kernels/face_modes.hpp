@@ -24,8 +24,8 @@ struct FaceMode {
 
 // Every mode with 0 < omega_m <= max_frequency, in increasing frequency, of the
 // finite body of this height and outer face at wavenumber k (either sign; the
-// weights' off-diagonal entries are odd in k).  Empty for k = 0 (the uniform
-// mode is a pair of 1D waves, docs/inplane_bodies.md §1) .  The modes are the
+// weights' off-diagonal entries are odd in k).  For k = 0 the uniform mode's 1D
+// shear and P resonances (diagonal weights).  For k != 0 the modes are the
 // zeros of an entire function of s^2 bracketed on a grid of 1/16 of a half
 // wavelength in both the shear and the P vertical wavenumber (grid_divisions = 16
 // per half wavelength; tests use a finer grid to show nothing is missed) and

@@ -1,0 +1,71 @@
+#pragma once
+// Discrete 2x2 history operator of ONE finite body (docs/inplane_bodies.md §5):
+// per Fourier mode, the face traction on the body for face velocities v_n is
+//     t_n = E v_n + h_n,   E = diag(mu / c_s, rho c_d)  (radiation impedances),
+//     h_n = 2 E R_n + dt sum_m W'_m sum_{j>=1} (1 - cos(phi_m j)) v_{n-j},
+// R_n = sum_{j>=1} v_{n-j}, phi_m = omega_m dt: the body's normal modes below
+// Nyquist (kernels/face_modes.hpp) with weights W'_m <= 0 chosen so that
+//     2 E / dt + sum_m W'_m = K(k, 0)         (exact static stiffness),
+// i.e. the static stiffness of the modes above Nyquist is placed passively (a
+// negative part on a Nyquist element, a positive part absorbed into the highest
+// modes along their own rank-one directions).  In Foster form
+//     Z_d(z) = (dt/2) K(k,0) C_1(z) - sum_m (dt/4) W'_m (C_{e^{i phi}} + C_{e^{-i phi}}),
+// every coefficient is positive semidefinite and the constant is zero: the
+// operator is lossless and passive as a matrix (the matrix form of
+// docs/theory.md §6.3-6.4).  For two identical strips this is, per component,
+// the identical-strip operator's structure; here the shear echoes are carried by
+// the modes (band-limited), not by an exact delay line.
+#include <complex>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "kernels/face_modes.hpp"
+#include "kernels/face_response.hpp"
+
+namespace slipstrip {
+
+// The discrete weights of one Fourier mode: phases in (0, pi] and 2x2 weights.
+struct FaceDiscreteModes {
+  std::vector<double> phase;
+  std::vector<FaceMatrix> weight;
+};
+
+// Throws std::runtime_error ("refine the time step") when K(k,0) - 2E/dt is not
+// negative semidefinite (no passive operator of this form exists) or the
+// positive part cannot be absorbed.
+FaceDiscreteModes face_discrete_modes(const ElasticMaterial& material, double height,
+                                      OuterFace outer_face, double wavenumber, double time_step);
+
+class FaceModalHistory {
+ public:
+  FaceModalHistory(const ElasticMaterial& material, double height, OuterFace outer_face,
+                   double length, int nodes, double time_step);
+
+  double time_step() const { return dt_; }
+  // E = diag(mu/c_s, rho c_d).
+  double shear_impedance() const { return impedance_x_; }
+  double normal_impedance() const { return impedance_y_; }
+  int modes() const { return static_cast<int>(first_.size()) - 1; }
+  // Feed the face-velocity spectra (x and y, q = 0..N/2) at t_n; afterwards
+  // history_x/y hold h_{n+1}.  No allocation.
+  void push(std::span<const std::complex<double>> velocity_x,
+            std::span<const std::complex<double>> velocity_y);
+  std::span<const std::complex<double>> history_x() const { return history_x_; }
+  std::span<const std::complex<double>> history_y() const { return history_y_; }
+  // The discrete weights of Fourier mode q (for tests).
+  FaceDiscreteModes mode(int q) const;
+
+ private:
+  double dt_, impedance_x_, impedance_y_;
+  std::vector<std::size_t> first_;  // per Fourier mode: its discrete modes
+  std::vector<double> cos_, sin_;
+  std::vector<FaceMatrix> weight_;
+  std::vector<FaceMatrix> weight_sum_;  // per Fourier mode
+  // State: per discrete mode, C and S sums of each input component.
+  std::vector<std::complex<double>> cx_, sx_, cy_, sy_;
+  std::vector<std::complex<double>> running_x_, running_y_;
+  std::vector<std::complex<double>> history_x_, history_y_;
+};
+
+}  // namespace slipstrip
