@@ -122,6 +122,9 @@ FaceMatrix face_stiffness(const ElasticMaterial& material, double height, OuterF
                           double wavenumber, complex s) {
   if (!(height > 0.0))
     throw std::invalid_argument("face_stiffness: height = " + std::to_string(height) + " must be > 0 (or inf)");
+  if (material.antiplane())
+    throw std::invalid_argument("face_stiffness: the in-plane 2x2 response needs material.plane = \"strain\" or "
+                                "\"stress\" (antiplane bodies: kernels/antiplane_response.hpp)");
   if (is_half_space(height)) return layer_stiffness(material, Layer::half_space, height, wavenumber, s);
   if (outer_face == OuterFace::driven)
     return layer_stiffness(material, Layer::driven, height, wavenumber, s);

@@ -22,14 +22,7 @@ using slipstrip::FaceMode;
 using slipstrip::OuterFace;
 using slipstrip::PlaneCondition;
 
-ElasticMaterial material(double mu, double nu, double rho, PlaneCondition plane) {
-  ElasticMaterial m;
-  m.shear_modulus = mu;
-  m.poisson_ratio = nu;
-  m.density = rho;
-  m.plane = plane;
-  return m;
-}
+ElasticMaterial material(double mu, double nu, double rho, PlaneCondition plane) { return {mu, nu, rho, plane}; }
 
 FaceMatrix truncated_expansion(const FaceMatrix& static_k, const std::vector<FaceMode>& modes, cd s,
                                double max_frequency) {

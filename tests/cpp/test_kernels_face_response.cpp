@@ -50,14 +50,7 @@ double relative_difference(const FaceMatrix& a, const FaceMatrix& b) {
   return (a - b).max_abs() / b.max_abs();
 }
 
-ElasticMaterial material(double mu, double nu, double rho, PlaneCondition plane) {
-  ElasticMaterial m;
-  m.shear_modulus = mu;
-  m.poisson_ratio = nu;
-  m.density = rho;
-  m.plane = plane;
-  return m;
-}
+ElasticMaterial material(double mu, double nu, double rho, PlaneCondition plane) { return {mu, nu, rho, plane}; }
 
 std::vector<ElasticMaterial> test_materials() {
   std::vector<ElasticMaterial> out;

@@ -1,0 +1,121 @@
+#include "stability/interface_stability.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "stability/linear_stability.hpp"
+#include "stability/root_search.hpp"
+
+namespace slipstrip {
+namespace {
+
+using complex = std::complex<double>;
+
+bool same_material(const ElasticMaterial& a, const ElasticMaterial& b) {
+  return a.shear_modulus == b.shear_modulus && a.poisson_ratio == b.poisson_ratio &&
+         a.density == b.density && a.plane == b.plane;
+}
+
+SteadySliding mirror_problem(const PairSliding& p) {
+  SteadySliding s;
+  s.material = p.top.material;
+  s.strip_height = p.top.height;
+  s.friction = p.friction;
+  s.normal_stress = p.normal_stress;
+  s.driving_velocity = p.driving_velocity;
+  return s;
+}
+
+void require_positive(double value, const char* name) {
+  if (!(value > 0.0))
+    throw std::invalid_argument(std::string("pair stability: ") + name + " = " + std::to_string(value) +
+                                " is not allowed; it must be > 0");
+}
+
+}  // namespace
+
+bool is_mirror_pair(const PairSliding& p) {
+  // Outer faces matter only for finite bodies.
+  const bool faces = is_half_space(p.top.height) ||
+                     (p.top.outer_face == OuterFace::driven && p.bottom.outer_face == OuterFace::driven);
+  return !p.top.rigid && !p.bottom.rigid && same_material(p.top.material, p.bottom.material) &&
+         p.top.height == p.bottom.height && faces;
+}
+
+LinearisedInterfaceFriction linearise_interface_friction(const PairSliding& p) {
+  require_positive(p.normal_stress, "normal_stress");
+  require_positive(p.driving_velocity, "driving_velocity");
+  validate(p.friction);
+  const auto& f = p.friction;
+  const double v0 = p.driving_velocity, s0 = p.normal_stress;
+  const double phi0 = steady_state(f, v0);
+  LinearisedInterfaceFriction lin;
+  lin.strength_dv = frictional_strength_dv(f, s0, v0, phi0);
+  lin.strength_dstate = frictional_strength_dstate(f, s0, v0, phi0);
+  lin.state_rate_dv = state_rate_dv(f, v0, phi0);
+  lin.state_rate_dstate = state_rate_dstate(f, v0, phi0);
+  lin.friction_coefficient = frictional_strength(f, s0, v0, phi0) / s0;
+  const auto& r = p.normal_response;
+  switch (r.kind) {
+    case NormalStressResponse::instantaneous: lin.normal_relaxation_time = 0.0; break;
+    case NormalStressResponse::slip:
+      require_positive(r.slip, "normal stress relaxation slip");
+      lin.normal_relaxation_time = r.slip / (v0 + f.v_star);
+      break;
+    case NormalStressResponse::time:
+      require_positive(r.time, "normal stress relaxation time");
+      lin.normal_relaxation_time = r.time;
+      break;
+  }
+  lin.linker_dieterich = r.linker_dieterich;
+  return lin;
+}
+
+complex pair_characteristic_function(const PairSliding& p, const LinearisedInterfaceFriction& lin,
+                                     double k, complex z) {
+  const SlipResponse K = interface_slip_response(p.top, p.bottom, k, z);
+  const complex state_memory = z - lin.state_rate_dstate;
+  complex F = K.shear + z * (lin.strength_dv + lin.strength_dstate * lin.state_rate_dv / state_memory);
+  if (K.normal != 0.0)
+    F += (lin.friction_coefficient - lin.linker_dieterich * z / state_memory) * K.normal /
+         (1.0 + z * lin.normal_relaxation_time);
+  return F;
+}
+
+PairSearchBox pair_search_box(const PairSliding& p, const LinearisedInterfaceFriction& lin, double k) {
+  double radius = 0.0;
+  if (lin.strength_dv > 0.0) radius = std::abs(lin.strength_dstate * lin.state_rate_dv) / lin.strength_dv;
+  double cd = 0.0;
+  for (const ElasticBody* b : {&p.top, &p.bottom})
+    if (!b->rigid) cd = std::max(cd, b->material.dilatational_wave_speed());
+  const double wave = 2.0 * cd * std::abs(k);
+  const double scale = std::max(radius, wave);
+  const double min_re = 1e-9 * scale;
+  return {min_re, std::max(lin.state_rate_dstate + 1.0137 * radius, 1.0137 * wave),
+          1.0137 * scale};
+}
+
+std::vector<complex> pair_characteristic_roots(const PairSliding& p, const LinearisedInterfaceFriction& lin,
+                                               double k, const PairSearchBox& box) {
+  if (!(k > 0.0)) throw std::invalid_argument("pair_characteristic_roots: wavenumber must be > 0");
+  if (!(box.min_re > 0.0) || !(box.max_re > box.min_re) || !(box.max_im > 0.0))
+    throw std::invalid_argument("pair_characteristic_roots: need 0 < min_re < max_re and max_im > 0");
+  if (is_mirror_pair(p))
+    return characteristic_roots(mirror_problem(p), 2.0 * std::numbers::pi / k,
+                                SearchBox{box.min_re, box.max_re, box.max_im});
+  // Poles of F: K_ser's lie on Re = 0 (lossless strips, radiating half-spaces),
+  // g_phi and -1/T on the negative real axis, none inside the box.
+  const AnalyticFunction g = [&](complex z) { return pair_characteristic_function(p, lin, k, z); };
+  const Rectangle r{box.min_re, box.max_re, -box.max_im, box.max_im};
+  const int n = count_zeros(g, r);
+  auto roots = locate_zeros(g, r, n, 1e-9 * std::max(box.max_re - box.min_re, 2.0 * box.max_im));
+  std::sort(roots.begin(), roots.end(), [](complex x, complex y) {
+    return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag();
+  });
+  return roots;
+}
+
+}  // namespace slipstrip
