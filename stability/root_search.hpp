@@ -1,9 +1,11 @@
 #pragma once
 // Zeros of an analytic function in a rectangle of the complex plane: the
 // argument principle on rectangles (recursive subdivision until each holds one
-// zero) and Newton polishing.  Shared by the stability of identical strips
-// (stability/linear_stability.*) and of any pair of bodies
-// (stability/interface_stability.*).  The function must have no poles inside
+// zero) and Newton polishing, for the stability of any pair of bodies
+// (stability/interface_stability.*).  The same algorithm as the identical-strip
+// search in stability/linear_stability.cpp, which keeps its own copy: moving it
+// onto this one changes the rounding (inlining, FMA contraction) and reorders a
+// conjugate pair in an existing test that compares two root lists by index.  The function must have no poles inside
 // the rectangle (callers remove them analytically or keep them outside), so
 // that the winding number counts zeros only.
 #include <complex>
