@@ -6,17 +6,32 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "kernels/hyperbolic.hpp"
-
 namespace slipstrip {
 namespace {
 
-using hyperbolic::coth_right_half;
-using hyperbolic::divided_difference_a_coth;
+// coth(z) for Re z >= 0 written with e^{-2z} so that it neither overflows for
+// large Re z nor loses the oscillation on the imaginary axis.
+complex coth_right_half(complex z) {
+  const complex e = std::exp(-2.0 * z);
+  return (1.0 + e) / (1.0 - e);
+}
 
 // Principal square root; Re >= 0, which is the decaying branch for Re s > 0 and
 // the outgoing-wave branch on the imaginary axis (limit from Re s > 0).
 complex decaying_root(complex x) { return std::sqrt(x); }
+
+// Divided difference (f(a) - f(b)) / (a - b) of f(a) = a coth(aH), stable when a ~ b:
+//   f[a,b] = coth(aH) - bH sinhc((a-b)H) / (sinh(aH) sinh(bH)).
+complex divided_difference_a_coth(complex a, complex b, double H) {
+  const complex d = a - b;
+  if (std::abs(d * H) > 0.5) return (a * coth_right_half(a * H) - b * coth_right_half(b * H)) / d;
+  const complex z = d * H;
+  const complex sinhc = std::abs(z) < 1e-3 ? 1.0 + z * z / 6.0 + z * z * z * z / 120.0 : std::sinh(z) / z;
+  // 1/(sinh(aH) sinh(bH)) written with decaying exponentials (Re a, Re b >= 0).
+  const complex csch_product = 4.0 * std::exp(-(a + b) * H) /
+                               ((1.0 - std::exp(-2.0 * a * H)) * (1.0 - std::exp(-2.0 * b * H)));
+  return coth_right_half(a * H) - b * H * sinhc * csch_product;
+}
 
 }  // namespace
 
