@@ -21,6 +21,7 @@
 #include "io/attributes.hpp"
 #include "io/datasets.hpp"
 #include "io/hdf5.hpp"
+#include "io/xdmf.hpp"
 #include "slipstrip/version.hpp"
 
 namespace slipstrip {
@@ -513,12 +514,26 @@ bool RunOutput::write_out(WriteTrigger trigger, const std::string* final_status)
                        "; it keeps the data of the previous flush");
   };
   try {
-    return write_out_unchecked(trigger, final_status);
+    const bool written = write_out_unchecked(trigger, final_status);
+    update_xdmf_sidecar();
+    return written;
   } catch (const std::runtime_error& e) {
     throw fail(e);  // an HDF5 failure
   } catch (const std::invalid_argument& e) {
     throw fail(e);  // a group or dataset of the file vanished while the run went on
   }
+}
+
+void RunOutput::update_xdmf_sidecar() {
+  // After the snapshots are in the file, so the sidecar never points past them.
+  if (snapshots_in_file_ == snapshots_in_sidecar_) return;
+  io::XdmfSpaceTime description;
+  description.h5_file_name = std::filesystem::path(path_).filename().string();
+  description.snapshot_count = snapshots_in_file_;
+  description.node_count = node_count_;
+  description.fields.assign(std::begin(snapshot_names), std::end(snapshot_names));
+  io::write_xdmf_sidecar(io::xdmf_sidecar_path(path_), description);
+  snapshots_in_sidecar_ = snapshots_in_file_;
 }
 
 void require_free_space(const std::string& path, double bytes_needed, const std::string& what) {

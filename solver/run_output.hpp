@@ -164,6 +164,8 @@ class RunOutput {
   void reopen_file(const RunOutputCursor& cursor);
   // Opens, appends every buffer (and at close the final status), closes.
   // Returns false if deferred because a reader holds the file.
+  // Rewrites RUN.xdmf (io/xdmf.hpp) when the file holds more snapshots than it describes.
+  void update_xdmf_sidecar();
   bool write_out(WriteTrigger trigger, const std::string* final_status = nullptr);
   bool write_out_unchecked(WriteTrigger trigger, const std::string* final_status);
   // Throws if the file system of the run file has less free space than the
@@ -185,6 +187,7 @@ class RunOutput {
   // Rows written to the file so far.
   std::size_t timeseries_rows_in_file_ = 0;
   std::size_t snapshots_in_file_ = 0;
+  std::size_t snapshots_in_sidecar_ = 0;  // rows the XDMF sidecar (RUN.xdmf) describes
   std::size_t crossing_rows_in_file_ = 0;
 
   // Buffered rows, row-major.

@@ -1,0 +1,34 @@
+#pragma once
+// XDMF sidecar of a run file: a small XML text next to RUN.h5 that tells
+// ParaView and VisIt how to read the interface snapshots as one space-time
+// field (x along one axis, the snapshot times along the other) without any
+// conversion: the data stay in the HDF5 file and the XML only points at them.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace slipstrip::io {
+
+struct XdmfSpaceTime {
+  std::string h5_file_name;          // as seen from the sidecar's directory (the same directory)
+  std::size_t snapshot_count = 0;    // rows written so far
+  std::size_t node_count = 0;        // N
+  std::string x_dataset = "/snapshots/x";        // [N] node positions [m]
+  std::string time_dataset = "/snapshots/time";  // [snapshot_count] times [s]
+  std::string snapshot_group = "/snapshots";     // fields are <group>/<name>, [snapshot_count, N]
+  std::vector<std::string> fields;   // e.g. slip, slip_rate, state, shear_stress
+};
+
+// The XDMF 3 text: a 2DRectMesh whose first coordinate is x and second is time
+// (ParaView shows it as an x-t image; its axes are in m and s).
+std::string xdmf_space_time_text(const XdmfSpaceTime& description);
+
+// "RUN.h5" -> "RUN.xdmf" (any other name gets ".xdmf" appended).
+std::string xdmf_sidecar_path(const std::string& h5_path);
+
+// Writes the sidecar atomically (a temporary file renamed over the old one), so
+// a reader never sees half a file while the run rewrites it after each flush.
+// Throws std::runtime_error naming the path if it cannot be written.
+void write_xdmf_sidecar(const std::string& sidecar_path, const XdmfSpaceTime& description);
+
+}  // namespace slipstrip::io
