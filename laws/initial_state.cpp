@@ -1,8 +1,9 @@
 #include "laws/initial_state.hpp"
 
+#include "laws/portable_normal.hpp"
+
 #include <cmath>
 #include <numbers>
-#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -17,17 +18,16 @@ constexpr double pi = std::numbers::pi;
 // drawn before any node is visited, in the order of k, so they do not depend on N.
 std::vector<double> unit_noise(const InitialConfig& init, std::span<const double> x, double length) {
   std::vector<double> noise(x.size());
-  std::mt19937_64 rng(init.noise_seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
+  PortableNormal normal(init.noise_seed);
   if (init.noise_modes == 0) {
-    for (double& value : noise) value = normal(rng);
+    for (double& value : noise) value = normal();
     return noise;
   }
   const auto modes = static_cast<std::size_t>(init.noise_modes);
   std::vector<double> cosine(modes), sine(modes);
   for (std::size_t k = 0; k < modes; ++k) {
-    cosine[k] = normal(rng);
-    sine[k] = normal(rng);
+    cosine[k] = normal();
+    sine[k] = normal();
   }
   const double scale = 1.0 / std::sqrt(static_cast<double>(modes));
   for (std::size_t i = 0; i < x.size(); ++i) {
