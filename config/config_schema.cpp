@@ -292,7 +292,7 @@ constexpr ConfigKey kKeys[] = {
                                               std::end(kBuiltinInterfaceLawNames), name);
                 if (entry == std::end(kBuiltinInterfaceLawNames))
                   throw std::logic_error("unregistered interface law " + name);
-                c.interface.law = InterfaceLaw{*entry};
+                c.interface.law = InterfaceLawName{*entry};
               }}},
     {.section = "interface", .name = "slip_amplitude", .unit = "m",
      .help = "prescribed_slip: slip = amplitude cos(2 pi mode x/L) g(t)",

@@ -7,18 +7,18 @@
 namespace slipstrip {
 
 // A law's registered name.  A value type with the built-in laws as named
-// constants (InterfaceLaw::free), so adding a law needs no enumerator.  `name`
+// constants (InterfaceLawName::free), so adding a law needs no enumerator.  `name`
 // refers to static storage (a string literal or a registry entry's name).
-struct InterfaceLaw {
+struct InterfaceLawName {
   std::string_view name;
-  static const InterfaceLaw rate_and_state;   // the paper's friction (default)
-  static const InterfaceLaw prescribed_slip;  // slip(x,t) imposed (verification)
-  static const InterfaceLaw free;             // traction-free plus an imposed stress pulse (verification)
-  friend bool operator==(const InterfaceLaw&, const InterfaceLaw&) = default;
+  static const InterfaceLawName rate_and_state;   // the paper's friction (default)
+  static const InterfaceLawName prescribed_slip;  // slip(x,t) imposed (verification)
+  static const InterfaceLawName free;             // traction-free plus an imposed stress pulse (verification)
+  friend bool operator==(const InterfaceLawName&, const InterfaceLawName&) = default;
 };
-inline constexpr InterfaceLaw InterfaceLaw::rate_and_state{"rate_and_state"};
-inline constexpr InterfaceLaw InterfaceLaw::prescribed_slip{"prescribed_slip"};
-inline constexpr InterfaceLaw InterfaceLaw::free{"free"};
+inline constexpr InterfaceLawName InterfaceLawName::rate_and_state{"rate_and_state"};
+inline constexpr InterfaceLawName InterfaceLawName::prescribed_slip{"prescribed_slip"};
+inline constexpr InterfaceLawName InterfaceLawName::free{"free"};
 
 // The built-in laws' names in registration order (config/interface_laws.inc):
 // the values [interface] law accepts.

@@ -27,8 +27,9 @@ struct LoadingConfig {
   double normal_stress = 1e6;      // [loading] normal_stress sigma0 [Pa]
 };
 
-// How the interface closes the elastodynamic problem: InterfaceLaw
-// (laws/interface_law.hpp) names a registered law.  Built in:
+// How the interface closes the elastodynamic problem: the interface law
+// (laws/interface_law.hpp) of the registered name InterfaceLawName
+// (config/interface_law_name.hpp).  Built in:
 //   rate_and_state  : the paper's friction (default)
 //   prescribed_slip : slip(x,t) = amplitude cos(2 pi mode x / L) g(t)   (verification)
 //   free            : no friction, an imposed shear-stress perturbation   (verification)
@@ -40,7 +41,7 @@ enum class TimeProfile { ramp, bump };
 inline constexpr std::string_view kTimeProfileNames[] = {"ramp", "bump"};  // index = enumerator
 
 struct InterfaceConfig {
-  InterfaceLaw law = InterfaceLaw::rate_and_state;  // [interface] law
+  InterfaceLawName law = InterfaceLawName::rate_and_state;  // [interface] law
   // prescribed_slip: [interface] slip_amplitude [m], mode (integer m), profile, rise_time [s]
   double slip_amplitude = 1e-6;
   int mode = 1;

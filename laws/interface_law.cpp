@@ -9,7 +9,7 @@ namespace slipstrip {
 
 // Each law's factory, defined in its own file.
 #define SLIPSTRIP_INTERFACE_LAW(law) \
-  std::unique_ptr<InterfaceCondition> make_##law##_law(const InterfaceSetup& setup);
+  std::unique_ptr<InterfaceLaw> make_##law##_law(const InterfaceSetup& setup);
 #include "config/interface_laws.inc"
 #undef SLIPSTRIP_INTERFACE_LAW
 
@@ -46,7 +46,7 @@ std::vector<std::string_view> InterfaceLawRegistry::names() const {
   return out;
 }
 
-std::unique_ptr<InterfaceCondition> InterfaceLawRegistry::make(const InterfaceSetup& setup) const {
+std::unique_ptr<InterfaceLaw> InterfaceLawRegistry::make(const InterfaceSetup& setup) const {
   const std::string_view name = setup.config.interface.law.name;
   if (const InterfaceLawEntry* entry = find(name)) return entry->make(setup);
   std::string list;

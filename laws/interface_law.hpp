@@ -57,9 +57,9 @@ struct InterfaceFailure : std::runtime_error {
   std::size_t node;
 };
 
-class InterfaceCondition {
+class InterfaceLaw {
  public:
-  virtual ~InterfaceCondition() = default;
+  virtual ~InterfaceLaw() = default;
   // v0: the history operator sees slip_rate - driving_velocity() (0 for the
   // verification laws, which perturb a body at rest).
   virtual double driving_velocity() const = 0;
@@ -76,7 +76,7 @@ class InterfaceCondition {
 // solve for the slip rate integrate the slip this way).
 void integrate_slip(InterfaceFields& fields, double dt);
 
-using InterfaceLawFactory = std::unique_ptr<InterfaceCondition> (*)(const InterfaceSetup&);
+using InterfaceLawFactory = std::unique_ptr<InterfaceLaw> (*)(const InterfaceSetup&);
 
 struct InterfaceLawEntry {
   std::string_view name;  // static storage
@@ -92,7 +92,7 @@ class InterfaceLawRegistry {
   std::vector<std::string_view> names() const;
   // Builds the law config.interface.law names; throws std::invalid_argument
   // listing the registered names if there is none of that name.
-  std::unique_ptr<InterfaceCondition> make(const InterfaceSetup& setup) const;
+  std::unique_ptr<InterfaceLaw> make(const InterfaceSetup& setup) const;
 
  private:
   std::vector<InterfaceLawEntry> entries_;

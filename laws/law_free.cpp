@@ -8,7 +8,7 @@
 namespace slipstrip {
 namespace {
 
-class FreeLaw final : public InterfaceCondition {
+class FreeLaw final : public InterfaceLaw {
  public:
   explicit FreeLaw(const InterfaceSetup& setup)
       : in_(setup.config.interface), length_(setup.config.geometry.length), eta_(setup.eta),
@@ -42,7 +42,7 @@ class FreeLaw final : public InterfaceCondition {
 
 }  // namespace
 
-std::unique_ptr<InterfaceCondition> make_free_law(const InterfaceSetup& setup) {
+std::unique_ptr<InterfaceLaw> make_free_law(const InterfaceSetup& setup) {
   return std::make_unique<FreeLaw>(setup);
 }
 

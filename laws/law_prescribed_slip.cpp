@@ -11,7 +11,7 @@
 namespace slipstrip {
 namespace {
 
-class PrescribedSlipLaw final : public InterfaceCondition {
+class PrescribedSlipLaw final : public InterfaceLaw {
  public:
   explicit PrescribedSlipLaw(const InterfaceSetup& setup)
       : in_(setup.config.interface), eta_(setup.eta), reference_(setup.x.size(), 0.0),
@@ -50,7 +50,7 @@ class PrescribedSlipLaw final : public InterfaceCondition {
 
 }  // namespace
 
-std::unique_ptr<InterfaceCondition> make_prescribed_slip_law(const InterfaceSetup& setup) {
+std::unique_ptr<InterfaceLaw> make_prescribed_slip_law(const InterfaceSetup& setup) {
   return std::make_unique<PrescribedSlipLaw>(setup);
 }
 

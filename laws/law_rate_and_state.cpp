@@ -18,7 +18,7 @@
 namespace slipstrip {
 namespace {
 
-class RateAndStateLaw final : public InterfaceCondition {
+class RateAndStateLaw final : public InterfaceLaw {
  public:
   explicit RateAndStateLaw(const InterfaceSetup& setup)
       : config_(setup.config), eta_(setup.eta),
@@ -110,7 +110,7 @@ class RateAndStateLaw final : public InterfaceCondition {
 
 }  // namespace
 
-std::unique_ptr<InterfaceCondition> make_rate_and_state_law(const InterfaceSetup& setup) {
+std::unique_ptr<InterfaceLaw> make_rate_and_state_law(const InterfaceSetup& setup) {
   return std::make_unique<RateAndStateLaw>(setup);
 }
 

@@ -82,7 +82,7 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   options.snapshots_by_slip = out_cfg.snapshot_slip_increment > 0.0;
   options.station_x = out_cfg.stations;
   options.front_slip_rate = out_cfg.front_slip_rate;
-  if (config.interface.law == InterfaceLaw::rate_and_state) {
+  if (config.interface.law == InterfaceLawName::rate_and_state) {
     // The parameters every node ran with (profiles resolved), so the file is
     // interpretable without the profile files the config may name.
     const auto nodes = resolve_friction_nodes(config.friction, config.friction_along_x,

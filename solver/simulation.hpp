@@ -100,7 +100,7 @@ class Simulation {
 
   std::unique_ptr<RealFft> fft_;
   std::unique_ptr<HistoryOperator> history_;
-  std::unique_ptr<InterfaceCondition> law_;
+  std::unique_ptr<InterfaceLaw> law_;
 };
 
 }  // namespace slipstrip

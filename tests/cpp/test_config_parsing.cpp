@@ -108,7 +108,7 @@ TEST_CASE("empty config gives Table S1 of the paper and the stated loading") {
   CHECK(c.material.plane == PlaneCondition::strain);
   CHECK(c.friction.state_law == StateLaw::aging);
   CHECK(c.friction.strength_law == StrengthLaw::paper);
-  CHECK(c.interface.law == InterfaceLaw::rate_and_state);
+  CHECK(c.interface.law == InterfaceLawName::rate_and_state);
   CHECK(c.output.delta_th == 1e-8);  // slip-event identification section
 }
 
@@ -136,7 +136,7 @@ TEST_CASE("to_toml round-trips every field exactly") {
     c.friction.characteristic_slip = 1e-5 / 3.0;
     c.friction.v_star = 1e-6;
     c.friction.phi_star = 2.0 / 7.0;
-    c.interface.law = InterfaceLaw::free;
+    c.interface.law = InterfaceLawName::free;
     c.interface.slip_amplitude = -2.5e-6;
     c.interface.mode = 0;
     c.interface.profile = TimeProfile::bump;

@@ -25,7 +25,7 @@ namespace {
 SimulationConfig free_config(double length, double height, int nodes) {
   SimulationConfig c;
   c.geometry = {length, height, nodes};
-  c.interface.law = InterfaceLaw::free;
+  c.interface.law = InterfaceLawName::free;
   c.interface.profile = TimeProfile::bump;
   c.interface.stress_amplitude = 1e5;
   c.time.beta = 0.25;

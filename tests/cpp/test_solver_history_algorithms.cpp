@@ -89,7 +89,7 @@ TEST_CASE("free interface, thick strip: block and modal history give the same ri
   // normal-mode states carry the whole history after the first block.
   SimulationConfig c;
   c.geometry = {0.4, 0.4, 32};
-  c.interface.law = InterfaceLaw::free;
+  c.interface.law = InterfaceLawName::free;
   c.interface.profile = TimeProfile::bump;
   c.interface.stress_amplitude = 1e5;
   c.interface.pulse_width = 0.05;

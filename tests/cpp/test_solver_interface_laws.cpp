@@ -13,7 +13,7 @@ using namespace slipstrip;
 
 namespace {
 
-SimulationConfig pulse_config(InterfaceLaw law) {
+SimulationConfig pulse_config(InterfaceLawName law) {
   SimulationConfig c;
   c.geometry = {0.4, 0.1, 32};
   c.interface.law = law;
@@ -39,8 +39,8 @@ TEST_CASE("the built-in laws are registered under their config names") {
   CHECK(laws.find("prescribed_slip") != nullptr);
   CHECK(laws.find("free") != nullptr);
   CHECK(laws.find("viscous") == nullptr);
-  CHECK(load_config_string("[interface]\nlaw = \"free\"\n").interface.law == InterfaceLaw::free);
-  CHECK_THROWS_WITH_AS(Simulation(pulse_config(InterfaceLaw{"viscous"})),
+  CHECK(load_config_string("[interface]\nlaw = \"free\"\n").interface.law == InterfaceLawName::free);
+  CHECK_THROWS_WITH_AS(Simulation(pulse_config(InterfaceLawName{"viscous"})),
                        doctest::Contains("interface.law = 'viscous' is not a registered interface "
                                          "law: expected one of rate_and_state, prescribed_slip, free"),
                        std::invalid_argument);
@@ -52,8 +52,8 @@ TEST_CASE("a toy law added by one registration line runs, and behaves as a visco
   auto laws = builtin_interface_laws();
   laws.add({"viscous", &testing::make_viscous_law});  // the registration line
 
-  auto c_viscous = pulse_config(InterfaceLaw{"viscous"});
-  auto c_free = pulse_config(InterfaceLaw::free);
+  auto c_viscous = pulse_config(InterfaceLawName{"viscous"});
+  auto c_free = pulse_config(InterfaceLawName::free);
   {
     const Simulation probe(c_free);
     c_viscous.interface.rise_time = c_free.interface.rise_time = 40 * probe.time_step();

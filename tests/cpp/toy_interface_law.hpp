@@ -12,7 +12,7 @@
 
 namespace slipstrip::testing {
 
-class ViscousLaw final : public InterfaceCondition {
+class ViscousLaw final : public InterfaceLaw {
  public:
   explicit ViscousLaw(const InterfaceSetup& setup)
       : in_(setup.config.interface), length_(setup.config.geometry.length), eta_(setup.eta),
@@ -41,7 +41,7 @@ class ViscousLaw final : public InterfaceCondition {
   std::vector<double> reference_;
 };
 
-inline std::unique_ptr<InterfaceCondition> make_viscous_law(const InterfaceSetup& setup) {
+inline std::unique_ptr<InterfaceLaw> make_viscous_law(const InterfaceSetup& setup) {
   return std::make_unique<ViscousLaw>(setup);
 }
 
