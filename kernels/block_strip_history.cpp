@@ -23,14 +23,12 @@ struct BlockStripHistory::Scratch {
 
 BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,
                                      const BlockHistoryDesign& design, const CancelCheck& cancelled)
-    : dt_(kernels.time_step), direct_block_(design.direct_block), echo_steps_(kernels.echo_steps) {
-  const double mu = material.shear_modulus;
-  const double cs = material.shear_wave_speed();
-  eta_ = mu / (2.0 * cs);
-  echo_weight_ = mu / cs;
+    : dt_(kernels.time_step), eta_(material.radiation_damping()),
+      echo_weight_(material.shear_modulus / material.shear_wave_speed()),
+      direct_block_(design.direct_block), echo_(kernels.echo_steps, echo_weight_) {
   const auto& first = kernels.first_oscillator;
   if (first.size() < 2 || first.back() != kernels.weight.size() ||
-      kernels.phase.size() != kernels.weight.size() || echo_steps_ < 1)
+      kernels.phase.size() != kernels.weight.size() || kernels.echo_steps < 1)
     throw std::invalid_argument("BlockStripHistory: inconsistent kernels");
   if (!is_power_of_two(direct_block_))
     throw std::invalid_argument("BlockStripHistory: direct_block = " + std::to_string(direct_block_) +
@@ -77,13 +75,14 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
   // Levels s = direct_block .. B/2.
   std::size_t spectrum_size = 0;
   for (int s = direct_block_; s < block_; s *= 2) {
-    Level level{s, nullptr, nullptr, spectrum_size};
     auto probe = make_fftw_buffer<fftw_complex>(2 * s);
-    level.forward = fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_FORWARD, FFTW_ESTIMATE);
-    level.backward = fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE);
-    if (!level.forward || !level.backward)
-      throw std::runtime_error("BlockStripHistory: FFTW planning failed");
-    levels_.push_back(level);
+    levels_.push_back(
+        {s,
+         owned_plan(fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_FORWARD, FFTW_ESTIMATE),
+                    "BlockStripHistory"),
+         owned_plan(fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE),
+                    "BlockStripHistory"),
+         spectrum_size});
     spectrum_size += static_cast<std::size_t>(n_modes_) * (s + 1);
   }
   spectrum_.assign(spectrum_size, 0.0);
@@ -105,7 +104,7 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
       const int s = level.size;
       buffer[0] = 0.0;
       for (int j = 1; j < 2 * s; ++j) buffer[j] = work.series[j].real();
-      fftw_execute_dft(level.forward, work.level.get(), work.level.get());
+      fftw_execute_dft(level.forward.get(), work.level.get(), work.level.get());
       std::copy(buffer, buffer + s + 1, spectrum_.begin() + level.first_spectrum + q * (s + 1));
     }
   }
@@ -113,26 +112,20 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
   input_.assign(n_modes_ * B, 0.0);
   accumulator_.assign(n_modes_ * B, 0.0);
   running_sum_.assign(n_modes_, 0.0);
-  echo_line_.assign(echo_steps_, 0.0);
   history_.assign(n_modes_, 0.0);
 }
 
-BlockStripHistory::~BlockStripHistory() {
-  for (auto& level : levels_) {
-    if (level.forward) fftw_destroy_plan(level.forward);
-    if (level.backward) fftw_destroy_plan(level.backward);
-  }
-}
+BlockStripHistory::~BlockStripHistory() = default;
 
 ModeOperatorStats BlockStripHistory::stats() const {
   ModeOperatorStats s;
   s.modes = n_modes_;
   s.oscillators = theta_.size() / 2;
-  s.echo_steps = echo_steps_;
+  s.echo_steps = echo_.steps();
   s.memory_bytes = sizeof(double) * (theta_.size() + half_weight_.size() + lag_kernel_.size() +
                                      c0_.size()) +
                    sizeof(cplx) * (state_.size() + spectrum_.size() + input_.size() +
-                                   accumulator_.size() + running_sum_.size() + echo_line_.size() +
+                                   accumulator_.size() + running_sum_.size() + echo_.steps() +
                                    history_.size()) +
                    scratch_.size() * sizeof(cplx) *
                        (3 * static_cast<std::size_t>(block_) + scratch_[0].frequency.size());
@@ -149,7 +142,7 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
   const cplx* in = input_.data() + q * B + start;
   for (int j = 0; j < s; ++j) buffer[j] = in[j];
   for (int j = s; j < 2 * s; ++j) buffer[j] = 0.0;
-  fftw_execute_dft(level.forward, scratch.level.get(), scratch.level.get());
+  fftw_execute_dft(level.forward.get(), scratch.level.get(), scratch.level.get());
   // The kernel is real, so its spectrum is Hermitian: bins s+1..2s-1 are conjugates.
   const cplx* kernel = spectrum_.data() + level.first_spectrum + q * (s + 1);
   // (Written out: std::complex's operator* checks for NaN/inf in a library call.)
@@ -166,7 +159,7 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
     x[2 * j] = xr * kr - xi * ki;
     x[2 * j + 1] = xr * ki + xi * kr;
   }
-  fftw_execute_dft(level.backward, scratch.level.get(), scratch.level.get());
+  fftw_execute_dft(level.backward.get(), scratch.level.get(), scratch.level.get());
   cplx* out = accumulator_.data() + q * B + start + s;
   const double scale = 1.0 / (2.0 * s);
   for (int j = 0; j < s; ++j) out[j] += buffer[s + j] * scale;
@@ -205,14 +198,7 @@ void BlockStripHistory::advance_far_field(int q, Scratch& scratch) {
 }
 
 void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
-  {
-    // Uniform mode: exact shear echoes (as StripHistory).
-    const std::size_t slot = echo_cursor_;
-    const std::size_t next_slot = slot + 1 == echo_steps_ ? 0 : slot + 1;
-    echo_line_[slot] += slip_rate_spectrum[0];
-    history_[0] = echo_weight_ * echo_line_[next_slot];
-    echo_cursor_ = next_slot;
-  }
+  history_[0] = echo_.push(slip_rate_spectrum[0]);  // uniform mode: exact shear echoes
   const int tau = position_;
   const bool block_done = tau + 1 == block_;
   const int p = block_done ? 0 : tau + 1;  // the output produced by this push
@@ -246,14 +232,14 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
 HistoryOperatorState BlockStripHistory::save_state() const {
   HistoryOperatorState state;
   state.kind = "block strip";
-  state.counters.emplace_back("echo_cursor", static_cast<long long>(echo_cursor_));
+  state.counters.emplace_back("echo_cursor", static_cast<long long>(echo_.cursor()));
   state.counters.emplace_back("position", position_);
   state.counters.emplace_back("block", block_);
   state.add("mode_state", state_);
   state.add("input", input_);
   state.add("accumulator", accumulator_);
   state.add("running_sum", running_sum_);
-  state.add("echo_line", echo_line_);
+  state.add("echo_line", echo_.slots());
   state.add("history", history_);
   return state;
 }
@@ -264,16 +250,16 @@ void BlockStripHistory::restore_state(const HistoryOperatorState& state) {
   if (state.counter("block") != block_)
     throw std::invalid_argument("block history state: block = " + std::to_string(state.counter("block")) +
                                 ", this operator's is " + std::to_string(block_));
-  if (cursor < 0 || static_cast<std::size_t>(cursor) >= echo_steps_ || position < 0 || position >= block_)
+  if (cursor < 0 || static_cast<std::size_t>(cursor) >= echo_.steps() || position < 0 || position >= block_)
     throw std::invalid_argument("block history state: echo_cursor = " + std::to_string(cursor) +
                                 " or position = " + std::to_string(position) + " out of range");
   state.copy_to("mode_state", std::span<cplx>(state_));
   state.copy_to("input", std::span<cplx>(input_));
   state.copy_to("accumulator", std::span<cplx>(accumulator_));
   state.copy_to("running_sum", std::span<cplx>(running_sum_));
-  state.copy_to("echo_line", std::span<cplx>(echo_line_));
+  state.copy_to("echo_line", echo_.slots());
   state.copy_to("history", std::span<cplx>(history_));
-  echo_cursor_ = static_cast<std::size_t>(cursor);
+  echo_.set_cursor(static_cast<std::size_t>(cursor));
   position_ = static_cast<int>(position);
 }
 

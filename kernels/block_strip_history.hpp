@@ -75,9 +75,9 @@ class BlockStripHistory final : public HistoryOperator {
   void convolve_level(int q, std::size_t level, int start, Scratch& scratch);
   void advance_far_field(int q, Scratch& scratch);
 
-  double dt_, eta_, echo_weight_;
+  double dt_, eta_, echo_weight_;  // echo_weight_ = mu / c_s
   int n_modes_, block_, direct_block_;
-  std::size_t echo_steps_, echo_cursor_ = 0;
+  ShearEchoLine echo_;  // q = 0
   int position_ = 0;  // index of the next input inside the current block
 
   // Normal modes as frequencies theta = +phi and -phi, per mode q >= 1.
@@ -90,7 +90,7 @@ class BlockStripHistory final : public HistoryOperator {
 
   struct Level {
     int size;  // s: inputs per convolution; FFT length 2s
-    fftw_plan forward = nullptr, backward = nullptr;
+    FftwPlan forward, backward;
     std::size_t first_spectrum;  // into spectrum_, (s + 1) per mode q
   };
   std::vector<Level> levels_;
@@ -103,7 +103,6 @@ class BlockStripHistory final : public HistoryOperator {
   std::vector<std::complex<double>> input_;        // [q][B] inputs of the current block
   std::vector<std::complex<double>> accumulator_;  // [q][B] outputs of the current block so far
   std::vector<std::complex<double>> running_sum_;  // per q
-  std::vector<std::complex<double>> echo_line_;    // q = 0
   std::vector<std::complex<double>> history_;
 };
 

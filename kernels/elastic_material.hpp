@@ -31,6 +31,12 @@ struct ElasticMaterial {
   PlaneCondition plane = PlaneCondition::strain;
 
   double shear_wave_speed() const { return std::sqrt(shear_modulus / density); }
+  // eta = mu / (2 c_s) [Pa s/m], the radiation damping of two identical bodies
+  // of this material: the instantaneous traction per unit slip rate (each face
+  // moves at half the slip rate and radiates a plane shear wave, mu / c_s per
+  // unit face velocity).  Every use of it (history operators, Simulation, the
+  // local solve seen from Python) takes it from here.
+  double radiation_damping() const { return shear_modulus / (2.0 * shear_wave_speed()); }
   // c_d^2/c_s^2: plane strain 2(1-nu)/(1-2nu); plane stress 2/(1-nu) (in-plane
   // P wave of a thin plate).  An antiplane body is a body invariant in z, so
   // its P wave (which the SH problem never excites) is the plane-strain one.

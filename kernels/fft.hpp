@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <memory>
 #include <span>
+#include <type_traits>
 
 namespace slipstrip {
 
@@ -25,12 +26,22 @@ FftwBuffer<T> make_fftw_buffer(std::size_t n) {
   return FftwBuffer<T>(p);
 }
 
+// An FFTW plan that destroys itself (fftw_plan is a pointer to FFTW's opaque
+// plan struct).  Empty only after a move.
+struct FftwPlanDestroy {
+  void operator()(fftw_plan plan) const { fftw_destroy_plan(plan); }
+};
+using FftwPlan = std::unique_ptr<std::remove_pointer_t<fftw_plan>, FftwPlanDestroy>;
+
+// Takes ownership of a plan just made; throws std::runtime_error "<who>: FFTW
+// planning failed" if FFTW returned none.
+FftwPlan owned_plan(fftw_plan plan, const char* who);
+
 class RealFft {
  public:
   explicit RealFft(int nodes);
   RealFft(const RealFft&) = delete;
   RealFft& operator=(const RealFft&) = delete;
-  ~RealFft();
 
   int nodes() const { return nodes_; }
   int modes() const { return nodes_ / 2 + 1; }
@@ -43,8 +54,8 @@ class RealFft {
   int nodes_;
   FftwBuffer<double> real_;
   FftwBuffer<fftw_complex> spectral_;
-  fftw_plan forward_plan_ = nullptr;
-  fftw_plan inverse_plan_ = nullptr;
+  FftwPlan forward_plan_;
+  FftwPlan inverse_plan_;
 };
 
 }  // namespace slipstrip

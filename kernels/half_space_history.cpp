@@ -53,7 +53,7 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
   // function g (kernels/half_space_kernel.hpp); antiplane has no P branch.
   const HalfSpaceShape shape = half_space_shape(material);
   const double static_value = half_space_static_value(shape);
-  eta_ = mu / (2.0 * cs);
+  eta_ = material.radiation_damping();
   const int n_modes = nodes / 2 + 1;
 
   wavenumber_.assign(n_modes, 0.0);

@@ -107,14 +107,12 @@ StripHistory::StripHistory(const ElasticMaterial& material, double strip_height,
 
 StripHistory::StripHistory(const ElasticMaterial& material, const StripKernels& kernels,
                            const CancelCheck& cancelled)
-    : dt_(kernels.time_step), echo_steps_(kernels.echo_steps),
-      first_oscillator_(kernels.first_oscillator), weight_(kernels.weight) {
-  const double mu = material.shear_modulus;
-  const double cs = material.shear_wave_speed();
-  eta_ = mu / (2.0 * cs);
-  echo_weight_ = mu / cs;
+    : dt_(kernels.time_step), eta_(material.radiation_damping()),
+      echo_weight_(material.shear_modulus / material.shear_wave_speed()),
+      first_oscillator_(kernels.first_oscillator), weight_(kernels.weight),
+      echo_(kernels.echo_steps, echo_weight_) {
   if (first_oscillator_.size() < 2 || first_oscillator_.back() != weight_.size() ||
-      kernels.phase.size() != weight_.size() || echo_steps_ < 1)
+      kernels.phase.size() != weight_.size() || kernels.echo_steps < 1)
     throw std::invalid_argument("StripHistory: inconsistent kernels");
   const int n_modes = static_cast<int>(first_oscillator_.size()) - 1;
   cos_step_.reserve(weight_.size());
@@ -141,7 +139,6 @@ StripHistory::StripHistory(const ElasticMaterial& material, const StripKernels& 
   s_re_.assign(n_osc, 0.0);
   s_im_.assign(n_osc, 0.0);
   running_sum_.assign(n_modes, 0.0);
-  echo_line_.assign(echo_steps_, 0.0);  // q = 0 only
   history_.assign(n_modes, 0.0);
 }
 
@@ -149,10 +146,10 @@ ModeOperatorStats StripHistory::stats() const {
   ModeOperatorStats s;
   s.modes = history_.size();
   s.oscillators = weight_.size();
-  s.echo_steps = echo_steps_;
+  s.echo_steps = echo_.steps();
   s.memory_bytes = sizeof(double) * (7 * weight_.size() + weight_sum_.size()) +
                    sizeof(std::complex<double>) *
-                       (running_sum_.size() + echo_line_.size() + history_.size()) +
+                       (running_sum_.size() + echo_.steps() + history_.size()) +
                    sizeof(double) * integrator_weight_.size() +
                    sizeof(std::size_t) * first_oscillator_.size();
   return s;
@@ -160,15 +157,7 @@ ModeOperatorStats StripHistory::stats() const {
 
 void StripHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {
   const int n_modes = static_cast<int>(history_.size());
-  {
-    // Uniform mode: exact shear echoes, R_{n+1} = v_{n+1-M} + R_{n+1-M}.  The
-    // slot at the cursor holds R_n (written M steps ago); it becomes R_{n+M}.
-    const std::size_t slot = echo_cursor_;
-    const std::size_t next_slot = slot + 1 == echo_steps_ ? 0 : slot + 1;
-    echo_line_[slot] += slip_rate_spectrum[0];
-    history_[0] = echo_weight_ * echo_line_[next_slot];
-    echo_cursor_ = next_slot;
-  }
+  history_[0] = echo_.push(slip_rate_spectrum[0]);
 #pragma omp parallel for schedule(static)
   for (int q = 1; q < n_modes; ++q) {
     const std::complex<double> v = slip_rate_spectrum[q];
@@ -251,13 +240,13 @@ void HistoryOperatorState::require_kind(const std::string& expected) const {
 HistoryOperatorState StripHistory::save_state() const {
   HistoryOperatorState state;
   state.kind = "modal strip";
-  state.counters.emplace_back("echo_cursor", static_cast<long long>(echo_cursor_));
+  state.counters.emplace_back("echo_cursor", static_cast<long long>(echo_.cursor()));
   state.add("c_re", c_re_);
   state.add("c_im", c_im_);
   state.add("s_re", s_re_);
   state.add("s_im", s_im_);
   state.add("running_sum", running_sum_);
-  state.add("echo_line", echo_line_);
+  state.add("echo_line", echo_.slots());
   state.add("history", history_);
   return state;
 }
@@ -265,17 +254,17 @@ HistoryOperatorState StripHistory::save_state() const {
 void StripHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind("modal strip");
   const long long cursor = state.counter("echo_cursor");
-  if (cursor < 0 || static_cast<std::size_t>(cursor) >= echo_steps_)
+  if (cursor < 0 || static_cast<std::size_t>(cursor) >= echo_.steps())
     throw std::invalid_argument("history operator state: echo_cursor = " + std::to_string(cursor) +
-                                " outside 0.." + std::to_string(echo_steps_ - 1));
+                                " outside 0.." + std::to_string(echo_.steps() - 1));
   state.copy_to("c_re", std::span<double>(c_re_));
   state.copy_to("c_im", std::span<double>(c_im_));
   state.copy_to("s_re", std::span<double>(s_re_));
   state.copy_to("s_im", std::span<double>(s_im_));
   state.copy_to("running_sum", std::span<std::complex<double>>(running_sum_));
-  state.copy_to("echo_line", std::span<std::complex<double>>(echo_line_));
+  state.copy_to("echo_line", echo_.slots());
   state.copy_to("history", std::span<std::complex<double>>(history_));
-  echo_cursor_ = static_cast<std::size_t>(cursor);
+  echo_.set_cursor(static_cast<std::size_t>(cursor));
 }
 
 }  // namespace slipstrip

@@ -128,6 +128,38 @@ class HistoryOperator {
   virtual void restore_state(const HistoryOperatorState& state) = 0;
 };
 
+// The uniform mode q = 0 of a strip: exact shear echoes between the two
+// faces.  Its history is (mu/c_s) R_{n+1} with R_{n+1} = v_{n+1-M} + R_{n+1-M}
+// (M = 2H/(c_s dt) steps), kept in a delay line of M slots: the slot at the
+// cursor holds R_n (written M steps ago) and becomes R_{n+M}.  Used by both
+// strip operators (modal and block).
+class ShearEchoLine {
+ public:
+  ShearEchoLine(std::size_t steps, double weight) : weight_(weight), line_(steps, 0.0) {}
+
+  // Feeds v^_0(t_n); returns the history part of mode 0 at t_{n+1}.  No allocation.
+  std::complex<double> push(std::complex<double> slip_rate) {
+    const std::size_t slot = cursor_;
+    const std::size_t next_slot = slot + 1 == line_.size() ? 0 : slot + 1;
+    line_[slot] += slip_rate;
+    cursor_ = next_slot;
+    return weight_ * line_[next_slot];
+  }
+
+  std::size_t steps() const { return line_.size(); }
+  // The state, for save_state/restore_state (set_cursor checks nothing: the
+  // operator checks the range and reports it in its own terms).
+  std::size_t cursor() const { return cursor_; }
+  void set_cursor(std::size_t cursor) { cursor_ = cursor; }
+  std::span<const std::complex<double>> slots() const { return line_; }
+  std::span<std::complex<double>> slots() { return line_; }
+
+ private:
+  double weight_;  // mu / c_s
+  std::vector<std::complex<double>> line_;
+  std::size_t cursor_ = 0;
+};
+
 class StripHistory final : public HistoryOperator {
  public:
   StripHistory(const ElasticMaterial& material, double strip_height, double length, int nodes,
@@ -149,8 +181,6 @@ class StripHistory final : public HistoryOperator {
   double dt_;
   double eta_;
   double echo_weight_;       // mu / c_s
-  std::size_t echo_steps_;   // M_s
-  std::size_t echo_cursor_ = 0;
 
   // Coefficients, flat over (mode q, oscillator m): contiguous per q.
   std::vector<std::size_t> first_oscillator_;  // size modes+1
@@ -160,7 +190,7 @@ class StripHistory final : public HistoryOperator {
   // State.
   std::vector<double> c_re_, c_im_, s_re_, s_im_;
   std::vector<std::complex<double>> running_sum_;  // per q: sum_{j>=1} v_{n-j}
-  std::vector<std::complex<double>> echo_line_;    // q = 0: M_s slots of (v + echo sum)
+  ShearEchoLine echo_;                             // q = 0
   std::vector<std::complex<double>> history_;
 };
 

@@ -45,14 +45,10 @@ GaussianNufft::GaussianNufft(int samples, int half_width)
   tail_.resize(half_width_ + 1);
   for (int j = 0; j <= half_width_; ++j) tail_[j] = std::exp(-(j * dx) * (j * dx) / (4.0 * variance_));
   auto probe = make_fftw_buffer<fftw_complex>(grid_);
-  forward_plan_ = fftw_plan_dft_1d(grid_, probe.get(), probe.get(), FFTW_FORWARD, FFTW_ESTIMATE);
-  backward_plan_ = fftw_plan_dft_1d(grid_, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE);
-  if (!forward_plan_ || !backward_plan_) throw std::runtime_error("GaussianNufft: FFTW planning failed");
-}
-
-GaussianNufft::~GaussianNufft() {
-  if (forward_plan_) fftw_destroy_plan(forward_plan_);
-  if (backward_plan_) fftw_destroy_plan(backward_plan_);
+  forward_plan_ = owned_plan(fftw_plan_dft_1d(grid_, probe.get(), probe.get(), FFTW_FORWARD, FFTW_ESTIMATE),
+                             "GaussianNufft");
+  backward_plan_ = owned_plan(fftw_plan_dft_1d(grid_, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE),
+                              "GaussianNufft");
 }
 
 GaussianNufft::Scratch GaussianNufft::make_scratch(std::size_t frequencies) const {
@@ -103,7 +99,7 @@ void GaussianNufft::forward_centred(std::span<const cplx> in, std::span<cplx> ou
     const int shifted = t - half;
     grid[shifted < 0 ? shifted + G : shifted] = in[t] * deconvolution_[t];
   }
-  fftw_execute_dft(forward_plan_, scratch.grid.get(), scratch.grid.get());
+  fftw_execute_dft(forward_plan_.get(), scratch.grid.get(), scratch.grid.get());
   for (int j = 0; j < 2 * w; ++j) grid[G + j] = grid[j];
   const double* values = reinterpret_cast<const double*>(grid);
   for (std::size_t k = 0; k < out.size(); ++k) {
@@ -134,7 +130,7 @@ void GaussianNufft::adjoint_centred(std::span<const cplx> c, std::span<cplx> out
     }
   }
   for (int j = 0; j < 2 * w; ++j) grid[j] += grid[G + j];  // fold the periodic copy back
-  fftw_execute_dft(backward_plan_, scratch.grid.get(), scratch.grid.get());
+  fftw_execute_dft(backward_plan_.get(), scratch.grid.get(), scratch.grid.get());
   for (int t = 0; t < B; ++t) {
     const int shifted = t - half;
     out[t] = grid[shifted < 0 ? shifted + G : shifted] * deconvolution_[t];

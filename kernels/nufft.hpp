@@ -35,7 +35,6 @@ class GaussianNufft {
   explicit GaussianNufft(int samples, int half_width = 12);
   GaussianNufft(const GaussianNufft&) = delete;
   GaussianNufft& operator=(const GaussianNufft&) = delete;
-  ~GaussianNufft();
 
   int samples() const { return samples_; }
   int grid_size() const { return grid_; }
@@ -73,8 +72,8 @@ class GaussianNufft {
   double variance_;                   // T in exp(-x^2 / (4 T))
   std::vector<double> deconvolution_; // 1 / ghat(t - B/2), t = 0..B-1, divided by G
   std::vector<double> tail_;          // exp(-(j dx)^2 / (4T)), j = 0..half_width
-  fftw_plan forward_plan_ = nullptr;  // grid -> grid, e^{-i}
-  fftw_plan backward_plan_ = nullptr; // grid -> grid, e^{+i}
+  FftwPlan forward_plan_;   // grid -> grid, e^{-i}
+  FftwPlan backward_plan_;  // grid -> grid, e^{+i}
 };
 
 }  // namespace slipstrip

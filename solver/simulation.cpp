@@ -40,7 +40,7 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
   const auto& g = config_.geometry;
   dx_ = g.length / nodes_;
   dt_ = strip_time_step(config_.material, g.height, dx_, config_.time.beta);
-  eta_ = config_.material.shear_modulus / (2.0 * config_.material.shear_wave_speed());
+  eta_ = config_.material.radiation_damping();
   fft_ = std::make_unique<RealFft>(nodes_);
   if (is_half_space(g.height)) {
     // Sampled exact half-space kernel, made passive, with bounded memory

@@ -108,8 +108,8 @@ void bind_stability(py::module_& m) {
   m.def(
       "_solve_slip_rate",
       [](const SimulationConfig& config, double tau_history, double state, double initial_guess) {
-        const double eta = config.material.shear_modulus / (2.0 * config.material.shear_wave_speed());
-        return slipstrip::solve_slip_rate(config.friction, config.loading.normal_stress, eta, tau_history, state,
+        return slipstrip::solve_slip_rate(config.friction, config.loading.normal_stress,
+                                          config.material.radiation_damping(), tau_history, state,
                                           initial_guess);
       },
       py::arg("config"), py::arg("tau_history"), py::arg("state"), py::arg("initial_guess"));
