@@ -14,6 +14,9 @@ from pathlib import Path
 
 import pytest
 
+# Minutes long: run by scripts/test.sh --all and .ci/run, not the fast tier.
+pytestmark = pytest.mark.slow
+
 REPO = Path(__file__).resolve().parents[2]
 SYSTEM_PYTHON = "/usr/bin/python3"
 
@@ -39,8 +42,6 @@ def test_pip_install_into_a_venv_runs_the_solver(tmp_path):
     program = f"""
 import math, slipstrip
 
-# Minutes long: run by scripts/test.sh --all and .ci/run, not the fast tier.
-pytestmark = pytest.mark.slow
 print(slipstrip.__file__)
 print(slipstrip.__version__)
 cfg = slipstrip.load_config({str(REPO / "configs" / "quickstart.toml")!r}, {{"geometry.nodes": 64}})
