@@ -240,14 +240,23 @@ def classify_record(record: WindowRecord) -> dict:
 
 
 def read_record(path, max_rows: int = 4000) -> WindowRecord:
-    """The three records of a run file (the catalog if `slipstrip events` has run)."""
+    """The three records of a run file.  The catalog is /events if `slipstrip events`
+    has run; otherwise the events are detected from /slip_sampling (into a
+    temporary file: the run file is not changed).  A run with neither cannot give
+    the catalog's votes: ValueError, naming the file and the cure."""
     info = analysis.read_run_info(path)
     st = analysis.read_spacetime(path, max_rows=max_rows)
     with runfile.open_h5(path) as f:
         ts_t = f["timeseries/time"][:] if "timeseries" in f else np.zeros(0)
         ts_v = f["timeseries/max_slip_rate"][:] if "timeseries" in f else np.zeros(0)
-        has_events = "events" in f
-    catalog = analysis.read_catalog(path) if has_events else {}
+        has_events, has_sampling = "events" in f, "slip_sampling" in f
+    if has_events:
+        catalog = analysis.read_catalog(path)
+    elif has_sampling:
+        catalog = analysis.catalog_for(path)
+    else:
+        raise ValueError(f"{path}: no /events and no /slip_sampling to detect them from (output.delta_th = 0); "
+                         "the classification needs the event catalog: rerun with output.delta_th > 0")
     if st is None:
         t, x, v = np.zeros(0), np.zeros(info.n_nodes), np.zeros((0, info.n_nodes))
     else:
@@ -617,6 +626,9 @@ def main(argv: list[str]) -> int:
             return 2
         previous += [r for r in earlier if _map_cell(r) not in fresh]
     for r in rows:
+        if r["state"] == "unreadable":
+            print(f"{Path(r['file']).name:40s} not classified: {r['error']}", file=sys.stderr)
+            continue
         print(f"{Path(r['file']).name:40s} H/L = {r['height'] / r['length']:<8.4g} "
               f"|df/dlnv| = {r['rate_weakening']:.4f}  Lc(H) = {r['critical_length']:<7.3g} {r['state']:18s} "
               f"{'converged' if r['converged'] else 'NOT converged'}  agreement {r['agreement']:.2f}")

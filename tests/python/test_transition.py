@@ -223,6 +223,37 @@ def test_pipeline_end_to_end_on_tiny_runs(cli, repo, tmp_path):
         transition.main([])                                                      # nothing to map
 
 
+def test_run_without_events_is_detected_or_refused(cli, repo, tmp_path):
+    """A run file without /events: the events are detected from /slip_sampling
+    (the same classification as after `slipstrip events`, and the run file is
+    left unchanged); without /slip_sampling (delta_th = 0) the classifier refuses
+    with a message instead of voting with NaN observables."""
+    import subprocess
+    from slipstrip import runfile
+    base = [str(cli), "run", str(repo / "configs/reference.toml"), "--quiet", "--set", "geometry.nodes=64",
+            "--set", "geometry.length=0.8", "--set", "geometry.height=0.05", "--set", "time.duration_transits=3",
+            "--set", "output.snapshot_interval=2e-5", "--set", "initial.noise_amplitude=1e-2"]
+    sampled, unsampled = tmp_path / "sampled.h5", tmp_path / "unsampled.h5"
+    for out, extra in ((sampled, []), (unsampled, ["--set", "output.delta_th=0"])):
+        r = subprocess.run(base + ["--out", str(out)] + extra, capture_output=True, text=True, timeout=120)
+        assert r.returncode == 0, r.stderr
+    detected = transition.classify_run(sampled)
+    assert not runfile.has_group(sampled, "events")          # detection went to a temporary file
+    assert detected["observables"]["n_events"] > 0
+    r = subprocess.run([str(cli), "events", str(sampled)], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    stored = transition.classify_run(sampled)
+    assert detected["state"] == stored["state"] and detected["states_by_third"] == stored["states_by_third"]
+    for key in ("n_events", "size_spread_decades", "spanning_slip_fraction"):
+        # the same C++ detection with the same alpha: identical numbers
+        a, b = detected["observables"][key], stored["observables"][key]
+        assert a == b or (math.isnan(a) and math.isnan(b)), (key, a, b)
+    with pytest.raises(ValueError, match="delta_th"):
+        transition.classify_run(unsampled)
+    rows = transition.classify_directory([unsampled])
+    assert rows[0]["state"] == "unreadable" and "delta_th" in rows[0]["error"]
+
+
 def test_transition_scan_follows_the_friction_family_and_scales_snapshots_with_L():
     """configs/scans/transition.toml: its friction points lie on the straight line in
     (f0, a, b) through configs/reference.toml (s = 0) and configs/fig5.toml (s = 1), at

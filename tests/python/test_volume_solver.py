@@ -125,3 +125,125 @@ def _read_station(path):
     assert lines[0].split() == ["t", "slip", "slip_rate", "shear_stress", "state", "err_slip",
                                 "err_slip_rate", "err_shear_stress", "err_state"]
     return np.array([[float(v) for v in ln.split()] for ln in lines[1:]])
+
+
+def test_thread_count_does_not_change_results(exe):
+    # One thread runs the fused sweep (stresses one row behind the velocities),
+    # more threads the split sweeps; each cell does the same arithmetic and each
+    # interface node is solved alone, so the results must agree bit for bit.
+    cfg = read_config(CONFIG)
+    r1 = run_volume(cfg, 160, [0.5, 0.75], duration=1e-3, exe=exe, threads=1, final_profile=True)
+    r2 = run_volume(cfg, 160, [0.5, 0.75], duration=1e-3, exe=exe, threads=2, final_profile=True)
+    for f in FIELDS + ["state"]:
+        assert np.array_equal(r1[f], r2[f]), f
+        assert np.array_equal(r1["profile"][f], r2["profile"][f]), f
+
+
+def test_run_file_snapshots_match_slipstrip(exe, bim, measured, tmp_path):
+    """The run file of `volume.py run` (slipstrip's layout): the analysis reads it,
+    and its snapshots at the station nodes are slipstrip's station series at the
+    same times within the tolerance of test_volume_solver_converges_to_slipstrip
+    (2 x the measured max difference over all times at nx = 320)."""
+    from slipstrip import analysis, runfile
+    from volume import run_to_file
+    sys.path.insert(0, str(REPO / "scripts"))
+    import pulse_episodes
+
+    cfg = read_config(CONFIG)
+    nx = 320
+    h = cfg["length"] / nx
+    out = run_to_file(CONFIG, tmp_path / "vol.h5", nx, dt=0.25 * h / cfg["shear_wave_speed"], exe=exe)
+    assert runfile.read_status(out) == "completed"
+    assert not (tmp_path / "vol.h5.snapshots.bin").exists()          # raw records removed after conversion
+    info = analysis.read_run_info(out)
+    assert info.L == cfg["length"] and info.n_nodes == nx and info.v0 == cfg["driving_velocity"]
+    assert np.isclose(info.c_s, cfg["shear_wave_speed"], rtol=1e-12)
+    t, x, v = analysis.read_spacetime(out)
+    assert np.allclose(x, np.arange(nx) * h, rtol=0, atol=1e-15)
+    # the config's snapshot_interval (5e-6 s), each on the nearest step, over 6 L/c_s
+    dt = 0.25 * h / cfg["shear_wave_speed"]
+    assert t[0] == 0.0 and np.all(np.abs(np.diff(t) - 5e-6) <= 1.01 * dt)
+    assert cfg["duration"] - t[-1] < 5e-6 + dt
+    with runfile.open_h5(out) as f:
+        snaps = {k: f[f"snapshots/{k}"][:] for k in ("slip", "slip_rate", "shear_stress", "state")}
+        ts = {k: f[f"timeseries/{k}"][:] for k in ("time", "max_slip_rate", "mean_slip", "mean_shear_stress")}
+    assert np.array_equal(snaps["slip_rate"], v)
+    stations = measured["stations"]
+    nodes = [int(round(s / h)) % nx for s in stations]
+    k = np.rint(t / bim["dt"]).astype(int)
+    assert np.allclose(bim["time"][k], t, rtol=0, atol=1e-6 * bim["dt"])
+    for f in FIELDS:
+        d = np.abs(snaps[f][:, nodes] - bim[f][k]).max(axis=0)
+        tol = 2.0 * np.asarray(measured["ci_measured_max_diff"][str(nx)][f])
+        assert np.all(d <= tol), (f, d, tol)
+    # The time series and the snapshots are the same fields where their times coincide
+    # (sums in a different order: 1e-12 relative is round-off for 320 terms).
+    common, i_ts, i_sn = np.intersect1d(ts["time"], t, return_indices=True)
+    assert common.size >= 10
+    assert np.array_equal(ts["max_slip_rate"][i_ts], np.abs(snaps["slip_rate"][i_sn]).max(axis=1))
+    assert np.allclose(ts["mean_slip"][i_ts], snaps["slip"][i_sn].mean(axis=1), rtol=1e-12, atol=0)
+    assert np.allclose(ts["mean_shear_stress"][i_ts], snaps["shear_stress"][i_sn].mean(axis=1), rtol=1e-12, atol=0)
+    # The pulse criterion's script reads it unchanged.
+    s = pulse_episodes.pulse_summary(str(out))
+    assert s["nodes"] == nx and np.isclose(s["duration_transits"], 6.0, atol=0.01)
+
+
+def test_interrupted_run_converts_its_complete_records(exe, tmp_path):
+    from slipstrip import runfile
+    from volume import SNAPSHOT_FIELDS, convert, run_to_file
+    out = run_to_file(CONFIG, tmp_path / "vol.h5", 160, duration=1e-3, snapshot_interval=1e-4, exe=exe,
+                      keep_raw=True)
+    with runfile.open_h5(out) as f:
+        full = f["snapshots/slip_rate"][:]
+        full_ts = f["timeseries/time"][:]
+    assert runfile.read_status(out) == "completed" and full.shape == (11, 160)
+    # Cut both raw files in the middle of a record, as a killed run leaves them.
+    rec = 8 * (1 + len(SNAPSHOT_FIELDS) * 160)
+    snap = tmp_path / "vol.h5.snapshots.bin"
+    snap.write_bytes(snap.read_bytes()[: 4 * rec + rec // 2])
+    tsf = tmp_path / "vol.h5.timeseries.bin"
+    tsf.write_bytes(tsf.read_bytes()[: 8 * 4 * 30 + 12])
+    convert(out)
+    assert runfile.read_status(out) == "interrupted"
+    with runfile.open_h5(out) as f:
+        assert np.array_equal(f["snapshots/slip_rate"][:], full[:4])
+        assert np.array_equal(f["timeseries/time"][:], full_ts[:30])
+
+
+def test_noise_start_is_slipstrip_initial_state(exe, slipstrip_module, tmp_path):
+    """A config with white noise starts from slipstrip's phi(x, 0) at N = nx (the
+    same field as `slipstrip run` with that seed)."""
+    from slipstrip import runfile
+    from volume import run_to_file
+    fig5 = REPO / "configs" / "fig5.toml"
+    over = {"geometry.length": 0.4, "initial.noise_seed": 3}
+    out = run_to_file(fig5, tmp_path / "noise.h5", 160, overrides=over, duration=2e-5, snapshot_interval=1e-5,
+                      exe=exe)
+    sim = slipstrip_module.Simulation(str(fig5), {**over, "geometry.nodes": 160})
+    with runfile.open_h5(out) as f:
+        assert f["snapshots/time"][0] == 0.0
+        assert np.array_equal(f["snapshots/state"][0], np.asarray(sim.state))
+        # At t = 0 the friction law already acts on the perturbed state: a node
+        # with a larger state (stronger contact) slips more slowly than v0.
+        v_start = f["snapshots/slip_rate"][0]
+        assert np.all(np.abs(v_start / 2e-3 - 1) < 0.01)
+        assert np.corrcoef(v_start, np.asarray(sim.state))[0, 1] < -0.9
+        config = runfile.read_config(out)
+    assert config["initial"]["noise_seed"] == 3 and config["geometry"]["nodes"] == 160
+    assert config["volume_solver"]["ny"] == 40                       # H = 0.1 m at h = 2.5 mm
+    assert np.std(np.asarray(sim.state)) > 0                          # the noise is there
+
+
+def test_new_arguments_are_checked(exe, tmp_path):
+    base = [str(exe), "length=1", "height=0.05", "nx=40", "shear_modulus=3e9", "poisson_ratio=0.33",
+            "density=1200", "driving_velocity=2e-3", "normal_stress=1e6", "duration=1e-5",
+            f"out={tmp_path / 's.txt'}"]
+    p = subprocess.run(base + [f"snapshot_file={tmp_path / 'x.bin'}"], capture_output=True, text=True)
+    assert p.returncode == 2 and "snapshot_interval" in p.stderr
+    bad = tmp_path / "phi.bin"
+    np.full(39, 2.5e-4).tofile(bad)
+    p = subprocess.run(base + [f"initial_state={bad}"], capture_output=True, text=True)
+    assert p.returncode == 2 and "nx = 40" in p.stderr
+    np.full(40, -1.0).tofile(bad)
+    p = subprocess.run(base + [f"initial_state={bad}"], capture_output=True, text=True)
+    assert p.returncode == 2 and "node 0" in p.stderr

@@ -11,12 +11,25 @@ returns the station time series as NumPy arrays.
     r = run_volume("configs/benchmarks/bp_pulse.toml", nx=320, stations=[0.5, 0.75])
     r["time"], r["slip_rate"][:, 0]          # [s], [m/s] at x = 0.5 m
 
+For long runs it writes a run file in slipstrip's layout (docs/output.md:
+/timeseries, /snapshots, the root attribute `config`), so scripts/pulse_episodes.py,
+scripts/trajectory_divergence.py and the analysis read it unchanged:
+
+    /usr/bin/python3 tools/volume_solver/volume.py run configs/fig5.toml --nx 1600 --out RUN.h5
+    /usr/bin/python3 tools/volume_solver/volume.py convert RUN.h5     # after an interrupted run
+
+Noise and sinusoidal initial perturbations are not re-implemented: phi(x, 0) is
+taken from slipstrip's own initial-state code (the pybind11 module), which is
+the same field as a slipstrip run of the same config and seed at N = nx.  The
+initial condition is input data, not part of what the oracle checks.
+
 The executable is looked up in $SLIPSTRIP_VOLUME_BIN, then
 $SLIPSTRIP_BUILD_DIR/tools/volume_solver/, then <repo>/build*/tools/volume_solver/
 (newest first).  Build it with `cmake --build build --target slipstrip_volume`.
 """
 from __future__ import annotations
 
+import json
 import math
 import os
 import subprocess
@@ -46,11 +59,30 @@ def find_executable() -> Path | None:
     return None
 
 
-def read_config(path) -> dict:
-    """The benchmark config as plain numbers (SI), resolved as docs/config.md says:
-    shear_modulus from youngs_modulus if given, duration from duration_transits."""
+def load_table(path, overrides: dict | None = None) -> dict:
+    """The TOML config at `path` as a dict, with overrides {"section.key": value} applied."""
     with open(path, "rb") as f:
         c = tomllib.load(f)
+    for key, value in (overrides or {}).items():
+        section, _, name = key.partition(".")
+        if not name:
+            raise ValueError(f"override {key!r}: give section.key")
+        c.setdefault(section, {})[name] = value
+    return c
+
+
+def has_slipstrip_initial_state(table: dict) -> bool:
+    """True if [initial] asks for noise or a sine, which the driver takes from slipstrip."""
+    ini = table.get("initial", {})
+    return bool(ini.get("noise_amplitude", 0.0) or ini.get("sine_amplitude", 0.0))
+
+
+def read_config(path, overrides: dict | None = None, *, allow_slipstrip_initial: bool = False) -> dict:
+    """The benchmark config as plain numbers (SI), resolved as docs/config.md says:
+    shear_modulus from youngs_modulus if given, duration from duration_transits.
+    allow_slipstrip_initial: accept noise / sine perturbations (the caller then
+    supplies phi(x, 0) with initial_state_from_slipstrip)."""
+    c = path if isinstance(path, dict) else load_table(path, overrides)
     g, m, lo = c.get("geometry", {}), c.get("material", {}), c.get("loading", {})
     fr, st = c.get("friction", {}), c.get("state", {})
     it, ini, tm = c.get("interface", {}), c.get("initial", {}), c.get("time", {})
@@ -66,8 +98,9 @@ def read_config(path) -> dict:
         duration = tm.get("duration", 1e-3)
     if it.get("law", "rate_and_state") != "rate_and_state":
         raise ValueError("the volume solver implements interface.law = rate_and_state only")
-    if ini.get("noise_amplitude", 0.0) or ini.get("sine_amplitude", 0.0):
-        raise ValueError("the volume solver implements [initial] local_* perturbations only")
+    if has_slipstrip_initial_state(c) and not allow_slipstrip_initial:
+        raise ValueError("the volume solver implements [initial] local_* perturbations only "
+                         "(noise and sine: volume.py run, which takes phi(x, 0) from slipstrip)")
     if it.get("load_pulse_amplitude", 0.0) and it.get("profile", "ramp") != "bump":
         raise ValueError("the volume solver implements the sin^4 'bump' load pulse only")
     return {
@@ -94,13 +127,14 @@ def read_config(path) -> dict:
 
 def run_volume(config, nx: int, stations, *, dt: float | None = None, cfl: float | None = None,
                duration: float | None = None, output_every: int = 1, exe=None,
-               final_profile: bool = False) -> dict:
+               final_profile: bool = False, threads: int | None = None) -> dict:
     """Run slipstrip_volume on `config` (a TOML path or a read_config() dict).
 
     nx: cells along the period (h = L/nx; H/h must be whole).  dt: time step [s]
     (default: cfl h / c_d with cfl = 0.5).  Returns a dict: time [nt], and
     slip, slip_rate, shear_stress, state [nt, n_stations]; `wall_seconds`; with
-    final_profile, `profile` = dict of x, slip, slip_rate, shear_stress, state at the end."""
+    final_profile, `profile` = dict of x, slip, slip_rate, shear_stress, state at the end.
+    threads: OMP_NUM_THREADS of the run (default: inherited); results do not depend on it."""
     p = dict(config) if isinstance(config, dict) else read_config(config)
     if duration is not None:
         p["duration"] = duration
@@ -125,7 +159,8 @@ def run_volume(config, nx: int, stations, *, dt: float | None = None, cfl: float
         args = [str(exe)] + [f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}"
                              for k, v in p.items()]
         t0 = time.perf_counter()
-        proc = subprocess.run(args, capture_output=True, text=True)
+        env = None if threads is None else {**os.environ, "OMP_NUM_THREADS": str(int(threads))}
+        proc = subprocess.run(args, capture_output=True, text=True, env=env)
         wall = time.perf_counter() - t0
         if proc.returncode != 0:
             raise RuntimeError(f"{EXE_NAME} failed ({proc.returncode}): {proc.stderr.strip()}")
@@ -140,3 +175,236 @@ def run_volume(config, nx: int, stations, *, dt: float | None = None, cfl: float
             result["profile"] = {"x": q[:, 0], "slip": q[:, 1], "slip_rate": q[:, 2],
                                  "shear_stress": q[:, 3], "state": q[:, 4]}
     return result
+
+
+# ---------------------------------------------------------------------------
+# Long runs: a run file in slipstrip's layout (docs/output.md)
+# ---------------------------------------------------------------------------
+
+SNAPSHOT_FIELDS = ("slip", "slip_rate", "state", "shear_stress")  # order of the binary records
+SNAPSHOT_UNITS = {"slip": "m", "slip_rate": "m/s", "state": "s", "shear_stress": "Pa"}
+TIMESERIES_FIELDS = ("time", "max_slip_rate", "mean_slip", "mean_shear_stress")
+TIMESERIES_UNITS = {"time": "s", "max_slip_rate": "m/s", "mean_slip": "m", "mean_shear_stress": "Pa"}
+DATE_FORMAT = "%Y-%m-%dT%H:%M:%SZ"
+
+
+def initial_state_from_slipstrip(config, overrides: dict | None, nx: int) -> np.ndarray:
+    """phi(x, 0) at the nx interface nodes x = i L/nx, from slipstrip's initial-state
+    code (the same field as `slipstrip run` of this config with geometry.nodes = nx)."""
+    import slipstrip  # the pybind11 module; only for the initial field
+
+    sim = slipstrip.Simulation(str(config), {**(overrides or {}), "geometry.nodes": int(nx)})
+    return np.array(sim.state, dtype=np.float64)
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return repr(v)
+    if isinstance(v, float):
+        if math.isnan(v):
+            return "nan"
+        return repr(v) if math.isfinite(v) else ("inf" if v > 0 else "-inf")
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(f"cannot write {v!r} as TOML")
+
+
+def to_toml(table: dict) -> str:
+    """A config of [section] key = scalar tables as TOML text (what tomllib.loads reads back)."""
+    lines = []
+    for section, values in table.items():
+        lines.append(f"[{section}]")
+        lines += [f"{k} = {_toml_value(v)}" for k, v in values.items()]
+        lines.append("")
+    return "\n".join(lines)
+
+
+def _paths(out) -> dict:
+    out = Path(out)
+    return {name: out.with_name(out.name + suffix) for name, suffix in (
+        ("snapshots", ".snapshots.bin"), ("timeseries", ".timeseries.bin"), ("initial", ".initial_state.bin"),
+        ("stations", ".stations.txt"), ("meta", ".meta.json"), ("log", ".log"))}
+
+
+def _parse_value(text: str):
+    """A --set value as TOML reads it (number, bool, quoted string), else the bare string."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def run_to_file(config, out, nx: int, *, overrides: dict | None = None, cfl: float | None = None,
+                dt: float | None = None, duration: float | None = None, snapshot_interval: float | None = None,
+                timeseries_interval: float | None = None, progress: float = 0.0, exe=None,
+                keep_raw: bool = False) -> Path:
+    """Run slipstrip_volume on `config` (a TOML path; overrides {"section.key": value})
+    and write the run file `out` (HDF5, slipstrip's layout).  The snapshot and
+    time-series intervals default to the config's [output] values.  While it runs,
+    the raw records are out.snapshots.bin and out.timeseries.bin; convert(out)
+    turns them into the run file (done here at the end, or by hand after an
+    interruption).  Returns the path of the run file."""
+    import time as _time
+    overrides = dict(overrides or {})
+    table = load_table(config, overrides)
+    p = read_config(table, allow_slipstrip_initial=True)
+    if duration is not None:
+        p["duration"] = duration
+    output = table.get("output", {})
+    snapshot_interval = snapshot_interval if snapshot_interval is not None else output.get("snapshot_interval", 2e-4)
+    timeseries_interval = (timeseries_interval if timeseries_interval is not None
+                           else output.get("timeseries_interval", 1e-5))
+    exe = Path(exe) if exe else find_executable()
+    if exe is None or not exe.is_file():
+        raise FileNotFoundError(f"{EXE_NAME} not built: cmake --build build --target {EXE_NAME}")
+    paths = _paths(out)
+    p.pop("shear_wave_speed")
+    if has_slipstrip_initial_state(table):
+        initial_state_from_slipstrip(config, overrides, nx).tofile(paths["initial"])
+        for k in ("local_amplitude", "local_center", "local_width"):  # already in slipstrip's field
+            p.pop(k)
+        p["initial_state"] = str(paths["initial"])
+    p.update(nx=int(nx), out=str(paths["stations"]), output_every=10**12,
+             snapshot_file=str(paths["snapshots"]), snapshot_interval=float(snapshot_interval),
+             timeseries_file=str(paths["timeseries"]), timeseries_interval=float(timeseries_interval),
+             progress=float(progress))
+    if dt is not None:
+        p["dt"] = float(dt)
+    if cfl is not None:
+        p["cfl"] = float(cfl)
+    args = [str(exe)] + [f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}" for k, v in p.items()]
+    meta = {"config": str(config), "overrides": overrides, "table": table, "arguments": args[1:],
+            "nx": int(nx), "duration": p["duration"],
+            "start_time": _time.strftime(DATE_FORMAT, _time.gmtime())}
+    paths["meta"].write_text(json.dumps(meta, indent=1))
+    t0 = _time.perf_counter()
+    with open(paths["log"], "w") as log:
+        proc = subprocess.run(args, stdout=log, stderr=subprocess.STDOUT)
+    meta.update(returncode=proc.returncode, wall_seconds=_time.perf_counter() - t0,
+                end_time=_time.strftime(DATE_FORMAT, _time.gmtime()))
+    paths["meta"].write_text(json.dumps(meta, indent=1))
+    if proc.returncode != 0:
+        raise RuntimeError(f"{EXE_NAME} failed ({proc.returncode}): {paths['log'].read_text().strip()[-2000:]}")
+    return convert(out, keep_raw=keep_raw)
+
+
+def _header_numbers(stations_file: Path) -> dict:
+    """nx, ny, h, dt, c_d dt/h, c_s, c_d from the first header line of the station file."""
+    first = stations_file.read_text().splitlines()[0]
+    out = {}
+    for item in first.replace("c_d dt/h", "courant_cd").split():
+        k, sep, v = item.partition("=")
+        if sep:
+            out[k] = float(v)
+    return out
+
+
+def convert(out, keep_raw: bool = True) -> Path:
+    """Write the run file `out` from the raw records of run_to_file (complete records only,
+    so a run that was stopped early gives a shorter but valid file, status 'interrupted')."""
+    import h5py
+
+    out = Path(out)
+    paths = _paths(out)
+    meta = json.loads(paths["meta"].read_text())
+    hdr = _header_numbers(paths["stations"])
+    nx, ny, h, dt = int(hdr["nx"]), int(hdr["ny"]), hdr["h"], hdr["dt"]
+    table = {k: dict(v) for k, v in meta["table"].items()}
+    resolved = read_config(table, allow_slipstrip_initial=True)
+    material = table.setdefault("material", {})
+    material.pop("youngs_modulus", None)
+    material["shear_modulus"] = resolved["shear_modulus"]
+    material.setdefault("poisson_ratio", resolved["poisson_ratio"])
+    material.setdefault("density", resolved["density"])
+    table.setdefault("geometry", {})["nodes"] = nx
+    # The time step is the volume solver's, not slipstrip's beta dx / c_s.
+    table["time"] = {"duration": float(meta["duration"]), "time_step": dt}
+    table["volume_solver"] = {"nx": nx, "ny": ny, "cell_size": h, "time_step": dt,
+                              "courant_cd": hdr["courant_cd"],
+                              "courant_cs": hdr["c_s"] * dt / h, "arguments": " ".join(meta["arguments"])}
+    snaps = np.fromfile(paths["snapshots"], dtype=np.float64) if paths["snapshots"].exists() else np.empty(0)
+    rec = 1 + len(SNAPSHOT_FIELDS) * nx
+    snaps = snaps[: (snaps.size // rec) * rec].reshape(-1, rec)
+    ts = np.fromfile(paths["timeseries"], dtype=np.float64) if paths["timeseries"].exists() else np.empty(0)
+    ts = ts[: (ts.size // 4) * 4].reshape(-1, 4)
+    # Completed: the solver returned 0 and the time series reached the end
+    # (its last row is within one interval of the duration).
+    completed = (meta.get("returncode") == 0 and ts.shape[0] > 1
+                 and meta["duration"] - ts[-1, 0] <= ts[-1, 0] - ts[-2, 0] + dt)
+    try:
+        git_hash = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short=12", "HEAD"], capture_output=True,
+                                  text=True).stdout.strip() or "unknown"
+    except OSError:
+        git_hash = "unknown"
+    tmp = out.with_name(out.name + ".partial")
+    with h5py.File(tmp, "w") as f:
+        f.attrs["config"] = to_toml(table)
+        f.attrs["code_version"] = "slipstrip_volume (tools/volume_solver)"
+        f.attrs["git_hash"] = git_hash
+        f.attrs["units"] = "SI: time s, slip m, slip_rate m/s, state s, shear_stress Pa, x m"
+        f.attrs["start_time"] = meta["start_time"]
+        f.attrs["end_time"] = meta.get("end_time", "")
+        f.attrs["status"] = "completed" if completed else "interrupted"
+        g = f.create_group("timeseries")
+        for c, name in enumerate(TIMESERIES_FIELDS):
+            g.create_dataset(name, data=ts[:, c]).attrs["units"] = TIMESERIES_UNITS[name]
+        g = f.create_group("snapshots")
+        g.attrs["trigger"] = "time"
+        g.create_dataset("time", data=snaps[:, 0]).attrs["units"] = "s"
+        g.create_dataset("x", data=np.arange(nx) * h).attrs["units"] = "m"
+        for k, name in enumerate(SNAPSHOT_FIELDS):
+            d = g.create_dataset(name, data=snaps[:, 1 + k * nx: 1 + (k + 1) * nx],
+                                 chunks=(1, nx) if snaps.shape[0] else None, compression="gzip",
+                                 compression_opts=4, shuffle=True)
+            d.attrs["units"] = SNAPSHOT_UNITS[name]
+    os.replace(tmp, out)
+    if not keep_raw:
+        for k in ("snapshots", "timeseries", "initial"):
+            if paths[k].exists():
+                paths[k].unlink()
+    return out
+
+
+def main(argv: list[str]) -> int:
+    import argparse
+    ap = argparse.ArgumentParser(description="Run the volume solver into a slipstrip run file, or convert "
+                                             "the raw records of an interrupted run.")
+    sub = ap.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="run CONFIG into OUT (HDF5, slipstrip's run-file layout)")
+    r.add_argument("config")
+    r.add_argument("--out", required=True)
+    r.add_argument("--nx", type=int, required=True, help="cells along L (h = L/nx; H/h must be whole)")
+    r.add_argument("--set", action="append", default=[], metavar="SECTION.KEY=VALUE")
+    r.add_argument("--cfl", type=float, help="c_d dt / h (default 0.5)")
+    r.add_argument("--dt", type=float, help="time step [s] (instead of --cfl)")
+    r.add_argument("--duration", type=float, help="[s] (default: the config's)")
+    r.add_argument("--snapshot-interval", type=float)
+    r.add_argument("--timeseries-interval", type=float)
+    r.add_argument("--progress", type=float, default=60.0, help="seconds between progress lines in OUT.log")
+    r.add_argument("--keep-raw", action="store_true")
+    c = sub.add_parser("convert", help="write OUT from OUT.snapshots.bin etc. (e.g. after an interruption)")
+    c.add_argument("out")
+    a = ap.parse_args(argv)
+    if a.command == "convert":
+        print(convert(a.out))
+        return 0
+    overrides = {}
+    for item in a.set:
+        k, sep, v = item.partition("=")
+        if not sep:
+            raise SystemExit(f"--set {item!r}: give SECTION.KEY=VALUE")
+        overrides[k] = _parse_value(v)
+    path = run_to_file(a.config, a.out, a.nx, overrides=overrides, cfl=a.cfl, dt=a.dt, duration=a.duration,
+                       snapshot_interval=a.snapshot_interval, timeseries_interval=a.timeseries_interval,
+                       progress=a.progress, keep_raw=a.keep_raw)
+    print(path)
+    return 0
+
+
+if __name__ == "__main__":
+    import sys
+    sys.exit(main(sys.argv[1:]))
