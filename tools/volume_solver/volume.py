@@ -292,15 +292,22 @@ def run_to_file(config, out, nx: int, *, overrides: dict | None = None, cfl: flo
     return convert(out, keep_raw=keep_raw)
 
 
-def _header_numbers(stations_file: Path) -> dict:
-    """nx, ny, h, dt, c_d dt/h, c_s, c_d from the first header line of the station file."""
-    first = stations_file.read_text().splitlines()[0]
-    out = {}
-    for item in first.replace("c_d dt/h", "courant_cd").split():
-        k, sep, v = item.partition("=")
-        if sep:
-            out[k] = float(v)
-    return out
+def _grid_numbers(arguments: list[str]) -> dict:
+    """nx, ny, h, dt, c_d dt/h, c_s, c_d of a run, from its arguments by the solver's
+    formulas (the station file's header says the same, but a killed run may not
+    have written it yet)."""
+    a = dict(item.split("=", 1) for item in arguments)
+    L, H, nx = float(a["length"]), float(a["height"]), int(a["nx"])
+    mu, nu, rho = float(a["shear_modulus"]), float(a["poisson_ratio"]), float(a["density"])
+    lam = 2 * mu * nu / (1 - 2 * nu) if a.get("plane", "strain") == "strain" else 2 * mu * nu / (1 - nu)
+    h = L / nx
+    cs, cd = math.sqrt(mu / rho), math.sqrt((lam + 2 * mu) / rho)
+    dt = float(a.get("dt", 0.0))
+    if dt <= 0:
+        dt = float(a.get("cfl", 0.5)) * h / cd
+    t_end = float(a["duration"])
+    dt = t_end / round(t_end / dt)
+    return {"nx": nx, "ny": int(round(H / h)), "h": h, "dt": dt, "courant_cd": cd * dt / h, "c_s": cs, "c_d": cd}
 
 
 def convert(out, keep_raw: bool = True) -> Path:
@@ -311,7 +318,7 @@ def convert(out, keep_raw: bool = True) -> Path:
     out = Path(out)
     paths = _paths(out)
     meta = json.loads(paths["meta"].read_text())
-    hdr = _header_numbers(paths["stations"])
+    hdr = _grid_numbers(meta["arguments"])
     nx, ny, h, dt = int(hdr["nx"]), int(hdr["ny"]), hdr["h"], hdr["dt"]
     table = {k: dict(v) for k, v in meta["table"].items()}
     resolved = read_config(table, allow_slipstrip_initial=True)

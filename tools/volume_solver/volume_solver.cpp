@@ -341,7 +341,7 @@ int main(int argc, char** argv) {
     os << "# columns: time [s], then per station x: slip [m], slip_rate [m/s], shear_stress [Pa], state [s]\n";
     os << "# stations:";
     for (double xs : stations) os << " " << xs;
-    os << "\n" << std::setprecision(15) << std::scientific;
+    os << "\n" << std::setprecision(15) << std::scientific << std::flush;
 
     File snap_out, ts_out;
     if (!snapshot_path.empty()) snap_out = open_file(snapshot_path, "wb");
