@@ -1,0 +1,51 @@
+// slipstrip bench: time per step and memory (the measurement is apps/bench.cpp).
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "apps/bench.hpp"
+#include "apps/cli.hpp"
+
+namespace slipstrip::cli {
+namespace {
+
+// The config's spelling of the history algorithms (config/simulation_config.hpp).
+std::map<std::string, HistoryAlgorithm> history_algorithms_by_name() {
+  std::map<std::string, HistoryAlgorithm> out;
+  for (std::size_t i = 0; i < std::size(kHistoryAlgorithmNames); ++i)
+    out.emplace(kHistoryAlgorithmNames[i], static_cast<HistoryAlgorithm>(i));
+  return out;
+}
+
+}  // namespace
+
+Command add_bench_command(CLI::App& app) {
+  auto o = std::make_shared<BenchOptions>();
+  auto* bench = app.add_subcommand("bench", "Time per step and memory for N = 256..16384, H/L = 0.025, 0.25 and half-space");
+  bench->add_flag("--json", o->json, "One JSON object per line");
+  bench->add_option("--nodes", o->nodes, "Node counts to time (comma-separated)")->delimiter(',');
+  bench->add_option("--steps", o->steps, "Time steps per measurement");
+  bench->add_option("--threads", o->threads, "OpenMP threads (default 1)");
+  bench->add_option_function<std::vector<std::string>>(
+          "--heights",
+          [o](const std::vector<std::string>& values) {
+            o->heights.clear();
+            for (const auto& v : values) {
+              const double h = v == "inf" ? std::numeric_limits<double>::infinity() : std::stod(v);
+              if (!(h > 0)) throw CLI::ValidationError("--heights", "each height must be > 0 or inf, got " + v);
+              o->heights.push_back(h);
+            }
+          },
+          "Strip heights H [m] to time, comma-separated; inf = half-space (default 0.1,1,inf)")
+      ->delimiter(',');
+  bench->add_option("--history", o->history, "Strip history algorithm: auto, modal or block (same operator)")
+      ->transform(CLI::CheckedTransformer(history_algorithms_by_name(), CLI::ignore_case));
+  bench->add_option("--max-gib", o->max_operator_gib,
+                    "Skip cases whose estimated history-operator memory exceeds this [GiB]");
+  return {bench, [o] { return run_bench(*o); }};
+}
+
+}  // namespace slipstrip::cli

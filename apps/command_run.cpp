@@ -1,0 +1,233 @@
+// slipstrip run CONFIG [--set ...] [--out RUN.h5]: one simulation, one HDF5
+// file; and slipstrip run --resume RUN.h5: continue it from its restart point.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "apps/cli.hpp"
+#include "config/config.hpp"
+#include "config/resource_estimate.hpp"
+#include "slipstrip/version.hpp"
+#include "solver/checkpoint.hpp"
+#include "solver/run.hpp"
+
+namespace slipstrip::cli {
+namespace {
+
+struct RunOptions {
+  std::string config_path, out_path, resume_path;
+  std::vector<std::string> overrides;
+  bool quiet = false, overwrite = false;
+  long long stop_after_steps = -1;
+  ResourceLimits limits;
+};
+
+std::string errno_text(int err) { return std::strerror(err); }
+
+// Everything about --out that can be checked before the (possibly long)
+// set-up: never the config itself, never an existing file without
+// --overwrite, and the directory must exist and accept a new file.  Throws
+// std::invalid_argument (exit 2) naming the path and the errno text.
+void check_output_path(const std::string& out_path, const std::string& config_path, bool overwrite) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path out(out_path);
+  const auto status = fs::status(out, ec);
+  const bool exists = fs::exists(status);
+  if (exists && fs::equivalent(out, fs::path(config_path), ec))
+    throw std::invalid_argument("--out '" + out_path + "' is the config file '" + config_path +
+                                "': refusing to write the run over its own input (even with --overwrite)");
+  if (exists && fs::is_directory(status))
+    throw std::invalid_argument("--out '" + out_path + "' is a directory: expected a file name");
+  if (exists && !overwrite)
+    throw std::invalid_argument("--out '" + out_path +
+                                "' already exists: refusing to overwrite it (give --overwrite to replace it, "
+                                "or choose another --out)");
+  const fs::path dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  struct stat dir_stat {};
+  if (::stat(dir.c_str(), &dir_stat) != 0)
+    throw std::invalid_argument("--out '" + out_path + "': output directory '" + dir.string() +
+                                "' is not usable: " + errno_text(errno));
+  if (!S_ISDIR(dir_stat.st_mode))
+    throw std::invalid_argument("--out '" + out_path + "': '" + dir.string() + "' is not a directory");
+  // The real test of writability (permissions, read-only file system, quota):
+  // open the file for writing as the run will, without truncating anything.
+  const int fd = exists ? ::open(out_path.c_str(), O_WRONLY)
+                        : ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+  if (fd < 0)
+    throw std::invalid_argument("--out '" + out_path + "' cannot be written: " + errno_text(errno));
+  ::close(fd);
+  if (!exists) ::unlink(out_path.c_str());
+}
+
+// The first line where two resolved configs differ, for the message of a
+// refused --resume.
+std::string first_difference(const std::string& a, const std::string& b) {
+  std::istringstream sa(a), sb(b);
+  std::string la, lb;
+  while (true) {
+    const bool more_a = static_cast<bool>(std::getline(sa, la)), more_b = static_cast<bool>(std::getline(sb, lb));
+    if (!more_a && !more_b) return "";
+    if (!more_a) la = "(end)";
+    if (!more_b) lb = "(end)";
+    if (la != lb) return "'" + la + "' given, the run has '" + lb + "'";
+  }
+}
+
+
+int report_result(const RunResult& result, const std::string& out_path, bool quiet, bool tty) {
+  if (!quiet && tty) std::fprintf(stderr, "\n");
+  std::fprintf(stderr, "%s after %lld steps (dt = %.6g s), simulated %.6g s in %.2f s wall; output %s\n",
+               result.status.c_str(), result.steps, result.time_step, result.simulated_time,
+               result.wall_seconds, out_path.c_str());
+  if (!result.restart_point.empty())
+    std::fprintf(stderr, "restart point %s: continue with `slipstrip run --resume %s`\n",
+                 result.restart_point.c_str(), out_path.c_str());
+  if (result.status == "completed") return 0;
+  if (result.status == "interrupted") return signal_exit_code();
+  return 3;  // diverged
+}
+
+// `slipstrip run --resume RUN.h5 [CONFIG [--set ...]]`: the run continues
+// with the resolved config stored in RUN.h5.  A config (and --set) given as
+// well is only checked, never applied: it must resolve to exactly the stored
+// config, else exit 2 (so a scan or job script can pass its usual command line).
+int resume(const RunOptions& o) {
+  catch_interrupts();
+  const std::string& run_path = o.resume_path;
+  const auto header = read_run_file_header(run_path);
+  if (header.status == "completed") {
+    std::fprintf(stderr, "%s: the run is already completed; nothing to resume\n", run_path.c_str());
+    return 0;
+  }
+  if (!o.config_path.empty()) {
+    const auto given = to_toml(load_config_file(o.config_path, o.overrides));
+    if (given != header.config_toml)
+      throw std::invalid_argument("--resume '" + run_path + "': config '" + o.config_path +
+                                  (o.overrides.empty() ? "" : "' with its --set overrides") +
+                                  "' differs from the run's stored config (" +
+                                  first_difference(given, header.config_toml) +
+                                  "); a resumed run always continues with the stored config, give "
+                                  "--resume alone");
+  } else if (!o.overrides.empty()) {
+    throw std::invalid_argument("--resume '" + run_path +
+                                "' with --set but no config: a resumed run continues with its stored "
+                                "config and cannot change it (give the original config and --set "
+                                "only to have them checked)");
+  }
+  const bool tty = isatty(fileno(stderr));
+  const RunHooks hooks = run_hooks(o.quiet, tty, o.stop_after_steps);
+  std::fprintf(stderr, "slipstrip %s (%s): resuming %s\n", code_version, git_hash, run_path.c_str());
+  RunResult result;
+  try {
+    result = resume_simulation(run_path, hooks);
+  } catch (const SetupCancelled& e) {
+    std::fprintf(stderr, "interrupted by %s during the set-up (%s); %s and its restart point are unchanged\n",
+                 interrupt_name(), e.what(), run_path.c_str());
+    return signal_exit_code();
+  }
+  std::fprintf(stderr, "resumed from step %lld\n", result.resumed_from_step);
+  return report_result(result, run_path, o.quiet, tty);
+}
+
+// Advisory only: snapshots are compressed, so the estimate is an upper bound.
+void warn_if_disk_too_small(const SimulationConfig& config, const std::string& out_path) {
+  const auto estimate = estimate_resources(config);
+  const std::filesystem::path out(out_path);
+  struct statvfs fs {};
+  const std::string dir = out.has_parent_path() ? out.parent_path().string() : ".";
+  if (::statvfs(dir.c_str(), &fs) == 0) {
+    const double free_bytes = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
+    if (estimate.output_bytes > free_bytes)
+      std::fprintf(stderr,
+                   "warning: the output may need up to %.3g GiB (uncompressed estimate) but '%s' has "
+                   "%.3g GiB free; the run stops with exit code 4 if the disk fills up\n",
+                   estimate.output_bytes / 1073741824.0, dir.c_str(), free_bytes / 1073741824.0);
+  }
+}
+
+int run(const RunOptions& o) {
+  // Signals first: from here on SIGINT/SIGTERM stop the run within about a
+  // second, set-up included.
+  catch_interrupts();
+  const std::string& config_path = o.config_path;
+  const auto config = load_config_file(config_path, o.overrides);
+  std::string out_path = o.out_path;
+  if (out_path.empty()) {
+    auto base = config_path.substr(config_path.find_last_of('/') + 1);
+    if (auto dot = base.rfind('.'); dot != std::string::npos) base = base.substr(0, dot);
+    out_path = base + ".h5";
+  }
+  check_output_path(out_path, config_path, o.overwrite);
+  check_resources(config, o.limits);
+  warn_if_disk_too_small(config, out_path);
+  const bool tty = isatty(fileno(stderr));
+  const RunHooks hooks = run_hooks(o.quiet, tty, o.stop_after_steps);
+  // A new run: a restart point left by an earlier run of this name (replaced
+  // with --overwrite) must not be taken for this run's.
+  remove_checkpoint(out_path);
+  std::fprintf(stderr, "slipstrip %s (%s): %s -> %s\n", code_version, git_hash, config_path.c_str(),
+               out_path.c_str());
+  RunResult result;
+  try {
+    result = run_simulation(config, out_path, hooks);
+  } catch (const SetupCancelled& e) {
+    std::fprintf(stderr, "interrupted by %s during the set-up (%s); no output written\n", interrupt_name(),
+                 e.what());
+    return signal_exit_code();
+  }
+  return report_result(result, out_path, o.quiet, tty);
+}
+
+}  // namespace
+
+Command add_run_command(CLI::App& app) {
+  auto o = std::make_shared<RunOptions>();
+  auto* run_app = app.add_subcommand("run", "Run a simulation from a TOML config and write one HDF5 file "
+                                            "(see docs/config.md and docs/output.md). Ctrl-C stops cleanly "
+                                            "and leaves a restart point for --resume.");
+  run_app->add_option("config", o->config_path, "TOML config file (with --resume: optional, only checked)");
+  run_app->add_option("--resume", o->resume_path,
+                      "Continue the interrupted run RUN.h5 from its restart point RUN.h5.restart, appending "
+                      "to RUN.h5 with the config stored in it (docs/reliability.md)");
+  run_app->add_option("--stop-after-steps", o->stop_after_steps,
+                      "Stop as SIGTERM does (restart point, status interrupted, exit 143) once this many "
+                      "time steps from t = 0 are done (for tests of --resume)")
+      ->check(finite_positive());
+  run_app->add_option("--set", o->overrides, "Override a config key: section.key=value (repeatable)");
+  run_app->add_option("--out", o->out_path, "Output HDF5 file (default: <config name>.h5)");
+  run_app->add_flag("--quiet", o->quiet, "No progress bar");
+  run_app->add_flag("--overwrite", o->overwrite, "Replace an existing --out file (never the config file itself)");
+  run_app->add_option("--max-memory-gib", o->limits.max_operator_gib,
+                      "Refuse runs whose estimated history-operator memory exceeds this [GiB]")
+      ->capture_default_str()->check(finite_positive());
+  run_app->add_option("--max-steps", o->limits.max_steps, "Refuse runs of more time steps than this")
+      ->capture_default_str()->check(finite_positive());
+  run_app->add_option("--max-output-gib", o->limits.max_output_gib,
+                      "Refuse runs whose estimated output file exceeds this [GiB]")
+      ->capture_default_str()->check(finite_positive());
+  return {run_app, [o] {
+            if (!o->resume_path.empty()) {
+              if (!o->out_path.empty() || o->overwrite)
+                throw std::invalid_argument("--resume '" + o->resume_path +
+                                            "' continues writing that file: --out and --overwrite do not apply");
+              return resume(*o);
+            }
+            if (o->config_path.empty())
+              throw std::invalid_argument("run: config is required (a TOML config file; or --resume RUN.h5 to "
+                                          "continue a run; see --help)");
+            return run(*o);
+          }};
+}
+
+}  // namespace slipstrip::cli

@@ -1,0 +1,128 @@
+// slipstrip stability CONFIG: growth rates of steady sliding against
+// wavelength, or the critical wavelength Lc(H) over a range of heights.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "apps/cli.hpp"
+#include "apps/python_launcher.hpp"
+#include "config/config.hpp"
+#include "stability/linear_stability.hpp"
+#include "stability/steady_sliding.hpp"
+
+namespace slipstrip::cli {
+namespace {
+
+struct StabilityOptions {
+  std::string config_path, out_path, wavelengths, height_range;
+  std::vector<std::string> overrides;
+  bool json = false;
+};
+
+std::vector<double> parse_list(const std::string& text, const std::string& what) {
+  std::vector<double> values;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      values.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw std::invalid_argument(what + " = '" + text + "': '" + item + "' is not a number (expected a comma-separated list of numbers in metres)");
+    }
+  }
+  if (values.empty()) throw std::invalid_argument(what + " is empty: expected a comma-separated list of numbers");
+  return values;
+}
+
+int stability(const StabilityOptions& o) {
+  const std::string &config_path = o.config_path, &height_range = o.height_range, &out_path = o.out_path;
+  const std::string& wavelengths_text = o.wavelengths;
+  const bool json = o.json;
+  const auto config = load_config_file(config_path, o.overrides);
+  const auto sliding = steady_sliding_of(config);
+  std::ostringstream table, csv, js;
+  if (!height_range.empty()) {
+    // Hmin:Hmax:n, n evenly spaced values including both ends.
+    double hmin, hmax;
+    int n;
+    char c1, c2;
+    std::istringstream is(height_range);
+    if (!(is >> hmin >> c1 >> hmax >> c2 >> n) || c1 != ':' || c2 != ':' || n < 1 || !(hmin > 0) || !(hmax >= hmin))
+      throw std::invalid_argument("--height-range = '" + height_range +
+                                  "' is invalid: expected Hmin:Hmax:n with 0 < Hmin <= Hmax [m] and n >= 1");
+    std::vector<double> heights;
+    for (int i = 0; i < n; ++i) heights.push_back(n == 1 ? hmin : hmin + (hmax - hmin) * i / (n - 1));
+    const auto lc = critical_wavelength_vs_height(sliding, heights);
+    table << "# critical wavelength Lc(H); H = inf: " ;
+    auto half = sliding;
+    half.strip_height = std::numeric_limits<double>::infinity();
+    const auto lc_inf = critical_wavelength_vs_height(half, {std::numeric_limits<double>::infinity()});
+    table << lc_inf[0] << " m\n" << "    H [m]          Lc [m]\n";
+    csv << "height_m,critical_wavelength_m\n";
+    for (std::size_t i = 0; i < heights.size(); ++i) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%10.5g  %14.8g\n", heights[i], lc[i]);
+      table << buf;
+      csv << json_number(heights[i]) << "," << json_number(lc[i]) << "\n";
+    }
+    csv << "inf," << json_number(lc_inf[0]) << "\n";
+    js << "{\"heights\": " << json_array(heights) << ", \"critical_wavelength\": " << json_array(lc)
+       << ", \"critical_wavelength_half_space\": " << json_number(lc_inf[0]) << "}";
+  } else {
+    const auto wavelengths = parse_list(wavelengths_text.empty() ? std::to_string(config.geometry.length) : wavelengths_text, "--wavelength");
+    const auto rates = growth_rates(sliding, wavelengths);
+    table << "  wavelength [m]   Re Lambda [1/s]   Im Lambda [rad/s]\n";
+    csv << "wavelength_m,growth_rate_per_s,frequency_rad_per_s\n";
+    std::vector<double> w, g, f;
+    for (const auto& r : rates) {
+      char buf[128];
+      std::snprintf(buf, sizeof buf, "%16.8g %17.8g %19.8g\n", r.wavelength, r.growth_rate, r.frequency);
+      table << buf;
+      csv << json_number(r.wavelength) << "," << json_number(r.growth_rate) << "," << json_number(r.frequency) << "\n";
+      w.push_back(r.wavelength);
+      g.push_back(r.growth_rate);
+      f.push_back(r.frequency);
+    }
+    js << "{\"wavelengths\": " << json_array(w) << ", \"growth_rate\": " << json_array(g)
+       << ", \"frequency\": " << json_array(f) << "}";
+  }
+  std::cout << (json ? js.str() + "\n" : table.str());
+  if (!out_path.empty()) {
+    std::ofstream f(out_path);
+    if (!f) throw std::runtime_error("cannot write --out " + out_path);
+    f << csv.str();
+    f.close();
+    std::fprintf(stderr, "wrote %s\n", out_path.c_str());
+    // The figure (Fig. S2 style) comes from the Python package, next to the CSV.
+    std::string png = out_path;
+    if (auto dot = png.rfind('.'); dot != std::string::npos && png.find('/', dot) == std::string::npos)
+      png = png.substr(0, dot);
+    png += ".png";
+    if (run_python_module({"plot-stability", out_path, "--out", png}) != 0)
+      std::fprintf(stderr, "warning: could not plot %s (the CSV is written)\n", png.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_stability_command(CLI::App& app) {
+  auto o = std::make_shared<StabilityOptions>();
+  auto* stab = app.add_subcommand("stability", "Linear stability of steady sliding: growth rates vs wavelength, or Lc(H)");
+  stab->add_option("config", o->config_path, "TOML config file (material, friction, loading, geometry.height)")->required();
+  stab->add_option("--set", o->overrides, "Override a config key: section.key=value (repeatable)");
+  stab->add_option("--wavelength", o->wavelengths, "Comma-separated wavelengths [m] (default: geometry.length)");
+  stab->add_option("--height-range", o->height_range, "Hmin:Hmax:n -> Lc for n evenly spaced heights [m] (both ends included)");
+  stab->add_option("--out", o->out_path, "Write the table as CSV");
+  stab->add_flag("--json", o->json, "Print JSON instead of a table");
+  return {stab, [o] { return stability(*o); }};
+}
+
+}  // namespace slipstrip::cli
