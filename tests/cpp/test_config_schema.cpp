@@ -8,6 +8,7 @@
 
 #include "config_test_helpers.hpp"
 #include "config/config.hpp"
+#include "config/config_docs.hpp"
 #include "config/config_schema.hpp"
 #include "stability/linear_stability.hpp"
 #include "kernels/elastic_material.hpp"
