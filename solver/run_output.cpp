@@ -136,8 +136,8 @@ RunOutput::RunOutput(const std::string& path, const RunOutputCursor& cursor,
       throw std::invalid_argument("restart point: " + std::string(what) + " has " + std::to_string(size) +
                                   " values, the run has " + std::to_string(expected));
   };
-  per_node(cursor.levels_reached.size(), slip_sampling_on_ ? node_count_ : 0, "levels_reached");
-  per_node(cursor.next_threshold.size(), slip_sampling_on_ ? node_count_ : 0, "next_threshold");
+  per_node(cursor.levels_reached.size(), slip_sampler_ ? node_count_ : 0, "levels_reached");
+  per_node(cursor.next_threshold.size(), slip_sampler_ ? node_count_ : 0, "next_threshold");
   per_node(cursor.rupture_front.size(), rupture_front_.size(), "rupture_front");
   const auto refuse = [&](const std::exception& e) {
     failed_ = closed_ = true;
@@ -169,20 +169,13 @@ void RunOutput::initialise_buffers(const SlipSamplingSetup& slip_sampling) {
     throw std::invalid_argument("RunOutputOptions.gzip_level = " +
                                 std::to_string(options_.gzip_level) + ": allowed 0..9");
 
-  delta_th_ = slip_sampling.delta_th;
-  slip_sampling_on_ = delta_th_ > 0.0;
   timeseries_buffer_.reserve(4 * static_cast<std::size_t>(options_.timeseries_buffer_rows));
   snapshot_time_buffer_.reserve(static_cast<std::size_t>(options_.snapshot_chunk));
   snapshot_field_buffer_.reserve(4 * node_count_ * static_cast<std::size_t>(options_.snapshot_chunk));
   station_count_ = options_.station_x.size();
   if (station_count_ > 0) station_buffer_.reserve(station_buffer_rows * (3 + 5 * station_count_));
   if (options_.front_slip_rate > 0.0) rupture_front_.assign(node_count_, nan_value);
-  if (slip_sampling_on_) {
-    pending_coords_.reserve(2 * 4096);
-    pending_time_.reserve(4096);
-    levels_reached_.assign(node_count_, 0);
-    next_threshold_.assign(node_count_, delta_th_);
-  }
+  if (slip_sampling.delta_th > 0.0) slip_sampler_.emplace(slip_sampling.delta_th, node_count_);
 
 }
 
@@ -235,7 +228,7 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
     write_fixed_vector(group, "x", slip_sampling.x, "m");
     write_fixed_vector(group, "arrival_time", rupture_front_, "s");
   }
-  if (slip_sampling_on_) {
+  if (slip_sampler_) {
     const Handle group = io::create_group(file, "slip_sampling");
     // The attributes the event detection reads back (events/catalog_io.hpp).
     events::SlipSamplingInfo info;
@@ -315,7 +308,7 @@ void RunOutput::write_snapshot(double time, std::span<const double> slip,
 
 void RunOutput::record_slip(double t_old, double t_new, std::span<const double> slip_old,
                             std::span<const double> slip_new) {
-  if (!slip_sampling_on_) return;
+  if (!slip_sampler_) return;
   if (closed_) throw std::logic_error("RunOutput::record_slip after close: " + path_);
   if (slip_old.size() != node_count_ || slip_new.size() != node_count_)
     throw std::invalid_argument("record_slip: slip_old has " + std::to_string(slip_old.size()) +
@@ -324,58 +317,9 @@ void RunOutput::record_slip(double t_old, double t_new, std::span<const double> 
   if (!(t_new >= t_old))
     throw std::invalid_argument("record_slip: t_new = " + std::to_string(t_new) +
                                 " < t_old = " + std::to_string(t_old) + "; time must not go back");
-  bool crossed = false;
-  if (!slip_recorded_) {
-    // Levels the initial slip already passed count as reached at t_old.
-    for (std::size_t i = 0; i < node_count_; ++i)
-      if (slip_old[i] >= next_threshold_[i]) {
-        add_crossings(i, t_old, t_old, slip_old[i], slip_old[i]);
-        crossed = true;
-      }
-    slip_recorded_ = true;
-  }
-  // The common case (no node reaches its next level) is this comparison loop.
-  for (std::size_t i = 0; i < node_count_; ++i) {
-    if (slip_new[i] >= next_threshold_[i]) {
-      add_crossings(i, t_old, t_new, slip_old[i], slip_new[i]);
-      crossed = true;
-    }
-  }
-  if (crossed && pending_time_.size() >= static_cast<std::size_t>(options_.slip_buffer_crossings))
+  const bool crossed = slip_sampler_->record(t_old, t_new, slip_old, slip_new);
+  if (crossed && slip_sampler_->pending() >= static_cast<std::size_t>(options_.slip_buffer_crossings))
     write_out(WriteTrigger::buffer_full);
-}
-
-void RunOutput::add_crossings(std::size_t node, double t_old, double t_new, double slip_old,
-                              double slip_new) {
-  // +inf would mean infinitely many levels; divergence is the solver's to report.
-  if (!std::isfinite(slip_new)) return;
-  const double slip_step = slip_new - slip_old;
-  // A physical step crosses a handful of levels (v dt / delta_th ~ 10 at
-  // 1 m/s).  Millions mean the solution is blowing up while still finite;
-  // recording them would exhaust memory before the non-finite check fires.
-  const double levels_in_step = (slip_new - next_threshold_[node]) / delta_th_;
-  if (levels_in_step > kMaxLevelsPerStep) {
-    std::ostringstream msg;
-    msg << "slip at node " << node << " jumped from " << slip_old << " m to " << slip_new
-        << " m between t = " << t_old << " s and " << t_new << " s (" << levels_in_step
-        << " levels of delta_th = " << delta_th_ << " m in one step): the run is diverging";
-    throw SlipSamplingOverflow(msg.str());
-  }
-  while (slip_new >= next_threshold_[node]) {
-    const std::size_t level = levels_reached_[node];
-    const double threshold = next_threshold_[node];
-    // Slip is taken linear inside the step.  A threshold at or below slip_old
-    // (only possible if the caller's slip_old is not the previous slip_new)
-    // is dated at the start of the step.
-    const double fraction =
-        slip_step > 0.0 ? std::clamp((threshold - slip_old) / slip_step, 0.0, 1.0) : 0.0;
-    pending_coords_.push_back(level);
-    pending_coords_.push_back(node);
-    pending_time_.push_back(t_old + fraction * (t_new - t_old));
-    levels_reached_[node] = level + 1;
-    levels_max_ = std::max(levels_max_, level + 1);
-    next_threshold_[node] = static_cast<double>(level + 2) * delta_th_;
-  }
 }
 
 bool RunOutput::flush() {
@@ -390,10 +334,12 @@ std::optional<RunOutputCursor> RunOutput::flush_for_checkpoint(bool force) {
   cursor.timeseries_rows = timeseries_rows_in_file_;
   cursor.snapshots = snapshots_in_file_;
   cursor.station_rows = station_rows_in_file_;
-  cursor.crossing_rows = levels_max_;
-  cursor.slip_recorded = slip_recorded_;
-  cursor.levels_reached.assign(levels_reached_.begin(), levels_reached_.end());
-  cursor.next_threshold = next_threshold_;
+  if (slip_sampler_) {
+    cursor.crossing_rows = slip_sampler_->levels_max();
+    cursor.slip_recorded = slip_sampler_->started();
+    cursor.levels_reached.assign(slip_sampler_->levels_reached().begin(), slip_sampler_->levels_reached().end());
+    cursor.next_threshold.assign(slip_sampler_->next_threshold().begin(), slip_sampler_->next_threshold().end());
+  }
   cursor.rupture_front = rupture_front_;
   return cursor;
 }
@@ -425,7 +371,7 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
     for (const char* name : {"time", "max_slip_rate", "moment_rate"}) cut(group, name, cursor.station_rows);
     for (const char* name : station_field_names) cut(group, name, cursor.station_rows);
   }
-  if (slip_sampling_on_) {
+  if (slip_sampler_) {
     // Crossings are single elements (NaN = not reached): those of levels a
     // node reached after the restart point are reset to NaN before the rows
     // are cut, so no value of the lost steps survives in a chunk that stays.
@@ -461,12 +407,9 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
   snapshots_in_file_ = cursor.snapshots;
   station_rows_in_file_ = cursor.station_rows;
   crossing_rows_in_file_ = cursor.crossing_rows;
-  levels_max_ = cursor.crossing_rows;
-  slip_recorded_ = cursor.slip_recorded;
-  if (slip_sampling_on_) {
-    std::copy(cursor.levels_reached.begin(), cursor.levels_reached.end(), levels_reached_.begin());
-    next_threshold_ = cursor.next_threshold;
-  }
+  if (slip_sampler_)
+    slip_sampler_->restore(cursor.crossing_rows, cursor.slip_recorded, cursor.levels_reached,
+                           cursor.next_threshold);
   rupture_front_ = cursor.rupture_front;
 }
 
@@ -557,9 +500,10 @@ void RunOutput::check_free_space() const {
   // before writing keeps the file exactly as the previous write-out left it.
   double needed = 8.0 * (timeseries_buffer_.size() + snapshot_time_buffer_.size() +
                          snapshot_field_buffer_.size() + station_buffer_.size());
-  if (levels_max_ > crossing_rows_in_file_) {
+  const std::size_t levels_max = slip_levels_reached();
+  if (levels_max > crossing_rows_in_file_) {
     // New rows of [64, min(N, 256)] chunks, allocated whole (NaN fill).
-    const double chunk_rows = std::ceil(levels_max_ / 64.0) - std::floor(crossing_rows_in_file_ / 64.0);
+    const double chunk_rows = std::ceil(levels_max / 64.0) - std::floor(crossing_rows_in_file_ / 64.0);
     needed += chunk_rows * std::ceil(node_count_ / 256.0) * 64.0 * std::min<double>(node_count_, 256) * 8.0;
   }
   needed += 256.0 * 1024.0;  // metadata, B-tree nodes, attributes
@@ -601,15 +545,14 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
     snapshot_field_buffer_.clear();
   }
 
-  if (!pending_time_.empty()) {
+  if (slip_sampler_ && slip_sampler_->pending() > 0) {
     const Handle dset = io::open_dataset(io::open_group(file, "slip_sampling"), "crossing_time");
-    io::grow_rows(dset, levels_max_);
-    crossing_rows_in_file_ = std::max(crossing_rows_in_file_, levels_max_);
+    io::grow_rows(dset, slip_sampler_->levels_max());
+    crossing_rows_in_file_ = std::max(crossing_rows_in_file_, slip_sampler_->levels_max());
     // Element writes: entries not yet reached keep the NaN fill value, so the
     // partially filled rows in the file are always up to date.
-    io::write_elements(dset, pending_coords_, pending_time_);
-    pending_coords_.clear();
-    pending_time_.clear();
+    io::write_elements(dset, slip_sampler_->pending_coordinates(), slip_sampler_->pending_times());
+    slip_sampler_->clear_pending();
   }
 
   const std::size_t row_width = 3 + 5 * station_count_;

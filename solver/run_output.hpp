@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "io/hdf5.hpp"
+#include "solver/slip_sampler.hpp"
 
 namespace slipstrip {
 
@@ -34,13 +35,6 @@ struct SlipSamplingSetup {
   double L = 0.0;          // [m] period length
   std::vector<double> x;   // [m] node positions; x.size() is the node count N
 };
-
-// record_slip saw a slip increment of more than kMaxLevelsPerStep levels in
-// one step at one node: the solution is diverging (while still finite).
-struct SlipSamplingOverflow : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-inline constexpr double kMaxLevelsPerStep = 1e6;
 
 // The run file could not be created or written (full disk, read-only or
 // vanished directory, I/O error): the message names the path and the
@@ -131,7 +125,8 @@ class RunOutput {
   // The per-node rupture-front arrival times [s] (NaN = not yet), written whole
   // at every write-out.  Only with front_slip_rate > 0.
   void set_rupture_front(std::span<const double> arrival_time);
-  // Called once per time step with the slip before and after the step.
+  // Called once per time step with the slip before and after the step
+  // (slip sampling, solver/slip_sampler.hpp).
   void record_slip(double t_old, double t_new, std::span<const double> slip_old,
                    std::span<const double> slip_new);
 
@@ -152,9 +147,9 @@ class RunOutput {
   std::size_t node_count() const { return node_count_; }
   // Level crossings recorded but not yet written: all the slip-sampling data
   // held in memory (<= slip_buffer_crossings), however far apart the nodes' slips are.
-  std::size_t buffered_crossings() const { return pending_time_.size(); }
+  std::size_t buffered_crossings() const { return slip_sampler_ ? slip_sampler_->pending() : 0; }
   // Highest slip level any node has reached + 1 (= rows of crossing_time after a write-out).
-  std::size_t slip_levels_reached() const { return levels_max_; }
+  std::size_t slip_levels_reached() const { return slip_sampler_ ? slip_sampler_->levels_max() : 0; }
   // Write-outs postponed so far because a reader held the file.
   std::size_t deferred_writes() const { return deferred_writes_; }
 
@@ -173,12 +168,10 @@ class RunOutput {
   void check_free_space() const;
   void create_file(const std::string& config_toml, const SlipSamplingSetup& slip_sampling);
   io::Handle open_unless_reader_holds(WriteTrigger trigger);
-  void add_crossings(std::size_t node, double t_old, double t_new, double slip_old, double slip_new);
 
   std::string path_;
   std::size_t node_count_ = 0;
   RunOutputOptions options_;
-  bool slip_sampling_on_ = false;
   bool closed_ = false;
   bool failed_ = false;  // a write-out failed: no further attempt (OutputError)
   std::optional<std::chrono::steady_clock::time_point> reader_holds_since_;
@@ -201,20 +194,8 @@ class RunOutput {
   std::vector<double> rupture_front_;  // per node; written whole at each write-out
   bool rupture_front_dirty_ = false;
 
-  // Slip sampling.  levels_reached_[i] = number of levels node i has reached;
-  // next_threshold_[i] = (levels_reached_[i] + 1) * delta_th, precomputed so the
-  // common no-crossing step is a single comparison per node.
-  double delta_th_ = 0.0;
-  bool slip_recorded_ = false;  // record_slip has been called (initial slip checked)
-  std::vector<std::size_t> levels_reached_;
-  std::vector<double> next_threshold_;
-  // Crossings since the last write-out, written as individual elements of
-  // crossing_time (whose fill value is NaN): pending_coords_ holds (level,
-  // node) pairs, pending_time_ the times.  Not rows: a locked node lagging a
-  // creeping one by 1e5 levels would otherwise pin 1e5 rows x N in memory.
-  std::vector<hsize_t> pending_coords_;
-  std::vector<double> pending_time_;
-  std::size_t levels_max_ = 0;
+  // Slip sampling; none when delta_th = 0.
+  std::optional<SlipSampler> slip_sampler_;
 };
 
 }  // namespace slipstrip
