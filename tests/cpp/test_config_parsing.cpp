@@ -256,7 +256,7 @@ TEST_CASE("out-of-range values name the key, the value and the allowed range") {
 TEST_CASE("enumerations list the allowed names") {
   const std::string e = error_of("[material]\nplane = \"strian\"\n");
   CHECK(contains(e, "material.plane = \"strian\" is not allowed: expected one of \"strain\", "
-                    "\"stress\"; did you mean \"strain\"?"));
+                    "\"stress\", \"antiplane\"; did you mean \"strain\"?"));
   CHECK(contains(error_of("[friction]\nlaw = \"coulomb\"\n"),
                  "friction.law = \"coulomb\" is not allowed: expected one of \"paper\", "
                  "\"dieterich_ruina\", \"regularized\""));
