@@ -1,164 +1,102 @@
 #include "kernels/half_space_history.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
 #include "kernels/half_space_kernel.hpp"
-#include "kernels/passivity.hpp"
 
 namespace slipstrip {
 
 namespace {
-constexpr int kMaxTaylorTerms = 32;
 constexpr long long kStateFormat = 2;
-}
 
-double slow_taylor_error_bound(const HalfSpaceOperatorDesign& design) {
-  // Lagrange remainder of e^{-y}, |y| <= r, after n terms: r^n / n! e^r.
-  const double r = design.slow_taylor_radius;
-  double bound = std::exp(r);
-  for (int n = 1; n <= design.taylor_terms; ++n) bound *= r / n;
-  return bound;
+// Bytes held by a set of vectors (stats().memory_bytes).
+template <class... Vectors>
+std::size_t bytes_of(const Vectors&... vectors) {
+  return (std::size_t{0} + ... + (sizeof(typename Vectors::value_type) * vectors.size()));
 }
+}  // namespace
 
 HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
                                    double time_step, const HalfSpaceOperatorDesign& design,
                                    const CancelCheck& cancelled)
-    : dt_(time_step), lags_(design.corrected_lags) {
+    : dt_(time_step), eta_(material.radiation_damping()), lags_(design.corrected_lags) {
   if (!(length > 0) || nodes < 2 || !(time_step > 0))
     throw std::invalid_argument("HalfSpaceHistory: need length > 0, nodes >= 2, time_step > 0");
+  check_half_space_design(design);
   if (design.slow_block != 0) {
-    if (design.slow_block < 2 || design.taylor_terms < 1 || design.taylor_terms > kMaxTaylorTerms ||
-        !(design.slow_taylor_radius > 0))
-      throw std::invalid_argument("HalfSpaceHistory: slow_block must be 0 or >= 2, taylor_terms in [1, " +
-                                  std::to_string(kMaxTaylorTerms) + "], slow_taylor_radius > 0");
-    if (!(slow_taylor_error_bound(design) <= 1e-14))
-      throw std::invalid_argument("HalfSpaceHistory: the slow exponentials' Taylor error bound " +
-                                  std::to_string(slow_taylor_error_bound(design)) +
-                                  " exceeds 1e-14 (raise taylor_terms or lower slow_taylor_radius)");
     block_ = design.slow_block;
     terms_ = design.taylor_terms;
     block_centre_ = 0.5 * (block_ + 1);
   }
-  const double mu = material.shear_modulus, cs = material.shear_wave_speed();
-  // In-plane or antiplane (SH) kernel: the same machinery, another universal
-  // function g (kernels/half_space_kernel.hpp); antiplane has no P branch.
-  const HalfSpaceShape shape = half_space_shape(material);
-  const double static_value = half_space_static_value(shape);
-  eta_ = material.radiation_damping();
   const int n_modes = nodes / 2 + 1;
-
+  const double cs = material.shear_wave_speed();
   wavenumber_.assign(n_modes, 0.0);
   h_.assign(n_modes, 0.0);
-  std::vector<int> window(n_modes, 0);
   for (int q = 1; q < n_modes; ++q) {
     wavenumber_[q] = 2.0 * std::numbers::pi * q / length;
     h_[q] = cs * wavenumber_[q] * dt_;
-    window[q] = std::max(lags_, static_cast<int>(std::ceil(design.near_field_tau / h_[q] - 1e-12)));
   }
-  // Stored lags reach tau = W h <= near_field_tau + lags h_max; the far field
-  // starts at tau = W h >= near_field_tau.
-  double tau_near_max = 0.0;
-  for (int q = 1; q < n_modes; ++q) tau_near_max = std::max(tau_near_max, window[q] * h_[q]);
-  const ExponentialSum near =
-      n_modes > 1 ? half_space_exponential_sum(shape, h_[1], 2.0 * tau_near_max + 1.0, 10)
-                  : ExponentialSum{};
-  const ExponentialSum far =
-      half_space_exponential_sum(shape, design.near_field_tau, design.horizon_tau, 8);
+  const std::vector<int> window = half_space_windows(h_, design);
+  const std::vector<HalfSpaceModeTerms> terms =
+      half_space_mode_terms(material, dt_, h_, window, block_, design, cancelled);
+  flatten_fast_terms(terms);
+  build_slow_tables(terms, half_space_shape(material));
+  // State, all zero: no slip rate before t = 0.
+  slow_state_re_.assign(slow_decay_.size(), 0.0);
+  slow_state_im_.assign(slow_decay_.size(), 0.0);
+  block_input_.assign(static_cast<std::size_t>(n_modes) * block_, 0.0);
+  block_moment_.assign(static_cast<std::size_t>(n_modes) * 4 * terms_, 0.0);
+  ring_.assign(lag_weight_.size(), 0.0);
+  c_re_.assign(pole_cos_.size(), 0.0);
+  c_im_.assign(pole_cos_.size(), 0.0);
+  s_re_.assign(pole_cos_.size(), 0.0);
+  s_im_.assign(pole_cos_.size(), 0.0);
+  running_sum_.assign(n_modes, 0.0);
+  history_.assign(n_modes, 0.0);
+}
 
-  // Per-mode coefficients (independent across modes: computed in parallel into
-  // per-mode vectors, then flattened).
-  std::vector<std::vector<double>> lag_weight(n_modes), correction(n_modes);
-  std::vector<std::vector<std::complex<double>>> poles(n_modes), pole_weights(n_modes);
-  // Slow exponentials per mode: rate (units of c_s |k|), weight; shear branch first.
-  std::vector<std::vector<std::complex<double>>> slow_rates(n_modes), slow_weights(n_modes);
-  std::vector<std::size_t> slow_shear(n_modes, 0);
-  // Slow when lambda (B - 1) / 2 <= radius, lambda = x h (x = -Re rate).
-  const double slow_lambda_max = block_ > 0 ? 2.0 * design.slow_taylor_radius / (block_ - 1) : -1.0;
-  std::string failure;
-  // `cancelled` may call into Python (the bindings), so only the thread that
-  // called this constructor polls it; the others see the atomic flag.
-  std::atomic<bool> cancel_seen{false};
+void HalfSpaceHistory::flatten_fast_terms(const std::vector<HalfSpaceModeTerms>& terms) {
+  // Per-mode vectors into flat arrays, contiguous per mode in q order.
+  const int n_modes = static_cast<int>(terms.size());
   static_weight_.assign(n_modes, 0.0);
-#pragma omp parallel for schedule(dynamic)
-  for (int q = 1; q < n_modes; ++q) {
-    if (omp_get_thread_num() == 0 && cancelled && !cancel_seen.load(std::memory_order_relaxed) && cancelled())
-      cancel_seen.store(true);
-    if (cancel_seen.load(std::memory_order_relaxed)) continue;
-    try {
-      const double h = h_[q];
-      const double scale = mu / cs * h;  // dt mu |k|
-      static_weight_[q] = scale * static_value;
-      const auto e = half_space_passivity_correction(shape, h, lags_, design.passivity_margin);
-      correction[q] = e;
-      auto& w = lag_weight[q];
-      w.resize(window[q]);
-      for (int j = 1; j <= window[q]; ++j) {
-        w[j - 1] = scale * (evaluate(near, j * h) - static_value);
-        if (j <= lags_) w[j - 1] += mu / cs * e[j - 1];
-      }
-      const double shift_tau = window[q] * h;
-      for (std::size_t m = 0; m < far.rate.size(); ++m) {
-        const std::complex<double> shifted = far.amplitude[m] * std::exp(far.rate[m] * shift_tau);
-        // Negligible for every lag >= W + 1 (the kernel is O(1)).
-        if (std::abs(shifted) < 1e-17) continue;
-        if (-far.rate[m].real() * h <= slow_lambda_max) {
-          slow_rates[q].push_back(far.rate[m]);
-          slow_weights[q].push_back(scale * shifted);
-          // Shear-branch rates have imaginary part exactly 1 and come first
-          // (half_space_exponential_sum), so this counts the shear ones.
-          if (far.rate[m].imag() == 1.0) slow_shear[q] = slow_rates[q].size();
-          continue;
-        }
-        poles[q].push_back(std::exp(far.rate[m] * h));
-        pole_weights[q].push_back(scale * shifted);
-      }
-    } catch (const std::exception& ex) {
-#pragma omp critical(slipstrip_half_space_setup)
-      if (failure.empty()) failure = ex.what();
-    }
-  }
-  if (cancel_seen.load()) throw SetupCancelled("set-up cancelled during the half-space history operator");
-  if (!failure.empty()) {
-    std::ostringstream msg;
-    msg << "half-space history operator (dt = " << dt_ << " s, c_s k_max dt = " << h_.back()
-        << "): " << failure;
-    throw std::invalid_argument(msg.str());
-  }
-
   first_lag_.assign(1, 0);
   first_pole_.assign(1, 0);
   correction_.assign(static_cast<std::size_t>(n_modes) * lags_, 0.0);
   for (int q = 0; q < n_modes; ++q) {
-    lag_weight_.insert(lag_weight_.end(), lag_weight[q].begin(), lag_weight[q].end());
+    const HalfSpaceModeTerms& t = terms[q];
+    static_weight_[q] = t.static_weight;
+    lag_weight_.insert(lag_weight_.end(), t.lag_weight.begin(), t.lag_weight.end());
     first_lag_.push_back(lag_weight_.size());
-    for (std::size_t i = 0; i < correction[q].size(); ++i) correction_[q * lags_ + i] = correction[q][i];
-    for (std::size_t m = 0; m < poles[q].size(); ++m) {
-      pole_cos_.push_back(poles[q][m].real());
-      pole_sin_.push_back(poles[q][m].imag());
+    for (std::size_t i = 0; i < t.correction.size(); ++i) correction_[q * lags_ + i] = t.correction[i];
+    for (std::size_t m = 0; m < t.pole.size(); ++m) {
+      pole_cos_.push_back(t.pole[m].real());
+      pole_sin_.push_back(t.pole[m].imag());
       // 2 Re(w z^i) = 2 Re w Re z^i - 2 Im w Im z^i, with C = sum Re z^i u, S = sum Im z^i u.
-      weight_cos_.push_back(2.0 * pole_weights[q][m].real());
-      weight_sin_.push_back(-2.0 * pole_weights[q][m].imag());
+      weight_cos_.push_back(2.0 * t.pole_weight[m].real());
+      weight_sin_.push_back(-2.0 * t.pole_weight[m].imag());
     }
     first_pole_.push_back(pole_cos_.size());
   }
-  // Slow part (docs/theory.md §8.7).
+}
+
+void HalfSpaceHistory::build_slow_tables(const std::vector<HalfSpaceModeTerms>& terms,
+                                         const HalfSpaceShape& shape) {
+  // docs/theory.md §8.7.
+  const int n_modes = static_cast<int>(terms.size());
   first_slow_.assign(1, 0);
   slow_shear_end_.assign(n_modes, 0);
   slow_lag_weight_.assign(static_cast<std::size_t>(n_modes) * block_, 0.0);
   for (int q = 0; q < n_modes; ++q) {
+    const HalfSpaceModeTerms& t = terms[q];
     const double h = h_[q];
-    slow_shear_end_[q] = first_slow_.back() + slow_shear[q];
-    for (std::size_t m = 0; m < slow_rates[q].size(); ++m) {
-      const std::complex<double> rate = slow_rates[q][m], w = slow_weights[q][m];
+    slow_shear_end_[q] = first_slow_.back() + t.slow_shear;
+    for (std::size_t m = 0; m < t.slow_rate.size(); ++m) {
+      const std::complex<double> rate = t.slow_rate[m], w = t.slow_weight[m];
       const std::complex<double> z = std::exp(rate * h);
       slow_decay_.push_back(-rate.real() * h);
       slow_centre_factor_.push_back(std::exp(rate.real() * h * block_centre_));
@@ -181,17 +119,6 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
       rotation_[at] = std::polar(1.0, h_[q] * t);
       rotation_[at + 1] = std::polar(1.0, b_pressure * h_[q] * t);
     }
-  slow_state_re_.assign(slow_decay_.size(), 0.0);
-  slow_state_im_.assign(slow_decay_.size(), 0.0);
-  block_input_.assign(static_cast<std::size_t>(n_modes) * block_, 0.0);
-  block_moment_.assign(static_cast<std::size_t>(n_modes) * 4 * terms_, 0.0);
-  ring_.assign(lag_weight_.size(), 0.0);
-  c_re_.assign(pole_cos_.size(), 0.0);
-  c_im_.assign(pole_cos_.size(), 0.0);
-  s_re_.assign(pole_cos_.size(), 0.0);
-  s_im_.assign(pole_cos_.size(), 0.0);
-  running_sum_.assign(n_modes, 0.0);
-  history_.assign(n_modes, 0.0);
 }
 
 ModeOperatorStats HalfSpaceHistory::stats() const {
@@ -199,14 +126,11 @@ ModeOperatorStats HalfSpaceHistory::stats() const {
   s.modes = history_.size();
   s.oscillators = pole_cos_.size() + slow_decay_.size();
   s.direct_lags = lag_weight_.size();
-  s.memory_bytes = sizeof(double) * (8 * pole_cos_.size() + lag_weight_.size() + correction_.size() +
-                                     3 * history_.size() + 2 * slow_decay_.size() +
-                                     slow_lag_weight_.size()) +
-                   sizeof(std::complex<double>) *
-                       (ring_.size() + running_sum_.size() + history_.size() + 5 * slow_decay_.size() +
-                        rotation_.size() + block_input_.size() + block_moment_.size()) +
-                   sizeof(std::size_t) *
-                       (first_lag_.size() + first_pole_.size() + first_slow_.size() + slow_shear_end_.size());
+  s.memory_bytes = bytes_of(wavenumber_, h_, static_weight_, first_lag_, lag_weight_, correction_, first_pole_,
+                            pole_cos_, pole_sin_, weight_cos_, weight_sin_, ring_, c_re_, c_im_, s_re_, s_im_,
+                            running_sum_, first_slow_, slow_shear_end_, slow_decay_, slow_centre_factor_,
+                            slow_pole_, slow_weight_, slow_block_pole_, slow_lag_weight_, rotation_,
+                            slow_state_re_, slow_state_im_, block_input_, block_moment_, history_);
   return s;
 }
 

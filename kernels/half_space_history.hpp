@@ -17,6 +17,7 @@
 //     inputs, and their output inside a block is a short polynomial per branch
 //     plus a direct sum over the block's own inputs (docs/theory.md §8.7): the
 //     same operator to ~1e-16 relative, at a fraction of the memory traffic.
+// The design constants and the per-mode terms: kernels/half_space_design.hpp.
 // Memory and cost per step are fixed at construction, whatever the run length;
 // the kernel is accurate to ~1e-9 (absolute, in units of mu |k|) for
 // c_s |k| t up to 1e10.  The uniform mode q = 0 of a half-space has no
@@ -27,31 +28,12 @@
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
+#include "kernels/half_space_design.hpp"
 #include "kernels/history_convolution.hpp"
 
 namespace slipstrip {
 
-// Design constants, fixed so that results do not depend on hidden knobs.
-struct HalfSpaceOperatorDesign {
-  int corrected_lags = 8;          // lags of the passivity correction
-  double near_field_tau = 1.0;     // lags with c_s |k| t <= this are stored weights
-  double horizon_tau = 1e10;       // c_s |k| t up to which the exponentials are accurate
-  double passivity_margin = 1e-9;  // Re Z_d / (mu/c_s) >= margin on the check grid
-  // Slow exponentials (docs/theory.md §8.7).  An exponential with decay lambda =
-  // x h per step is slow when lambda (B - 1) / 2 <= slow_taylor_radius; its
-  // block factor e^{-lambda j}, |j - (B+1)/2| <= (B-1)/2, is then a Taylor
-  // polynomial of `taylor_terms` terms with relative truncation error
-  //   radius^terms / terms! * e^radius = 1.7e-16 (0.25, 12).
-  // slow_block = 0 rotates every exponential every step (the original algorithm;
-  // kept for the equivalence tests).
-  int slow_block = 128;
-  double slow_taylor_radius = 0.25;
-  int taylor_terms = 12;
-};
-
-// Relative truncation error bound of the slow exponentials' Taylor factor
-// (above); the constructor refuses designs above 1e-14.
-double slow_taylor_error_bound(const HalfSpaceOperatorDesign& design);
+struct HalfSpaceShape;  // kernels/half_space_kernel.hpp
 
 // The operator's coefficients for one mode (a plain value, for tests and
 // diagnostics).  Units: weights in Pa s/m (so that weight * slip rate = Pa).
@@ -106,6 +88,11 @@ class HalfSpaceHistory final : public HistoryOperator {
   std::vector<std::complex<double>> ring_;     // flat; last W_q slip rates of mode q
   std::vector<double> c_re_, c_im_, s_re_, s_im_;
   std::vector<std::complex<double>> running_sum_;
+
+  // Set-up: the per-mode terms (kernels/half_space_design.hpp) laid out flat
+  // for the time loop, contiguous per mode.
+  void flatten_fast_terms(const std::vector<HalfSpaceModeTerms>& terms);
+  void build_slow_tables(const std::vector<HalfSpaceModeTerms>& terms, const HalfSpaceShape& shape);
 
   // Slow exponentials (docs/theory.md §8.7).  Pole z = rho_b d with b in
   // {shear, P}, rho_b = e^{i b h}, d = e^{-lambda}.  Per mode q the slow poles

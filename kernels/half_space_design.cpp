@@ -1,0 +1,138 @@
+#include "kernels/half_space_design.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "kernels/half_space_kernel.hpp"
+#include "kernels/passivity.hpp"
+
+namespace slipstrip {
+namespace {
+
+// W = ceil(near_field_tau / h) less this slack, so that a ratio a rounding
+// error above a whole number does not add a lag.
+constexpr double kWindowSlack = 1e-12;
+// Gauss-Legendre nodes per panel of the exponential sums
+// (kernels/half_space_kernel.hpp): 10 for the near field, which is evaluated
+// at every stored lag, 8 for the far field's exponentials, whose count sets
+// the cost per step (both measured in test_kernels_half_space_kernel.cpp).
+constexpr int kNearNodesPerPanel = 10;
+constexpr int kFarNodesPerPanel = 8;
+// A far-field exponential whose amplitude at the first far lag is below this
+// is dropped: negligible at every lag >= W + 1, where the kernel is O(1).
+constexpr double kNegligibleAmplitude = 1e-17;
+
+}  // namespace
+
+double slow_taylor_error_bound(const HalfSpaceOperatorDesign& design) {
+  // Lagrange remainder of e^{-y}, |y| <= r, after n terms: r^n / n! e^r.
+  const double r = design.slow_taylor_radius;
+  double bound = std::exp(r);
+  for (int n = 1; n <= design.taylor_terms; ++n) bound *= r / n;
+  return bound;
+}
+
+void check_half_space_design(const HalfSpaceOperatorDesign& design) {
+  if (design.slow_block == 0) return;
+  if (design.slow_block < 2 || design.taylor_terms < 1 || design.taylor_terms > kMaxTaylorTerms ||
+      !(design.slow_taylor_radius > 0))
+    throw std::invalid_argument("HalfSpaceHistory: slow_block must be 0 or >= 2, taylor_terms in [1, " +
+                                std::to_string(kMaxTaylorTerms) + "], slow_taylor_radius > 0");
+  if (!(slow_taylor_error_bound(design) <= kMaxSlowTaylorError))
+    throw std::invalid_argument("HalfSpaceHistory: the slow exponentials' Taylor error bound " +
+                                std::to_string(slow_taylor_error_bound(design)) +
+                                " exceeds 1e-14 (raise taylor_terms or lower slow_taylor_radius)");
+}
+
+std::vector<int> half_space_windows(std::span<const double> h, const HalfSpaceOperatorDesign& design) {
+  std::vector<int> window(h.size(), 0);
+  for (std::size_t q = 1; q < h.size(); ++q)
+    window[q] = std::max(design.corrected_lags,
+                         static_cast<int>(std::ceil(design.near_field_tau / h[q] - kWindowSlack)));
+  return window;
+}
+
+std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& material, double time_step,
+                                                      std::span<const double> h_of, std::span<const int> window,
+                                                      int block, const HalfSpaceOperatorDesign& design,
+                                                      const CancelCheck& cancelled) {
+  const int n_modes = static_cast<int>(h_of.size());
+  const int lags = design.corrected_lags;
+  const double mu = material.shear_modulus, cs = material.shear_wave_speed();
+  // In-plane or antiplane (SH) kernel: the same machinery, another universal
+  // function g (kernels/half_space_kernel.hpp); antiplane has no P branch.
+  const HalfSpaceShape shape = half_space_shape(material);
+  const double static_value = half_space_static_value(shape);
+  // Stored lags reach tau = W h <= near_field_tau + lags h_max; the far field
+  // starts at tau = W h >= near_field_tau.
+  double tau_near_max = 0.0;
+  for (int q = 1; q < n_modes; ++q) tau_near_max = std::max(tau_near_max, window[q] * h_of[q]);
+  const ExponentialSum near =
+      n_modes > 1
+          ? half_space_exponential_sum(shape, h_of[1], 2.0 * tau_near_max + 1.0, kNearNodesPerPanel)
+          : ExponentialSum{};
+  const ExponentialSum far =
+      half_space_exponential_sum(shape, design.near_field_tau, design.horizon_tau, kFarNodesPerPanel);
+  // Slow when lambda (B - 1) / 2 <= radius, lambda = x h (x = -Re rate).
+  const double slow_lambda_max = block > 0 ? 2.0 * design.slow_taylor_radius / (block - 1) : -1.0;
+
+  std::vector<HalfSpaceModeTerms> terms(n_modes);
+  std::string failure;
+  // `cancelled` may call into Python (the bindings), so only the thread that
+  // called this function polls it; the others see the atomic flag.
+  std::atomic<bool> cancel_seen{false};
+#pragma omp parallel for schedule(dynamic)
+  for (int q = 1; q < n_modes; ++q) {
+    if (omp_get_thread_num() == 0 && cancelled && !cancel_seen.load(std::memory_order_relaxed) && cancelled())
+      cancel_seen.store(true);
+    if (cancel_seen.load(std::memory_order_relaxed)) continue;
+    try {
+      HalfSpaceModeTerms& t = terms[q];
+      const double h = h_of[q];
+      const double scale = mu / cs * h;  // dt mu |k|
+      t.static_weight = scale * static_value;
+      const auto e = half_space_passivity_correction(shape, h, lags, design.passivity_margin);
+      t.correction = e;
+      auto& w = t.lag_weight;
+      w.resize(window[q]);
+      for (int j = 1; j <= window[q]; ++j) {
+        w[j - 1] = scale * (evaluate(near, j * h) - static_value);
+        if (j <= lags) w[j - 1] += mu / cs * e[j - 1];
+      }
+      const double shift_tau = window[q] * h;
+      for (std::size_t m = 0; m < far.rate.size(); ++m) {
+        const std::complex<double> shifted = far.amplitude[m] * std::exp(far.rate[m] * shift_tau);
+        if (std::abs(shifted) < kNegligibleAmplitude) continue;
+        if (-far.rate[m].real() * h <= slow_lambda_max) {
+          t.slow_rate.push_back(far.rate[m]);
+          t.slow_weight.push_back(scale * shifted);
+          // Shear-branch rates have imaginary part exactly 1 and come first
+          // (half_space_exponential_sum), so this counts the shear ones.
+          if (far.rate[m].imag() == 1.0) t.slow_shear = t.slow_rate.size();
+          continue;
+        }
+        t.pole.push_back(std::exp(far.rate[m] * h));
+        t.pole_weight.push_back(scale * shifted);
+      }
+    } catch (const std::exception& ex) {
+#pragma omp critical(slipstrip_half_space_setup)
+      if (failure.empty()) failure = ex.what();
+    }
+  }
+  if (cancel_seen.load()) throw SetupCancelled("set-up cancelled during the half-space history operator");
+  if (!failure.empty()) {
+    std::ostringstream msg;
+    msg << "half-space history operator (dt = " << time_step << " s, c_s k_max dt = " << h_of.back()
+        << "): " << failure;
+    throw std::invalid_argument(msg.str());
+  }
+  return terms;
+}
+
+}  // namespace slipstrip
