@@ -27,6 +27,17 @@ void write_field(hid_t group, const char* name, const std::vector<T>& values, co
   io::write_attribute(dataset, "units", units);
 }
 
+// /slip_sampling of a run file, or a message that says where it comes from:
+// the run writes it only with output.delta_th > 0.
+io::Handle open_slip_sampling(hid_t file, const std::string& path) {
+  if (!io::has_member(file, kSlipGroup))
+    throw std::invalid_argument(
+        "'" + path + "' has no slip sampling (group /slip_sampling), from which events are detected: "
+        "the run was made with output.delta_th = 0, which records none. Set [output] delta_th > 0 "
+        "(e.g. 1e-8 m, a fraction of the characteristic slip D; docs/events.md) and run it again");
+  return io::open_group(file, kSlipGroup);
+}
+
 // An optional scalar: NaN if absent (older files have no D and L).
 double read_optional_double(hid_t object, const char* name) {
   if (!io::has_attribute(object, name)) return std::numeric_limits<double>::quiet_NaN();
@@ -39,7 +50,7 @@ double read_optional_double(hid_t object, const char* name) {
 
 Hdf5CrossingTimes::Hdf5CrossingTimes(const std::string& path) {
   file_ = io::open_existing_file(path, io::FileAccess::read_only);
-  const io::Handle group = io::open_group(file_, kSlipGroup);
+  const io::Handle group = open_slip_sampling(file_, path);
   dataset_ = io::open_dataset(group, "crossing_time");
   {
     io::Handle type(H5Dget_type(dataset_), "H5Dget_type crossing_time");
@@ -63,7 +74,7 @@ void Hdf5CrossingTimes::read_rows(std::size_t j0, std::size_t j1, std::span<doub
 
 SlipSamplingInfo read_slip_sampling_info(const std::string& path) {
   const io::Handle file = io::open_existing_file(path, io::FileAccess::read_only);
-  const io::Handle group = io::open_group(file, kSlipGroup);
+  const io::Handle group = open_slip_sampling(file, path);
   SlipSamplingInfo info;
   info.delta_th = io::read_attribute<double>(group, "delta_th");
   info.dx = io::read_attribute<double>(group, "dx");

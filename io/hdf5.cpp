@@ -128,6 +128,9 @@ Handle open_existing_file(const std::string& path, FileAccess access) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     throw std::invalid_argument("path = '" + path + "' is invalid: file does not exist");
+  if (std::filesystem::is_directory(path, ec))
+    throw std::invalid_argument("path = '" + path + "' is a directory: expected an HDF5 file (a run file "
+                                "written by `slipstrip run`)");
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw std::invalid_argument("path = '" + path + "' is invalid: not an HDF5 file");
   return open_file(path, access);

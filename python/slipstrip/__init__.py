@@ -39,6 +39,7 @@ from ._slipstrip import (  # noqa: F401  (re-exported)
     write_slip_sampling,
 )
 from .config import Config, load_config, overrides_from, to_toml_text  # noqa: F401
+from .export import SeasFile, read_seas  # noqa: F401
 from .runfile import RunFile, open_run  # noqa: F401
 
 __version__ = _slipstrip.code_version
@@ -49,7 +50,8 @@ __all__ = [
     "Simulation", "SimulationError", "characteristic_roots", "critical_wavelength",
     "critical_wavelength_vs_height", "detect_events", "detect_events_in_file", "detect_events_into_file", "growth_rates",
     "half_space_response", "linearise_friction", "load_config", "most_unstable_root", "open_run",
-    "quasi_static_critical_wavelength", "read_event_catalog", "read_slip_sampling_info", "resume", "run",
+    "quasi_static_critical_wavelength", "read_event_catalog", "read_seas", "read_slip_sampling_info", "resume",
+    "run", "SeasFile",
     "solve_slip_rate", "characteristic_function",
     "strip_response", "strip_static_stiffness", "to_toml_text", "waiting_time_threshold",
     "write_event_catalog", "write_event_catalog_csv", "write_slip_sampling",

@@ -32,7 +32,7 @@ import h5py
 import numpy as np
 from scipy import optimize, stats
 
-from .runfile import decode_attr, open_h5
+from .runfile import decode_attr, open_h5, unreadable_reason
 
 DEFAULT_ALPHA = 15.0
 SENSITIVITY_ALPHAS = (8.0, 15.0, 30.0, 60.0)
@@ -61,6 +61,11 @@ PULSE_MIN_TRAVEL = 0.5       # periods L travelled over the late part, in total
 PULSE_MIN_SNAPSHOTS = 10     # late snapshots needed for the space-time criterion to decide
 PULSE_LATE_FRACTION = 0.5    # the criterion looks at the last half of the record
 MIN_FIT_EVENTS = 10  # fewer than this in a subset: the fit returns NaN
+# Below this many events in a fitted power-law tail the summary carries a
+# caution: the exponent's standard error (a - 1)/sqrt(n) is above ~0.1 for
+# a ~ 2, and the power-law form itself cannot be told apart from other
+# heavy-tailed shapes with so few points.
+POWER_LAW_CAUTION_EVENTS = 100
 # Transient cut (docs/analysis.md, "Transient cut"): the run is split into
 # TRANSIENT_BATCHES equal time batches; MSER (White 1997) on the batch series
 # of event counts and of the mean log10(u/D) picks the truncation that
@@ -846,6 +851,11 @@ def catalog_statistics(catalog: dict, info: RunInfo, seed: int = 0, n_bootstrap:
     res["lognormal_ks"] = logfits["T"].ks
     res["lognormal_ks_pvalue"] = logfits["T"].ks_pvalue
     res["lognormal_ks_pvalue_naive"] = logfits["T"].ks_pvalue_naive
+    res["cautions"] = [
+        f"the power law of {name} is fitted to only {fit.n} events (fewer than {POWER_LAW_CAUTION_EVENTS}): "
+        f"its exponent {fit.exponent:.3g} +- {fit.stderr:.2g} is indicative at best, and so few events cannot "
+        "tell a power law from other heavy-tailed shapes; run longer for more events"
+        for name, fit in fits.items() if math.isfinite(fit.exponent) and fit.n < POWER_LAW_CAUTION_EVENTS]
     fr = slip_fractions(catalog["u_mean"], catalog["L_s"], info.D, info.L)
     res["slip_fraction_small"] = fr["small"]
     res["slip_fraction_spanning"] = fr["spanning"]
@@ -950,22 +960,15 @@ def _stride(n: int, target: int) -> int:
     return max(1, int(math.ceil(n / target)))
 
 
-def plot_space_time(path, info: RunInfo, out_dir: Path, pdf: bool = False, max_rows: int = 2000) -> list[str]:
-    """log10(|v|/v0) in the x/L -- t c_s/L plane from /snapshots (Figs. 2a, S3a)."""
+def plot_space_time(path, info: RunInfo, out_dir: Path, pdf: bool = False) -> list[str]:
+    """log10(|v|/v0) in the x/L -- t c_s/L plane from /snapshots (Figs. 2a, S3a):
+    the figure of `slipstrip plot` (plots.spacetime_axes, same colour map),
+    with the colour scale starting at most 3 decades below v0."""
+    from . import plots
     plt = _plt()
-    with open_h5(path) as f:
-        t = f["snapshots/time"][:]
-        step = _stride(t.size, max_rows)
-        v = f["snapshots/slip_rate"][::step]
-        t = t[::step]
-        x = f["snapshots/x"][:]
     fig, ax = plt.subplots(figsize=(6, 5))
-    z = np.log10(np.maximum(np.abs(v) / info.v0, 1e-6))
-    im = ax.pcolormesh(x / info.L, t * info.c_s / info.L, z, shading="auto", cmap="viridis",
-                       vmin=max(-3.0, float(np.nanmin(z))), rasterized=True)
-    fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
-    ax.set_xlabel("$x/L$")
-    ax.set_ylabel("$t\\,c_s/L$")
+    mesh = plots.spacetime_axes(path, ax, floor=-3.0)
+    fig.colorbar(mesh, ax=ax, label=r"$\log_{10}(v/v_0)$")
     return _save(fig, out_dir, "space_time", pdf)
 
 
@@ -1030,6 +1033,12 @@ def plot_event_map(groups: NodalSlipGroups, x, info: RunInfo, out_dir: Path, pdf
     return _save(fig, out_dir, "event_map", pdf)
 
 
+def _legend(ax) -> None:
+    """A legend only for axes that show a labelled curve (matplotlib warns on an empty one)."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7)
+
+
 def _pdf_line(ax, x, label, **kw):
     c, p, _ = log_binned_pdf(x)
     m = p > 0
@@ -1068,7 +1077,7 @@ def plot_pdfs(catalog: dict, info: RunInfo, stats_: dict, out_dir: Path, pdf: bo
             ax.axvline(1.0, color="k", lw=1)
         ax.set_xlabel(labels[name])
         ax.set_ylabel("p")
-        ax.legend(fontsize=7)
+        _legend(ax)
     return _save(fig, out_dir, "pdfs", pdf)
 
 
@@ -1084,7 +1093,7 @@ def plot_pdf_comparison(sets: dict, info: RunInfo, out_dir: Path, name: str, pdf
     for ax, key in zip(axes, ("u", "T", "M0")):
         ax.set_xlabel(labels[key])
         ax.set_ylabel("p")
-        ax.legend(fontsize=7)
+        _legend(ax)
     return _save(fig, out_dir, name, pdf)
 
 
@@ -1112,7 +1121,7 @@ def plot_event_fields(path, catalog: dict, index: int, info: RunInfo, out_dir: P
         ax.plot(xs, fields[name][0] / scale, "k", lw=1, label=f"before (t={ts[ib]:.4g} s)")
         ax.plot(xs, fields[name][1] / scale, "g", lw=1, label=f"after (t={ts[ia]:.4g} s)")
         ax.set_ylabel(lab)
-        ax.legend(fontsize=7)
+        _legend(ax)
     axes[1].set_yscale("log")
     axes[2].set_xlabel("$x/L$")
     axes[0].set_title(f"event {index}: t_start={t0:.4g} s, T={t1 - t0:.3g} s, "
@@ -1146,6 +1155,8 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
     out_dir.mkdir(parents=True, exist_ok=True)
     info = read_run_info(path)
     catalog = catalog_for(path, alpha, workdir=out_dir, write_into_run=write_events)
+    if len(catalog["t_start"]) == 0:
+        raise EmptyCatalog(f"{path}: {empty_catalog_reason(catalog['attrs'], info, alpha)}")
     st = catalog_statistics(catalog, info, seed=seed)
     summary = {"run": str(path), "alpha": float(alpha), "normalisation": {
         "u": "u_mean/D", "T": "T*v0/D", "M0": "M0/(mu*D*L)"}, "scales": dataclasses.asdict(info)}
@@ -1209,6 +1220,32 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
     return summary
 
 
+class EmptyCatalog(ValueError):
+    """The run has no kept events: there is nothing to analyse (exit code 1 of `analyze`)."""
+
+
+def empty_catalog_reason(attrs: dict, info: RunInfo, alpha: float) -> str:
+    """Why a catalog holds no event, and what to change, from its counts
+    (docs/events.md: n_nodal_slips, n_events_detected, n_events_excluded_first_last,
+    n_events_below_thresholds)."""
+    nodal = int(attrs.get("n_nodal_slips", 0))
+    detected = int(attrs.get("n_events_detected", 0))
+    below = int(attrs.get("n_events_below_thresholds", 0))
+    head = f"0 events kept ({nodal} nodal slips, {detected} events detected with alpha = {alpha:g}): nothing to analyse; "
+    mean_slip = info.v0 * info.duration
+    if nodal == 0:
+        return head + (f"no node slipped by output.delta_th = {info.delta_th:.3g} m (the mean slip of the run is "
+                       f"v0 t = {mean_slip:.3g} m): run longer (time.duration) or lower output.delta_th")
+    if below == 0:
+        return head + ("the first and the last event are always excluded (docs/events.md) and there were no "
+                       f"others: the run is too short ({info.duration:.3g} s = "
+                       f"{info.duration * info.c_s / info.L:.3g} L/c_s) or slides steadily; run longer "
+                       "(time.duration_transits), or give a smaller --alpha to split the slip into more events")
+    return head + (f"all {below} events between the first and the last are below the size thresholds "
+                   "(2 dx in extent, 2 delta_th of mean slip; docs/events.md): lower output.delta_th "
+                   f"(now {info.delta_th:.3g} m) to resolve smaller events, or run longer")
+
+
 def format_summary(s: dict) -> str:
     def f(v, fmt=".3g"):
         return "nan" if v is None else format(v, fmt)
@@ -1231,6 +1268,7 @@ def format_summary(s: dict) -> str:
             for a, v in s["threshold_sensitivity"].items()),
         f"figures: {len(s['figures'])} files",
     ]
+    lines += [f"caution: {c}" for c in s.get("cautions", [])]
     return "\n".join(lines)
 
 
@@ -1247,19 +1285,19 @@ def main(argv: list[str]) -> int:
                         help="add the catalog as /events to the run file when it has none "
                              "(default: the run file is only read; the catalog goes to --out-dir)")
     args = parser.parse_args(list(argv[1:] if argv and argv[0] == "analyze" else argv))
-    if not Path(args.run).is_file():
-        print(f"analyze: run file {args.run!r} not found (or not a regular file)", file=sys.stderr)
-        return 2
     if not args.alpha > 0:
         print(f"analyze: --alpha {args.alpha}: must be > 0", file=sys.stderr)
         return 2
-    if not h5py.is_hdf5(args.run):
-        print(f"analyze: run file {args.run!r} is not an HDF5 file", file=sys.stderr)
+    if not (Path(args.run).is_file() and h5py.is_hdf5(args.run)):
+        print(f"analyze: {unreadable_reason(args.run)}", file=sys.stderr)
         return 2
     out_dir = args.out_dir or str(Path(args.run).with_suffix("")) + "_analysis"
     try:
         summary = analyze(args.run, out_dir, pdf=args.pdf, alpha=args.alpha, event=args.event,
                           write_events=args.write_events)
+    except EmptyCatalog as err:  # a valid run with nothing to analyse: no figures, exit 1
+        print(f"analyze: {err}", file=sys.stderr)
+        return 1
     except (FileNotFoundError, RuntimeError, KeyError, ValueError, OSError, TypeError, IndexError) as err:
         # A damaged or foreign run file: one line naming the file, never a traceback.
         message = " ".join(str(err).split()) or type(err).__name__

@@ -18,12 +18,20 @@ writes, from /stations and /rupture_front of the run file,
 As in the SEAS files, slip rate and state are written as log10 and stresses
 in MPa; slip is the full slip (both strips), the shear stress is the total
 traction on the interface (not its perturbation).
+
+``read_seas(path)`` reads any of these files back (header, column names,
+values as written).  With NumPy alone, drop the ``#`` lines and let the
+field-name line name the columns:
+
+    np.genfromtxt((l for l in open(path) if not l.startswith("#")), names=True)
 """
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import datetime as _dt
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -103,6 +111,40 @@ def export_seas(run_path, out_dir) -> list[Path]:
     return written
 
 
+@dataclasses.dataclass(frozen=True)
+class SeasFile:
+    """One exported SEAS text file: its `# key: value` header lines, its
+    column names and its values as written (SEAS units: log10 slip rate,
+    log10 state, stresses in MPa).  `f["slip"]` is one column."""
+    header: dict[str, str]
+    columns: tuple[str, ...]
+    data: np.ndarray  # [rows, columns]
+
+    def __getitem__(self, column: str) -> np.ndarray:
+        if column not in self.columns:
+            raise KeyError(f"no column {column!r}: the file has {', '.join(self.columns)}")
+        return self.data[:, self.columns.index(column)]
+
+
+def read_seas(path: str | os.PathLike) -> SeasFile:
+    """Reads a file written by export_seas (station_x*.txt, global.txt, rupture.txt)."""
+    header: dict[str, str] = {}
+    with open(path) as f:
+        line = f.readline()
+        while line.startswith("#"):
+            key, _, value = line[1:].partition(":")
+            header[key.strip()] = value.strip()
+            line = f.readline()
+        columns = tuple(line.split())
+        if not columns:
+            raise ValueError(f"{os.fspath(path)}: no field-name line after the '#' header: not a SEAS file "
+                             "written by `slipstrip export --seas`")
+        data = np.loadtxt(f, ndmin=2)
+    if data.size and data.shape[1] != len(columns):
+        raise ValueError(f"{os.fspath(path)}: {data.shape[1]} values per row but {len(columns)} column names")
+    return SeasFile(header, columns, data.reshape(-1, len(columns)))
+
+
 def main(argv: list[str]) -> int:
     p = argparse.ArgumentParser(prog="python3 -m slipstrip export",
                                 description="Export a run's stations as SEAS-style text files.")
@@ -111,6 +153,9 @@ def main(argv: list[str]) -> int:
     args = p.parse_args(argv)
     try:
         files = export_seas(args.run, args.seas)
+    except runfile.RunFileError as err:  # names the path itself
+        print(f"export: {err}", file=sys.stderr)
+        return 2
     except (OSError, KeyError, ValueError, TypeError, IndexError, UnicodeDecodeError) as err:
         # A missing, damaged or foreign run file (tomllib's TOMLDecodeError is a
         # ValueError): one line naming the file, never a traceback.

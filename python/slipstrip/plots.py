@@ -17,11 +17,14 @@ import numpy as np  # noqa: E402
 
 from .runfile import RunFile, open_run  # noqa: E402
 
-__all__ = ["spacetime", "spacetime_axes", "timeseries"]
+__all__ = ["SPACETIME_CMAP", "spacetime", "spacetime_axes", "timeseries"]
 
 # Upper bound of cells drawn per axis: a longer run is subsampled (every k-th
 # snapshot / node) so memory and drawing time stay bounded whatever the run size.
 MAX_CELLS = 2000
+# The colour map of the space-time field log10(v/v0), in `plot` and in the
+# space_time figure of `analyze` alike (both draw it with spacetime_axes).
+SPACETIME_CMAP = "inferno"
 
 
 def _as_run(run) -> RunFile:
@@ -33,8 +36,10 @@ def _format_length(value: float) -> str:
 
 
 def spacetime_axes(run, ax, vmin: float | None = None, vmax: float | None = None,
-                   max_cells: int = MAX_CELLS):
-    """Draws the space-time map of log10(v/v0) on `ax`; returns the QuadMesh."""
+                   max_cells: int = MAX_CELLS, floor: float | None = None):
+    """Draws the space-time map of log10(v/v0) on `ax`; returns the QuadMesh.
+    The colour scale runs from vmin to vmax (default: the smallest and largest
+    finite value; with `floor`, the automatic minimum is not below it)."""
     run = _as_run(run)
     snaps = run.snapshots
     if "snapshots" not in run._groups or "time" not in snaps or len(snaps) == 0:
@@ -55,6 +60,8 @@ def spacetime_axes(run, ax, vmin: float | None = None, vmax: float | None = None
     if not finite.any():
         raise ValueError(f"run file '{run.path}': no finite positive slip rate in /snapshots/slip_rate")
     lo = float(np.min(logv[finite])) if vmin is None else vmin
+    if vmin is None and floor is not None:
+        lo = max(lo, floor)
     hi = float(np.max(logv[finite])) if vmax is None else vmax
     if hi <= lo:  # uniform sliding: give the colour scale a visible width
         lo, hi = lo - 0.5, hi + 0.5
@@ -62,7 +69,7 @@ def spacetime_axes(run, ax, vmin: float | None = None, vmax: float | None = None
     logv = np.where(finite, logv, lo)
 
     mesh = ax.pcolormesh(x / L, t * run.shear_wave_speed / L, logv, shading="nearest",
-                         cmap="inferno", vmin=lo, vmax=hi, rasterized=True)
+                         cmap=SPACETIME_CMAP, vmin=lo, vmax=hi, rasterized=True)
     ax.set_xlabel("x / L")
     ax.set_ylabel(r"t $c_s$ / L")
     ax.set_xlim(0.0, 1.0)

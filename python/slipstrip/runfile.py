@@ -24,7 +24,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-__all__ = ["RunFile", "LazyDataset", "open_run", "open_h5", "decode_attr", "read_attrs", "read_config_text",
+__all__ = ["RunFile", "RunFileError", "LazyDataset", "open_run", "open_h5", "unreadable_reason", "decode_attr", "read_attrs", "read_config_text",
            "read_config", "read_status", "wall_seconds", "has_group", "read_event_count"]
 
 TIMESERIES = ("time", "max_slip_rate", "mean_slip", "mean_shear_stress")
@@ -33,17 +33,47 @@ SNAPSHOT_FIELDS = ("slip", "slip_rate", "state", "shear_stress")
 DATE_FORMAT = "%Y-%m-%dT%H:%M:%SZ"
 
 
+class RunFileError(OSError):
+    """A path that is not a readable run file, with a one-line message that
+    names the path, what it is instead and what to give (never HDF5's own
+    error text).  An OSError, so handlers of unreadable files catch it."""
+
+
+def unreadable_reason(path: str | os.PathLike) -> str:
+    """Why `path` cannot be opened as a run file, as one line for the user."""
+    p = os.fspath(path)
+    expected = "expected a run file (HDF5) written by `slipstrip run`"
+    if not os.path.lexists(p):
+        return f"'{p}' does not exist: {expected}"
+    if os.path.isdir(p):
+        inside = sorted(name for name in os.listdir(p) if name.endswith(".h5"))
+        hint = f"; it holds {', '.join(inside[:3])}{' ...' if len(inside) > 3 else ''}" if inside else ""
+        return f"'{p}' is a directory: {expected}{hint}"
+    if not os.path.isfile(p):
+        return f"'{p}' is not a regular file: {expected}"
+    if not os.access(p, os.R_OK):
+        return f"'{p}' is not readable (permissions): {expected}"
+    if not h5py.is_hdf5(p):
+        return f"'{p}' is not an HDF5 file: {expected}"
+    return f"'{p}' is an HDF5 file that cannot be opened (truncated or damaged, or still being created)"
+
+
 def open_h5(path: str | os.PathLike, attempts: int = 100, wait: float = 0.05) -> h5py.File:
     """h5py.File(path, "r"), retried for up to attempts * wait seconds while a
     running solver holds its write lock: during a write-out (a few ms) the
-    writer holds an exclusive lock and opening fails with "unable to lock file"."""
+    writer holds an exclusive lock and opening fails with "unable to lock file".
+    Any other failure raises RunFileError saying what the path is instead
+    (a directory, missing, not HDF5, damaged)."""
     for i in range(attempts):
         try:
             return h5py.File(path, "r")
         except OSError as e:
-            if "lock" not in str(e) or i == attempts - 1:
+            if "lock" in str(e) and i < attempts - 1:
+                time.sleep(wait)
+                continue
+            if "lock" in str(e):
                 raise
-            time.sleep(wait)
+            raise RunFileError(unreadable_reason(path)) from None
     raise AssertionError("unreachable")
 
 

@@ -284,6 +284,12 @@ TEST_CASE("failures name the file and the object; missing or foreign files are i
   std::ofstream(text) << "this is not an HDF5 file\n";
   CHECK(error_of([&] { io::open_existing_file(text, io::FileAccess::read_only); }) ==
         "path = '" + text + "' is invalid: not an HDF5 file");
+  // A directory is named as one (HDF5 would report a failed read of -1 bytes).
+  const std::string directory = temp_path("directory");
+  std::filesystem::create_directories(directory);
+  CHECK(contains(error_of([&] { io::open_existing_file(directory, io::FileAccess::read_only); }),
+                 "path = '" + directory + "' is a directory: expected an HDF5 file"));
+  std::filesystem::remove(directory);
   // open_file does not check first: HDF5's own failure, naming the file.
   message = error_of([&] { io::open_file(text, io::FileAccess::read_only); });
   CHECK(contains(message, "HDF5 error: H5Fopen(" + text + ") failed"));

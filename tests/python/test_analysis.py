@@ -292,6 +292,37 @@ def test_group_nodal_slips_filters():
 
 
 # ---------------------------------------------------------------------------
+# A power law fitted to few events carries a caution
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("n_small, cautioned", [(30, True), (3000, False)])
+def test_power_law_of_few_events_is_cautioned(n_small, cautioned):
+    info = _info()
+    rng = np.random.default_rng(5)
+    # Small events (u < D) from p(u/D) ~ (u/D)^-1.8 on [0.01, 1], plus large ones for the log-normal.
+    u = np.concatenate([truncated_power_law_sample(rng, 1.8, 0.01, 1.0, n_small) * info.D,
+                        info.D * np.exp(rng.normal(1.0, 0.3, 50))])
+    n = u.size
+    catalog = _catalog(np.sort(rng.random(n)), u, np.full(n, 0.1 * info.L),
+                       T=np.exp(rng.normal(0.0, 0.5, n)) * info.D / info.v0)
+    res = analysis.catalog_statistics(catalog, info, n_bootstrap=0)
+    fitted = res["small_exponent_u_n"]
+    assert math.isfinite(res["small_exponent_u"])
+    caution = [c for c in res["cautions"] if c.startswith("the power law of u ")]
+    assert bool(caution) == cautioned == (fitted < analysis.POWER_LAW_CAUTION_EVENTS)
+    if cautioned:
+        assert f"only {fitted} events" in caution[0]
+        lines = analysis.format_summary(dict(_summary_stub(), **analysis._public(res))).splitlines()
+        assert any(l.startswith("caution: the power law of u") for l in lines)
+
+
+def _summary_stub():
+    """What analyze() adds around catalog_statistics, for format_summary."""
+    return {"run": "r.h5", "alpha": 15.0, "periodic_pulse": False, "figures": [],
+            "stationarity": {k: {"pvalue": 0.5} for k in ("u", "T", "M0")}, "threshold_sensitivity": {}}
+
+
+# ---------------------------------------------------------------------------
 # summarize_run on a hand-made file with too few events
 # ---------------------------------------------------------------------------
 

@@ -112,6 +112,63 @@ def test_seas_export_layout_and_round_trip(cli, station_run, tmp_path):
     assert rupture[[i for i, l in enumerate(rupture) if not l.startswith("#")][0]].split() == ["x", "t"]
 
 
+def test_seas_files_read_back(cli, station_run, tmp_path):
+    """slipstrip.read_seas and the NumPy one-liner of export.py's docstring
+    (and docs/output.md) give back what export wrote."""
+    from slipstrip import read_seas
+    path, stations = station_run
+    out = tmp_path / "seas"
+    r = subprocess.run([str(cli), "export", str(path), "--seas", str(out)], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 0, r.stderr
+    with h5py.File(path, "r") as f:
+        t, slip = f["stations/time"][:], f["stations/slip"][:]
+    name = out / f"station_x{stations[1]:+.4f}.txt"
+    seas = read_seas(name)
+    assert seas.columns == ("t", "slip", "slip_rate", "shear_stress", "state", "normal_stress")
+    assert seas.header["location"].startswith("x = ")
+    assert seas.header["code"].startswith("slipstrip")
+    assert seas.data.shape == (t.size, 6)
+    # %.15e keeps 16 significant digits: equal to within half a unit of the 16th
+    assert np.allclose(seas["t"], t, rtol=1e-15, atol=0)
+    assert np.allclose(seas["slip"], slip[:, 1], rtol=1e-14, atol=0)
+    table = np.genfromtxt((l for l in open(name) if not l.startswith("#")), names=True)
+    assert table.dtype.names == seas.columns
+    assert np.array_equal(table["slip_rate"], seas["slip_rate"])
+    g = read_seas(out / "global.txt")
+    assert g.columns == ("t", "max_slip_rate", "moment_rate") and g.data.shape[0] == t.size
+    with pytest.raises(KeyError, match="no column 'v'"):
+        seas["v"]
+
+
+def test_station_rows_fall_on_the_first_step_after_each_interval(cli, repo, tmp_path):
+    """docs/output.md, /stations: with station_interval > 0 the rows are at
+    t = 0 and at the first time step reaching each multiple k * interval;
+    they are not interpolated, so their spacing varies by up to one dt."""
+    out = tmp_path / "r.h5"
+    r = subprocess.run([str(cli), "run", str(repo / "configs/quickstart.toml"), "--quiet", "--out", str(out),
+                        "--set", "geometry.nodes=32", "--set", "time.duration_transits=2",
+                        "--set", "output.timeseries_interval=0", "--set", "output.stations=[0.1]",
+                        "--set", "output.station_interval=4.7e-6"], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    with h5py.File(out, "r") as f:
+        steps = f["timeseries/time"][:]  # every step's time (timeseries_interval = 0)
+        rows = f["stations/time"][:]
+    interval = 4.7e-6
+    dt = steps[1] - steps[0]
+    assert not np.isclose(interval / dt, round(interval / dt))  # not a multiple of dt: the interesting case
+    expected = [0.0]
+    k = 1
+    for t in steps[1:]:
+        if t >= k * interval * (1 - 1e-12):  # the solver's test (core/run.cpp), relative 1e-12 for round-off
+            expected.append(t)
+            k += 1
+    assert np.array_equal(rows, expected)
+    gaps = np.diff(rows)
+    assert np.all(gaps > interval - dt) and np.all(gaps < interval + dt)
+    assert gaps.min() < interval < gaps.max()  # the spacing really varies
+
+
 def test_stations_outside_the_interface_are_a_config_error(cli, repo, tmp_path):
     r = subprocess.run([str(cli), "run", str(repo / "configs/reference.toml"), "--out", str(tmp_path / "x.h5"),
                         "--set", "output.stations=[0.5, 4.5]"], capture_output=True, text=True, timeout=60)
