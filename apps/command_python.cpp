@@ -15,6 +15,9 @@ std::vector<Command> add_python_commands(CLI::App& app) {
                                             " (see docs/analysis.md, docs/scans.md); arguments are forwarded");
     py->allow_extras();
     py->prefix_command();
+    // No help flag of our own: `slipstrip export --help` goes to the Python
+    // command, whose help lists its real options (ours would list only -h).
+    py->set_help_flag();
     commands.push_back({py, [py, name = std::string(name)] {
                           std::vector<std::string> args = {name};
                           const auto rest = py->remaining();

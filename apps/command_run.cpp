@@ -169,6 +169,9 @@ int run(const RunOptions& o) {
     out_path = base + ".h5";
   }
   check_output_path(out_path, config_path, o.overwrite);
+  // What the run will cost, and the config's plausibility warnings, before
+  // the limits refuse it or the (possibly long) set-up starts.
+  std::fputs(run_header(config).c_str(), stderr);
   check_resources(config, o.limits);
   warn_if_disk_too_small(config, out_path);
   const bool tty = isatty(fileno(stderr));

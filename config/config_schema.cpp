@@ -14,6 +14,7 @@
 
 #include "config/friction_profile_toml.hpp"
 #include "config/interface_law_name.hpp"
+#include "config/resource_estimate.hpp"
 #include "friction/friction_law.hpp"
 #include "friction/parameter_profile.hpp"
 #include "kernels/elastic_material.hpp"
@@ -91,6 +92,51 @@ constexpr KeyBinding friction_parameter() {
 
 constexpr ValueRange positive{.low = 0.0};
 constexpr ValueRange non_negative{.low = 0.0, .low_inclusive = true};
+
+// ---------------------------------------------------------------------------
+// Plausibility rules: warnings, never errors (docs/config.md, "Warnings").
+
+// Above this H/L the strips slide as two half-spaces at every wavelength up
+// to L (static stiffness coth(2 pi H/L) = 1 to ~1e-27, and echoes from the
+// far boundary return only after 2H/c_s >= 20 L/c_s), yet a strip costs ~H/dx
+// normal modes per Fourier mode.  The paper's complexity range is 0.01-0.1.
+constexpr double kMaxPlausibleHeightRatio = 10.0;
+// Normal stresses of friction experiments and faults: a kPa (soft
+// materials) to a GPa; outside, the value is most likely in the wrong unit.
+constexpr double kMinPlausibleNormalStress = 1e3;
+constexpr double kMaxPlausibleNormalStress = 1e9;
+
+std::string height_plausibility(const SimulationConfig& c) {
+  const double ratio = c.geometry.height / c.geometry.length;
+  if (is_half_space(c.geometry.height) || ratio <= kMaxPlausibleHeightRatio) return {};
+  return "geometry.height = " + format_short(c.geometry.height) + " m is H/L = " + format_short(ratio) +
+         " (geometry.length = " + format_short(c.geometry.length) +
+         " m): strips this tall slide as two half-spaces at every wavelength up to L, but cost ~H/dx "
+         "strip modes per Fourier mode (see the history operator above); if H is in mm, give it in m "
+         "(5 cm = 0.05), or use geometry.height = \"inf\" for half-spaces";
+}
+
+std::string normal_stress_plausibility(const SimulationConfig& c) {
+  const double sigma = c.loading.normal_stress;
+  if (sigma >= kMinPlausibleNormalStress && sigma <= kMaxPlausibleNormalStress) return {};
+  return "loading.normal_stress = " + format_short(sigma) + " Pa is outside " +
+         format_short(kMinPlausibleNormalStress) + " ... " + format_short(kMaxPlausibleNormalStress) +
+         " Pa, the normal stresses of friction experiments and faults: the key is in Pa (1 MPa = 1e6)";
+}
+
+std::string delta_th_plausibility(const SimulationConfig& c) {
+  if (!(c.output.delta_th > 0.0)) return {};
+  const double dt = estimate_resources(c).time_step;
+  const double slip_per_step = c.loading.driving_velocity * dt;
+  if (!(slip_per_step > c.output.delta_th)) return {};
+  return "each time step slips v0 dt = " + format_short(slip_per_step) + " m = " +
+         format_short(slip_per_step / c.output.delta_th) + " output.delta_th at the loading rate (loading." +
+         "driving_velocity = " + format_short(c.loading.driving_velocity) + " m/s, dt = " + format_short(dt) +
+         " s): several slip levels are crossed within one step, where their times are only "
+         "interpolated, so the event catalog is coarser than its slip sampling, and the file grows with "
+         "v0 t / delta_th; check that loading.driving_velocity is in m/s (2 mm/s = 2e-3), or raise "
+         "output.delta_th";
+}
 
 // ---------------------------------------------------------------------------
 // Rules that involve other keys or the physics.
@@ -199,7 +245,10 @@ constexpr ConfigKey kKeys[] = {
      .generous = {1e-6, true, 1e6, true},
      .help = "H, height of each of the two strips; `\"inf\"` (or TOML `inf`) = two half-spaces",
      .comment = "H [m] of each strip; \"inf\" = half-space",
-     .bind = real_member<&C::geometry, &GeometryConfig::height>()},
+     .bind = real_member<&C::geometry, &GeometryConfig::height>(),
+     .plausibility = height_plausibility,
+     .plausibility_text = "H/L > 10: the strips slide as half-spaces at every wavelength up to L but cost "
+                          "~H/dx strip modes per Fourier mode (a height in mm?)"},
     {.section = "geometry", .name = "nodes", .type = KeyType::integer, .noun = "an integer",
      .allowed = {8.0, true, static_cast<double>(kMaxNodes), true},
      .help = "N interface nodes, dx = L/N", .comment = "N, dx = L/N",
@@ -242,7 +291,10 @@ constexpr ConfigKey kKeys[] = {
      .comment = "v0 [m/s]", .bind = real_member<&C::loading, &LoadingConfig::driving_velocity>()},
     {.section = "loading", .name = "normal_stress", .unit = "Pa", .noun = "a compressive stress",
      .allowed = positive, .generous = {1.0, true, 1e11, true}, .help = "sigma0, compressive",
-     .comment = "sigma0 [Pa]", .bind = real_member<&C::loading, &LoadingConfig::normal_stress>()},
+     .comment = "sigma0 [Pa]", .bind = real_member<&C::loading, &LoadingConfig::normal_stress>(),
+     .plausibility = normal_stress_plausibility,
+     .plausibility_text = "outside 1 kPa ... 1 GPa, the normal stresses of friction experiments and "
+                          "faults (MPa written as Pa?)"},
 
     // [friction] ------------------------------------------------------------
     {.section = "friction", .name = "law", .type = KeyType::choice,
@@ -255,11 +307,15 @@ constexpr ConfigKey kKeys[] = {
     {.section = "friction", .name = "a", .type = KeyType::friction_parameter, .noun = "a",
      .allowed = non_negative, .generous = {.high = kMaxFrictionCoefficient, .high_inclusive = true},
      .rule_text = "> 0 for `\"regularized\"`, which divides by a",
-     .help = "direct effect", .comment = "[-]",
+     .help = "direct (rate) effect; steady sliding strengthens with velocity (is stable) where a > f0 b "
+             "in the paper law (for v >> v*), a > b in the DR forms (docs/friction.md)",
+     .comment = "[-]",
      .bind = friction_parameter<&FrictionParameters::a, &FrictionProfiles::a>()},
     {.section = "friction", .name = "b", .type = KeyType::friction_parameter, .noun = "b",
      .allowed = non_negative, .generous = {.high = kMaxFrictionCoefficient, .high_inclusive = true},
-     .help = "state effect", .comment = "[-]",
+     .help = "state effect; in the paper law (Eq. S1) it multiplies f0, so the Dieterich-Ruina b is "
+             "f0 b (0.021 for Table S1); in the DR forms it is the DR b itself (docs/friction.md)",
+     .comment = "[-]",
      .bind = friction_parameter<&FrictionParameters::b, &FrictionProfiles::b>()},
     {.section = "friction", .name = "characteristic_slip", .type = KeyType::friction_parameter,
      .unit = "m", .noun = "a slip distance D", .allowed = positive,
@@ -429,7 +485,10 @@ constexpr ConfigKey kKeys[] = {
          throw KeyOutOfRange(format_config_number(v),
                              "0 (off) or a slip threshold >= " + format_config_number(kMinDeltaTh) +
                                  " [m] (every node writes one crossing time per delta_th of slip)");
-     }},
+     },
+     .plausibility = delta_th_plausibility,
+     .plausibility_text = "the slip of one time step at the loading rate, v0 dt, exceeds delta_th: the "
+                          "event catalog is coarser than its slip sampling (v0 in mm/s?)"},
     {.section = "output", .name = "flush_interval", .unit = "s (wall clock)",
      .noun = "a wall-clock time", .allowed = positive,
      .allowed_message = "a wall-clock time > 0 [s]", .help = "between writes of the output file",
@@ -537,6 +596,20 @@ std::string format_bound(double value) {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   return std::string(buffer, result.ptr);
+}
+
+std::string format_short(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 3);
+  return std::string(buffer, result.ptr);
+}
+
+std::vector<std::string> plausibility_warnings(const SimulationConfig& config) {
+  std::vector<std::string> warnings;
+  for (const auto& k : kKeys)
+    if (k.plausibility != nullptr)
+      if (std::string warning = k.plausibility(config); !warning.empty()) warnings.push_back(std::move(warning));
+  return warnings;
 }
 
 std::string quote_toml(std::string_view text) {

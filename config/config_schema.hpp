@@ -119,6 +119,13 @@ struct ConfigKey {
   void (*real_rule)(const SimulationConfig&, double) = nullptr;
   void (*integer_rule)(const SimulationConfig&, std::int64_t) = nullptr;
   void (*list_rule)(const SimulationConfig&, const std::vector<double>&) = nullptr;
+  // A plausibility rule: the config is valid, but the key's value looks like a
+  // unit mistake or would degrade the result.  Given the whole resolved
+  // config, it returns the warning (naming the key, the value, why and what
+  // to change), or "" when the value is plausible.  Never an error: the run
+  // goes on.  `plausibility_text` says in docs/config.md when it warns.
+  std::string (*plausibility)(const SimulationConfig&) = nullptr;
+  std::string_view plausibility_text = {};
 
   std::string full_name() const { return std::string(section) + "." + std::string(name); }
 };
@@ -141,6 +148,8 @@ const ConfigKey* find_config_key(std::string_view section, std::string_view name
 std::string format_config_number(double value);
 // Shortest decimal text without a forced ".0" ("0", "0.4", "1e-12").
 std::string format_bound(double value);
+// Three significant digits, for estimates and warnings ("0.0183", "6.5e+03").
+std::string format_short(double value);
 // A TOML basic string.
 std::string quote_toml(std::string_view text);
 
@@ -153,6 +162,11 @@ std::string allowed_text(const ConfigKey& key);
 // The generous range as messages say it: "a length between 1e-06 and 1e+06 [m]
 // (the physically generous range of docs/config.md)".
 std::string generous_text(const ConfigKey& key);
+
+// The warnings of every key's plausibility rule for a resolved config, in key
+// order (empty when everything is plausible).  The CLI prints them in the run
+// header, `scan --dry-run` per run, and Python's run() as warnings.
+std::vector<std::string> plausibility_warnings(const SimulationConfig& config);
 
 // The value of `key` in `config` as TOML text (what to_toml writes after "=").
 std::string toml_value_text(const ConfigKey& key, const SimulationConfig& config);

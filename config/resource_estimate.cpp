@@ -1,10 +1,10 @@
 #include "config/resource_estimate.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <limits>
 
 #include "config/config.hpp"
+#include "config/config_schema.hpp"
 #include "kernels/strip_response.hpp"
 
 namespace slipstrip {
@@ -25,10 +25,36 @@ constexpr double kBlockBytesPerMode = 64.0 + 48.0 * 2.0 + 16.0;
 // direct window of sampled weights (kernels/half_space_history.hpp).
 constexpr double kHalfSpaceBytesPerFourierMode = 300.0 * 64.0 + 512.0 * 24.0;
 
-std::string number(double value) {
-  char buffer[64];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 3);
-  return std::string(buffer, r.ptr);
+// Wall time per step on one core: a fixed part (bookkeeping, a time-series
+// row), the FFT pair and friction solve per node, and the history operator
+// per Fourier mode.  Fitted to `slipstrip bench` on a quiet core
+// (docs/performance.md, N = 2048: floor 79 us, whole step 196/243/269 us for
+// block strips with H = 0.1/1/4 m, 324 us for the half-space) and to small
+// modal runs; good to a factor of ~2, enough to show a unit mistake (which is
+// a factor of 10 or more).  The progress bar's ETA measures the real rate.
+constexpr double kStepFixedSeconds = 1e-5;
+constexpr double kStepSecondsPerNode = 4e-8;
+constexpr double kModalSecondsPerMode = 1.6e-9;     // per normal mode per Fourier mode
+constexpr double kBlockSecondsPerFourierMode = 1.4e-7;
+constexpr double kHalfSpaceSecondsPerFourierMode = 2.4e-7;
+
+
+std::string bytes_text(double bytes) {
+  constexpr const char* kUnits[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+  int unit = 0;
+  while (bytes >= 1024.0 && unit < 4) {
+    bytes /= 1024.0;
+    ++unit;
+  }
+  return format_short(bytes) + " " + kUnits[unit];
+}
+
+std::string duration_text(double seconds) {
+  if (!(seconds < 1e12)) return format_short(seconds) + " s";
+  if (seconds < 120.0) return format_short(seconds) + " s";
+  if (seconds < 7200.0) return format_short(seconds / 60.0) + " min";
+  if (seconds < 2.0 * 86400.0) return format_short(seconds / 3600.0) + " h";
+  return format_short(seconds / 86400.0) + " days";
 }
 
 }  // namespace
@@ -57,6 +83,12 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
     e.operator_bytes = fourier_modes * e.modes_per_fourier_mode * per_mode + 8.0 * e.echo_steps;
   }
   e.steps = c.time.duration / e.time_step;
+  double history_seconds = fourier_modes * kHalfSpaceSecondsPerFourierMode;
+  if (!is_half_space(c.geometry.height))
+    history_seconds = e.block_history ? fourier_modes * kBlockSecondsPerFourierMode
+                                      : fourier_modes * e.modes_per_fourier_mode * kModalSecondsPerMode;
+  e.step_seconds = kStepFixedSeconds + kStepSecondsPerNode * n + history_seconds;
+  e.wall_seconds = e.steps * e.step_seconds;
 
   // Output: uncompressed sizes (snapshots are compressed in the file, so this
   // is an upper bound for them; slip sampling is not compressed).
@@ -81,46 +113,73 @@ void check_resources(const SimulationConfig& c, const ResourceLimits& limits) {
   const ResourceEstimate e = estimate_resources(c);
   // Steps first: an overflowing count makes every other estimate meaningless.
   if (!(e.steps <= limits.max_steps))
-    throw ConfigError("time.duration = " + number(c.time.duration) + " s needs " + number(e.steps) +
-                      " time steps of dt = " + number(e.time_step) +
+    throw ConfigError("time.duration = " + format_short(c.time.duration) + " s needs " + format_short(e.steps) +
+                      " time steps of dt = " + format_short(e.time_step) +
                       " s (set by geometry.length/geometry.nodes, geometry.height, time.beta and "
                       "the wave speed sqrt(material.shear_modulus/material.density)): allowed at "
-                      "most " + number(limits.max_steps) + " steps (--max-steps raises the limit)");
+                      "most " + format_short(limits.max_steps) + " steps (--max-steps raises the limit)");
   if (e.steps < 0.5)
-    throw ConfigError("time.duration = " + number(c.time.duration) +
-                      " s is shorter than half a time step (dt = " + number(e.time_step) +
+    throw ConfigError("time.duration = " + format_short(c.time.duration) +
+                      " s is shorter than half a time step (dt = " + format_short(e.time_step) +
                       " s): the run would take 0 steps; expected a duration >= dt");
   // An index of strip normal modes must fit an int (kernels/strip_response.cpp).
   if (e.modes_per_fourier_mode > 1e9)
-    throw ConfigError("geometry.height = " + number(c.geometry.height) + " m is " +
-                      number(c.geometry.height / (c.geometry.length / c.geometry.nodes)) +
-                      " grid spacings: the strip would carry " + number(e.modes_per_fourier_mode) +
-                      " normal modes per Fourier mode (time.beta = " + number(c.time.beta) +
+    throw ConfigError("geometry.height = " + format_short(c.geometry.height) + " m is " +
+                      format_short(c.geometry.height / (c.geometry.length / c.geometry.nodes)) +
+                      " grid spacings: the strip would carry " + format_short(e.modes_per_fourier_mode) +
+                      " normal modes per Fourier mode (time.beta = " + format_short(c.time.beta) +
                       "); allowed at most 1e9 (use geometry.height = \"inf\" for a half-space)");
   const double gib = e.operator_bytes / kGiB;
   if (!(gib <= limits.max_operator_gib)) {
     std::string drivers = is_half_space(c.geometry.height)
                               ? "geometry.nodes = " + std::to_string(c.geometry.nodes)
                               : "geometry.nodes = " + std::to_string(c.geometry.nodes) +
-                                    ", geometry.height = " + number(c.geometry.height) +
-                                    " m, time.beta = " + number(c.time.beta) + " (" +
-                                    number(e.modes_per_fourier_mode) +
+                                    ", geometry.height = " + format_short(c.geometry.height) +
+                                    " m, time.beta = " + format_short(c.time.beta) + " (" +
+                                    format_short(e.modes_per_fourier_mode) +
                                     " strip normal modes per Fourier mode, " +
                                     (e.block_history ? "block" : "modal") + " history)";
-    throw ConfigError("history operator needs ~" + number(gib) + " GiB for " + drivers +
-                      ": allowed at most " + number(limits.max_operator_gib) +
+    throw ConfigError("history operator needs ~" + format_short(gib) + " GiB for " + drivers +
+                      ": allowed at most " + format_short(limits.max_operator_gib) +
                       " GiB (--max-memory-gib raises the limit)");
   }
   const double out_gib = e.output_bytes / kGiB;
   if (!(out_gib <= limits.max_output_gib))
-    throw ConfigError("output file would hold ~" + number(out_gib) + " GiB (time.duration = " +
-                      number(c.time.duration) + " s, output.delta_th = " + number(c.output.delta_th) +
-                      " m, output.timeseries_interval = " + number(c.output.timeseries_interval) +
-                      " s, output.snapshot_interval = " + number(c.output.snapshot_interval) +
+    throw ConfigError("output file would hold ~" + format_short(out_gib) + " GiB (time.duration = " +
+                      format_short(c.time.duration) + " s, output.delta_th = " + format_short(c.output.delta_th) +
+                      " m, output.timeseries_interval = " + format_short(c.output.timeseries_interval) +
+                      " s, output.snapshot_interval = " + format_short(c.output.snapshot_interval) +
                       " s, output.snapshot_slip_increment = " +
-                      number(c.output.snapshot_slip_increment) + " m, geometry.nodes = " +
+                      format_short(c.output.snapshot_slip_increment) + " m, geometry.nodes = " +
                       std::to_string(c.geometry.nodes) + "): allowed at most " +
-                      number(limits.max_output_gib) + " GiB (--max-output-gib raises the limit)");
+                      format_short(limits.max_output_gib) + " GiB (--max-output-gib raises the limit)");
+}
+
+std::string run_header(const SimulationConfig& c) {
+  const ResourceEstimate e = estimate_resources(c);
+  const double transit = c.geometry.length / c.material.shear_wave_speed();
+  std::string out = "run: " + format_short(e.steps) + " steps of dt = " + format_short(e.time_step) + " s over " +
+                    format_short(c.time.duration) + " s (" + format_short(c.time.duration / transit) +
+                    " L/c_s); wall time ~" + duration_text(e.wall_seconds) +
+                    " on one core (rough estimate) plus the set-up\n";
+  const double dx = c.geometry.length / c.geometry.nodes;
+  if (is_half_space(c.geometry.height)) {
+    out += "  H = inf (two half-spaces), L = " + format_short(c.geometry.length) + " m, N = " +
+           std::to_string(c.geometry.nodes) + " (dx = " + format_short(dx) + " m); history operator ~" +
+           bytes_text(e.operator_bytes) + "\n";
+  } else {
+    out += "  H = " + format_short(c.geometry.height) + " m, H/L = " + format_short(c.geometry.height / c.geometry.length) +
+           ", N = " + std::to_string(c.geometry.nodes) + " (dx = " + format_short(dx) + " m); history operator ~" +
+           bytes_text(e.operator_bytes) + " (" + (e.block_history ? "block" : "modal") + ", " +
+           format_short(e.modes_per_fourier_mode) + " strip modes per Fourier mode)\n";
+  }
+  const double slip_per_step = c.loading.driving_velocity * e.time_step;
+  out += "  output up to ~" + bytes_text(e.output_bytes) + " (uncompressed estimate); slip per step at v0: " +
+         format_short(slip_per_step) + " m" +
+         (c.output.delta_th > 0.0 ? " = " + format_short(slip_per_step / c.output.delta_th) + " delta_th\n"
+                                  : std::string(" (no slip sampling: output.delta_th = 0)\n"));
+  for (const std::string& warning : plausibility_warnings(c)) out += "warning: " + warning + "\n";
+  return out;
 }
 
 }  // namespace slipstrip

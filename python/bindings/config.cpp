@@ -10,6 +10,7 @@
 
 #include "config/config.hpp"
 #include "config/config_schema.hpp"
+#include "config/resource_estimate.hpp"
 #include "kernels/elastic_material.hpp"
 
 namespace py = pybind11;
@@ -153,6 +154,12 @@ void bind_config(py::module_& m) {
   m.def("config_schema", &config_schema,
         "Every config key (config/config_schema.cpp) as a dict: section, name, type, unit, default, "
         "allowed, help, alternative_to, choices.");
+  m.def("plausibility_warnings", &slipstrip::plausibility_warnings, py::arg("config"),
+        "The config's plausibility warnings (config/config_schema.hpp): valid values that look like a unit "
+        "mistake or degrade the result; [] when none.");
+  m.def("run_header", &slipstrip::run_header, py::arg("config"),
+        "What the run will cost (steps, wall time, history-operator memory, output size, slip per step) and "
+        "its plausibility warnings, as `slipstrip run` prints them.");
   m.def("load_config_file", &slipstrip::load_config_file, py::arg("path"),
         py::arg("overrides") = std::vector<std::string>{},
         "Read, override ('section.key=value') and validate a TOML file.  Raises ConfigError.");

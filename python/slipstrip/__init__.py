@@ -14,6 +14,7 @@ SI units everywhere.  See docs/python.md for an overview with examples.
 from __future__ import annotations
 
 import os
+import warnings
 from typing import Any, Callable, Iterable
 
 import numpy as np
@@ -38,7 +39,7 @@ from ._slipstrip import (  # noqa: F401  (re-exported)
     write_event_catalog_csv,
     write_slip_sampling,
 )
-from .config import Config, load_config, overrides_from, to_toml_text  # noqa: F401
+from .config import Config, ConfigWarning, load_config, overrides_from, to_toml_text  # noqa: F401
 from .export import SeasFile, read_seas  # noqa: F401
 from .runfile import RunFile, open_run  # noqa: F401
 
@@ -46,7 +47,7 @@ __version__ = _slipstrip.code_version
 git_hash = _slipstrip.git_hash
 
 __all__ = [
-    "Config", "ConfigError", "ElasticMaterial", "LocalSolveFailure", "RunFile", "RunResult",
+    "Config", "ConfigError", "ConfigWarning", "ElasticMaterial", "LocalSolveFailure", "RunFile", "RunResult",
     "Simulation", "SimulationError", "characteristic_roots", "critical_wavelength",
     "critical_wavelength_vs_height", "detect_events", "detect_events_in_file", "detect_events_into_file", "growth_rates",
     "half_space_response", "linearise_friction", "load_config", "most_unstable_root", "open_run",
@@ -107,6 +108,8 @@ def run(config, out_path: str | os.PathLike, progress: Callable[[dict], Any] | N
     it is reported in RunResult.status ("diverged: ...").
     """
     cfg = load_config(config, overrides)
+    for text in cfg.warnings():  # valid but implausible values (docs/config.md, "Warnings")
+        warnings.warn(text, ConfigWarning, stacklevel=2)
     return _slipstrip._run(cfg, os.fspath(out_path), progress, progress_interval)
 
 

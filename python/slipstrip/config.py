@@ -17,7 +17,13 @@ from typing import Any, Iterable, Mapping
 
 from . import _slipstrip
 
-__all__ = ["Config", "load_config", "to_toml_text", "overrides_from", "config_schema"]
+__all__ = ["Config", "ConfigWarning", "load_config", "to_toml_text", "overrides_from", "config_schema"]
+
+
+class ConfigWarning(UserWarning):
+    """A valid config value that looks like a unit mistake or degrades the
+    result (the plausibility rules of config/config_schema.cpp, docs/config.md
+    "Warnings"): issued by slipstrip.run(), printed by `slipstrip run`."""
 
 _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
 
@@ -154,6 +160,14 @@ class Config(_slipstrip._Config):
 
     def __getitem__(self, section: str) -> dict[str, Any]:
         return self.as_dict()[section]
+
+    def warnings(self) -> list[str]:
+        """The plausibility warnings of this config (docs/config.md, "Warnings"); [] when none."""
+        return list(_slipstrip.plausibility_warnings(self))
+
+    def run_header(self) -> str:
+        """What a run of this config will cost and its warnings, as `slipstrip run` prints them."""
+        return _slipstrip.run_header(self)
 
     def with_overrides(self, overrides) -> "Config":
         """A new Config: this one with overrides applied (and validated)."""

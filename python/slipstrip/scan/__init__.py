@@ -17,7 +17,7 @@ Modules:
 """
 from .cli import main
 from .executors import Progress, emit_slurm, plan, run_dask, run_local, run_scan
-from .spec import (Parameter, RunTask, ScanSpec, dry_run_lines, expand_runs, format_override, invalid_runs, load_scan,
+from .spec import (Parameter, RunTask, ScanSpec, check_runs, dry_run_lines, expand_runs, format_override, invalid_runs, load_scan,
                    run_file_name)
 from .summary import (STATUS_COLUMNS, SUMMARY_CSV, SUMMARY_H5, TRAILING_COLUMNS, collect, duration_pdf,
                       height_round_trip_time, plot_duration_pdfs, read_summary, table_columns, write_summary)
@@ -26,7 +26,7 @@ from .task import (ANALYSIS_KEYS, execute_task, find_binary, has_restart_point, 
                    kernel_cache_override, restart_point, summarize_run_file, task_payload)
 
 __all__ = [
-    "ANALYSIS_KEYS", "Parameter", "Progress", "RunTask", "STATUS_COLUMNS", "SUMMARY_CSV", "SUMMARY_H5",
+    "ANALYSIS_KEYS", "check_runs", "Parameter", "Progress", "RunTask", "STATUS_COLUMNS", "SUMMARY_CSV", "SUMMARY_H5",
     "ScanSpec", "TRAILING_COLUMNS", "collect", "dry_run_lines", "duration_pdf", "emit_slurm", "execute_task",
     "expand_runs", "find_binary", "format_override", "has_restart_point", "height_round_trip_time", "invalid_runs",
     "is_completed", "kernel_cache_override", "load_scan", "lock_path", "RunBusy", "RunLock", "ScanInterrupted",

@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 from .executors import emit_slurm, run_scan
-from .spec import dry_run_lines, expand_runs, invalid_runs, load_scan
+from .spec import check_runs, dry_run_lines, expand_runs, load_scan
 from .stopping import ScanInterrupted, StopSignals, exit_code
 from .summary import SUMMARY_CSV, SUMMARY_H5, collect, plot_duration_pdfs
 from .task import execute_task, find_binary
@@ -55,7 +55,9 @@ def main(argv: list[str] | None = None) -> int:
         spec = load_scan(args.scan, args.out)
         if args.dry_run:
             print("\n".join(dry_run_lines(spec)))
-            errors = invalid_runs(spec)
+            errors, warnings = check_runs(spec)
+            for line in warnings:
+                print(f"warning: {line}", file=sys.stderr)
             for line in errors:
                 print(f"error: {line}", file=sys.stderr)
             if errors:

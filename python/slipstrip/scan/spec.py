@@ -5,7 +5,7 @@ A scan file names a base config, fixed overrides and varied parameters
 `load_scan` checks it and raises ValueError naming the field, the value and
 what is allowed; `expand_runs` turns it into one RunTask per run, each with
 its `section.key=value` overrides (`slipstrip run --set` syntax) and its run
-file name; `invalid_runs` checks each run's resolved config with the
+file name; `check_runs` checks each run's resolved config with the
 solver's own config reader (the bindings).  Nothing here runs anything.
 """
 from __future__ import annotations
@@ -245,16 +245,25 @@ def dry_run_lines(spec: ScanSpec) -> list[str]:
     return [f"{task.run_file}  " + " ".join(f"--set {o}" for o in task.overrides) for task in expand_runs(spec)]
 
 
-def invalid_runs(spec: ScanSpec) -> list[str]:
-    """The runs whose config (base config + overrides) the solver would refuse:
-    one line per run, "run <i> (<file>): <the config reader's message>".
-    The same C++ reader as `slipstrip run` (config/config.cpp), so a misspelt
-    key gets its "did you mean" here, before anything runs."""
+def check_runs(spec: ScanSpec) -> tuple[list[str], list[str]]:
+    """Every run's config (base config + overrides) read by the solver's own
+    config reader (config/config.cpp, through the bindings), so a misspelt key
+    gets its "did you mean" before anything runs.  Returns (errors, warnings):
+    one line per refused run, "run <i> (<file>): <the reader's message>", and
+    one per plausibility warning of an accepted run (docs/config.md, "Warnings")."""
     from ..config import Config  # the compiled bindings: only needed here
-    errors = []
+    errors, warnings = [], []
     for task in expand_runs(spec):
+        where = f"run {task.index} ({task.run_file.name})"
         try:
-            Config.from_file(spec.base_config, list(task.overrides))
+            config = Config.from_file(spec.base_config, list(task.overrides))
         except ValueError as e:  # slipstrip.ConfigError
-            errors.append(f"run {task.index} ({task.run_file.name}): {e}")
-    return errors
+            errors.append(f"{where}: {e}")
+            continue
+        warnings += [f"{where}: {w}" for w in config.warnings()]
+    return errors, warnings
+
+
+def invalid_runs(spec: ScanSpec) -> list[str]:
+    """The runs whose config the solver would refuse (check_runs' errors)."""
+    return check_runs(spec)[0]
