@@ -7,6 +7,7 @@
 
 #include "apps/cli.hpp"
 #include "events/catalog_io.hpp"
+#include "events/event_detection.hpp"
 
 namespace slipstrip::cli {
 namespace {
@@ -33,6 +34,12 @@ int events(const EventsOptions& o) {
               static_cast<unsigned long long>(catalog.n_nodal_slips),
               static_cast<unsigned long long>(catalog.n_events_detected), catalog.n_events(), o.alpha,
               catalog.waiting_time_threshold, target.c_str());
+  if (catalog.n_events() == 0) {
+    // The catalog (its counts) is written, but holds nothing to work with:
+    // say why and what to change, and exit 1 as `analyze` does.
+    std::fprintf(stderr, "events: %s\n", events::empty_catalog_reason(catalog).c_str());
+    return 1;
+  }
   return 0;
 }
 

@@ -176,9 +176,6 @@ int run(const RunOptions& o) {
   warn_if_disk_too_small(config, out_path);
   const bool tty = isatty(fileno(stderr));
   const RunHooks hooks = run_hooks(o.quiet, tty, o.stop_after_steps);
-  // A new run: a restart point left by an earlier run of this name (replaced
-  // with --overwrite) must not be taken for this run's.
-  remove_checkpoint(out_path);
   std::fprintf(stderr, "slipstrip %s (%s): %s -> %s\n", code_version, git_hash, config_path.c_str(),
                out_path.c_str());
   RunResult result;

@@ -367,4 +367,29 @@ EventCatalog detect_events(const CrossingTimeSource& source, const SlipSamplingI
   return catalog;
 }
 
+std::string empty_catalog_reason(const EventCatalog& c, double run_duration) {
+  if (c.n_events() > 0) return "";
+  std::ostringstream s;
+  s.precision(3);
+  s << "0 events kept (" << c.n_nodal_slips << " nodal slips, " << c.n_events_detected
+    << " events detected with alpha = " << c.options.alpha << "): ";
+  if (c.n_nodal_slips == 0) {
+    s << "no node slipped by output.delta_th = " << c.delta_th << " m";
+    if (run_duration > 0.0 && c.v0 > 0.0) s << " (the mean slip of the run is v0 t = " << c.v0 * run_duration << " m)";
+    s << ": run longer (time.duration) or lower output.delta_th";
+  } else if (c.n_events_below_thresholds == 0) {
+    s << "the first and the last event are always excluded (docs/events.md) and there were no others: the run "
+      << "is too short";
+    if (run_duration > 0.0) s << " (" << run_duration << " s)";
+    s << " or slides steadily; run longer (time.duration_transits), or give a smaller --alpha to split the "
+      << "slip into more events";
+  } else {
+    s << "all " << c.n_events_below_thresholds << " events between the first and the last are below the size "
+      << "thresholds (" << c.options.min_extent_dx << " dx in extent, " << c.options.min_mean_slip_dth
+      << " delta_th of mean slip; docs/events.md): lower output.delta_th (now " << c.delta_th
+      << " m) to resolve smaller events, or run longer";
+  }
+  return s.str();
+}
+
 }  // namespace slipstrip::events

@@ -190,4 +190,12 @@ double waiting_time_threshold(double alpha, double delta_th, double v0, std::siz
 EventCatalog detect_events(const CrossingTimeSource& source, const SlipSamplingInfo& info,
                            const EventDetectionOptions& options = {});
 
+// Why `catalog` keeps no event and what to change, as one line from its
+// counts (docs/events.md): no nodal slip at all (delta_th above the slip of
+// the run), nothing but the first and the last event (always excluded), or
+// every other event below the size filters.  run_duration [s] is the
+// simulated time, quoted when known (> 0).  Empty if the catalog keeps events.
+// `slipstrip events` and `analyze` both report it.
+std::string empty_catalog_reason(const EventCatalog& catalog, double run_duration = 0.0);
+
 }  // namespace slipstrip::events

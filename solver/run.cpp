@@ -250,6 +250,9 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
 
 RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
                          const RunHooks& hooks) {
+  // A new run: a restart point left by an earlier run of this name (its file
+  // replaced with --overwrite or overwrite=True) must not be taken for this one's.
+  remove_checkpoint(output_path);
   return drive(config, output_path, hooks, nullptr);
 }
 

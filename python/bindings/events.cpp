@@ -296,4 +296,22 @@ void bind_events(py::module_& m) {
       py::arg("path"));
   m.def("waiting_time_threshold", &ev::waiting_time_threshold, py::arg("alpha"), py::arg("delta_th"), py::arg("v0"),
         py::arg("n_nodes"), "alpha * delta_th / (v0 * n_nodes) [s]");
+  m.def(
+      "empty_catalog_reason",
+      [](const py::dict& attrs, double run_duration) -> std::string {
+        if (scalar_or<std::uint64_t>(attrs, "n_events", 0) > 0) return "";
+        ev::EventCatalog c;  // only the counts and scales the reason quotes
+        c.options.alpha = scalar_or(attrs, "alpha", c.options.alpha);
+        c.options.min_extent_dx = scalar_or(attrs, "min_extent_dx", c.options.min_extent_dx);
+        c.options.min_mean_slip_dth = scalar_or(attrs, "min_mean_slip_dth", c.options.min_mean_slip_dth);
+        c.delta_th = scalar_or(attrs, "delta_th", 0.0);
+        c.v0 = scalar_or(attrs, "v0", 0.0);
+        c.n_nodal_slips = scalar_or<std::uint64_t>(attrs, "n_nodal_slips", 0);
+        c.n_events_detected = scalar_or<std::uint64_t>(attrs, "n_events_detected", 0);
+        c.n_events_below_thresholds = scalar_or<std::uint64_t>(attrs, "n_events_below_thresholds", 0);
+        return ev::empty_catalog_reason(c, run_duration);
+      },
+      py::arg("attrs"), py::arg("run_duration") = 0.0,
+      "Why a catalog keeps no event and what to change (one line; '' if it keeps events), from the "
+      "attributes of its /events group (docs/events.md); run_duration [s] is quoted when > 0.");
 }

@@ -41,13 +41,15 @@ from ._slipstrip import (  # noqa: F401  (re-exported)
 )
 from .config import Config, ConfigWarning, load_config, overrides_from, to_toml_text  # noqa: F401
 from .export import SeasFile, read_seas  # noqa: F401
+from .paths import OutputPathError, check_outputs  # noqa: F401
 from .runfile import RunFile, open_run  # noqa: F401
 
 __version__ = _slipstrip.code_version
 git_hash = _slipstrip.git_hash
 
 __all__ = [
-    "Config", "ConfigError", "ConfigWarning", "ElasticMaterial", "LocalSolveFailure", "RunFile", "RunResult",
+    "Config", "ConfigError", "ConfigWarning", "ElasticMaterial", "LocalSolveFailure", "OutputPathError", "RunFile",
+    "RunResult",
     "Simulation", "SimulationError", "characteristic_roots", "critical_wavelength",
     "critical_wavelength_vs_height", "detect_events", "detect_events_in_file", "detect_events_into_file", "growth_rates",
     "half_space_response", "linearise_friction", "load_config", "most_unstable_root", "open_run",
@@ -95,8 +97,13 @@ class Simulation(_slipstrip._Simulation):
 
 
 def run(config, out_path: str | os.PathLike, progress: Callable[[dict], Any] | None = None,
-        overrides=None, progress_interval: float = 0.5) -> RunResult:
+        overrides=None, progress_interval: float = 0.5, overwrite: bool = False) -> RunResult:
     """Run a whole simulation and write the HDF5 run file (docs/output.md).
+
+    As `slipstrip run --out`, an existing out_path is refused (OutputPathError,
+    a ValueError) unless overwrite=True, and never replaces the config file it
+    was given; a directory that cannot take the file is found before the
+    set-up (slipstrip.paths).
 
     progress(p) is called about every progress_interval seconds of wall time
     and once at the end, with p a dict: time [s], duration [s], step,
@@ -108,6 +115,8 @@ def run(config, out_path: str | os.PathLike, progress: Callable[[dict], Any] | N
     it is reported in RunResult.status ("diverged: ...").
     """
     cfg = load_config(config, overrides)
+    config_file = [config] if isinstance(config, (str, os.PathLike)) and os.path.isfile(config) else []
+    check_outputs({"out_path": out_path}, inputs=config_file, overwrite=overwrite, overwrite_flag="overwrite=True")
     for text in cfg.warnings():  # valid but implausible values (docs/config.md, "Warnings")
         warnings.warn(text, ConfigWarning, stacklevel=2)
     return _slipstrip._run(cfg, os.fspath(out_path), progress, progress_interval)

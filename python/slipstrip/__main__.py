@@ -6,7 +6,7 @@
   scan     ...  (slipstrip.scan.main)
   report   RUNDIR --printed PRINTED [--out docs/reproduction.md] [--figures DIR] [--allow-missing]  (slipstrip.report.main)
   transition  RUNS... [--csv F] [--plot PNG]  (slipstrip.transition.main: long-time state of each run)
-  export   RUN.h5 --seas DIR  (slipstrip.export.main: SEAS-style station files)
+  export   RUN.h5 --seas DIR [--overwrite]  (slipstrip.export.main: SEAS-style station files)
 
 Each command parses its own arguments (`python3 -m slipstrip <command> -h`).
 """

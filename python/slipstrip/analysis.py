@@ -1227,23 +1227,14 @@ class EmptyCatalog(ValueError):
 def empty_catalog_reason(attrs: dict, info: RunInfo, alpha: float) -> str:
     """Why a catalog holds no event, and what to change, from its counts
     (docs/events.md: n_nodal_slips, n_events_detected, n_events_excluded_first_last,
-    n_events_below_thresholds)."""
-    nodal = int(attrs.get("n_nodal_slips", 0))
-    detected = int(attrs.get("n_events_detected", 0))
-    below = int(attrs.get("n_events_below_thresholds", 0))
-    head = f"0 events kept ({nodal} nodal slips, {detected} events detected with alpha = {alpha:g}): nothing to analyse; "
-    mean_slip = info.v0 * info.duration
-    if nodal == 0:
-        return head + (f"no node slipped by output.delta_th = {info.delta_th:.3g} m (the mean slip of the run is "
-                       f"v0 t = {mean_slip:.3g} m): run longer (time.duration) or lower output.delta_th")
-    if below == 0:
-        return head + ("the first and the last event are always excluded (docs/events.md) and there were no "
-                       f"others: the run is too short ({info.duration:.3g} s = "
-                       f"{info.duration * info.c_s / info.L:.3g} L/c_s) or slides steadily; run longer "
-                       "(time.duration_transits), or give a smaller --alpha to split the slip into more events")
-    return head + (f"all {below} events between the first and the last are below the size thresholds "
-                   "(2 dx in extent, 2 delta_th of mean slip; docs/events.md): lower output.delta_th "
-                   f"(now {info.delta_th:.3g} m) to resolve smaller events, or run longer")
+    n_events_below_thresholds): the message of `slipstrip events`
+    (events::empty_catalog_reason), with the run's duration."""
+    from . import _slipstrip
+    counts = dict(attrs)
+    counts.setdefault("alpha", float(alpha))
+    counts.setdefault("delta_th", info.delta_th)
+    counts.setdefault("v0", info.v0)
+    return _slipstrip.empty_catalog_reason(counts, run_duration=info.duration) + "; nothing to analyse"
 
 
 def format_summary(s: dict) -> str:

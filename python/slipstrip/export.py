@@ -1,7 +1,7 @@
 """Export a run's station records as the plain-text station files of the SCEC
 SEAS benchmarks (docs/output.md, "Stations and SEAS export"):
 
-    python3 -m slipstrip export RUN.h5 --seas DIR
+    python3 -m slipstrip export RUN.h5 --seas DIR [--overwrite]
 
 writes, from /stations and /rupture_front of the run file,
 
@@ -14,6 +14,9 @@ writes, from /stations and /rupture_front of the run file,
   [N/s per metre along the third direction, i.e. mu * integral of v dx];
 * ``rupture.txt`` (if the run recorded fronts): x [m], arrival time [s] of the
   first slip rate above output.front_slip_rate, NaN where it never arrived.
+
+DIR is created if missing; files of these names already in it are refused
+(exit 2, naming the first) unless ``--overwrite`` is given.
 
 As in the SEAS files, slip rate and state are written as log10 and stresses
 in MPa; slip is the full slip (both strips), the shear stress is the total
@@ -38,6 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from . import runfile
+from .paths import OutputPathError, check_outputs
 
 FMT = "%.15e"
 
@@ -60,9 +64,14 @@ def _header(f, run_attrs: dict, config: dict, title: str, columns: list[tuple[st
     f.write(" ".join(name for name, _ in columns) + "\n")
 
 
-def export_seas(run_path, out_dir) -> list[Path]:
+def export_seas(run_path, out_dir, overwrite: bool = False) -> list[Path]:
+    """Writes the SEAS files of `run_path` into `out_dir` (created if missing)
+    and returns their paths.  Files of the same names already in `out_dir`
+    are refused (slipstrip.paths.OutputPathError) unless overwrite=True,
+    before anything is written."""
     import tomllib
     out_dir = Path(out_dir)
+    check_outputs(directories={"--seas": out_dir}, inputs=[run_path])
     written = []
     with runfile.open_h5(run_path) as h5:
         if "stations" not in h5:
@@ -79,12 +88,16 @@ def export_seas(run_path, out_dir) -> list[Path]:
         front = h5["rupture_front/arrival_time"][:] if "rupture_front" in h5 else None
         front_x = h5["rupture_front/x"][:] if front is not None else None
         front_threshold = float(h5["rupture_front"].attrs["slip_rate_threshold"]) if front is not None else None
+    names = [f"station_x{xs:+.4f}.txt" for xs in x] + ["global.txt"] + (["rupture.txt"] if front is not None else [])
+    if out_dir.is_dir():  # the files it would replace, before any is written
+        for name in names:
+            check_outputs({"--seas": out_dir / name}, inputs=[run_path], overwrite=overwrite)
     out_dir.mkdir(parents=True, exist_ok=True)
     columns = [("t", "s"), ("slip", "m"), ("slip_rate", "log10 m/s"), ("shear_stress", "MPa"),
                ("state", "log10 s"), ("normal_stress", "MPa")]
     with np.errstate(divide="ignore"):
         for s, xs in enumerate(x):
-            path = out_dir / f"station_x{xs:+.4f}.txt"
+            path = out_dir / names[s]
             with path.open("w") as f:
                 _header(f, attrs, config, "station time series", columns,
                         [f"# location: x = {xs:.6g} m on the interface (y = 0)",
@@ -149,11 +162,14 @@ def main(argv: list[str]) -> int:
     p = argparse.ArgumentParser(prog="python3 -m slipstrip export",
                                 description="Export a run's stations as SEAS-style text files.")
     p.add_argument("run", help="run file with /stations")
-    p.add_argument("--seas", required=True, metavar="DIR", help="directory for the station files")
+    p.add_argument("--seas", required=True, metavar="DIR",
+                   help="directory for the station files (created if missing)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace files of the same names already in DIR (refused without it)")
     args = p.parse_args(argv)
     try:
-        files = export_seas(args.run, args.seas)
-    except runfile.RunFileError as err:  # names the path itself
+        files = export_seas(args.run, args.seas, overwrite=args.overwrite)
+    except (runfile.RunFileError, OutputPathError) as err:  # these name the path themselves
         print(f"export: {err}", file=sys.stderr)
         return 2
     except (OSError, KeyError, ValueError, TypeError, IndexError, UnicodeDecodeError) as err:

@@ -288,7 +288,12 @@ def classify_directory(paths) -> list[dict]:
     """One row per run file: parameters, state, convergence, agreement."""
     rows = []
     for path in paths:
-        row = _run_parameters(path)
+        try:
+            row = _run_parameters(path)
+        except (OSError, KeyError, ValueError, TypeError) as err:  # not a run file: no parameters either
+            rows.append({"file": str(path), "status": "unreadable", "state": "unreadable", "converged": False,
+                         "agreement": math.nan, "error": " ".join(str(err).split())})
+            continue
         try:
             result = classify_run(path)
         except (OSError, KeyError, ValueError) as err:
@@ -594,12 +599,20 @@ def main(argv: list[str]) -> int:
     for entry in map(Path, args.paths):
         if entry.is_dir():
             # A scan directory also holds its strip-kernel cache (kernel_cache/), not runs.
-            files += sorted(f for f in entry.rglob("*.h5") if "kernel_cache" not in f.relative_to(entry).parts)
-        elif entry.is_file():
-            files.append(entry)
-        else:
-            print(f"error: {entry}: no such file or directory", file=sys.stderr)
+            found = sorted(f for f in entry.rglob("*.h5") if "kernel_cache" not in f.relative_to(entry).parts)
+            if not found:
+                print(f"transition: '{entry}' holds no run files (*.h5): give run files written by `slipstrip run` "
+                      "or the directory of a `slipstrip scan`", file=sys.stderr)
+                return 2
+            files += found
+            continue
+        try:  # a path given by name must be a run file (one line saying what it is instead)
+            runfile.open_h5(entry).close()
+        except runfile.RunFileError as err:
+            print(f"transition: {err}", file=sys.stderr)
             return 2
+        files.append(entry)
+    n_found = len(files)
     if not args.include_unfinished:
         # A running or interrupted run is a shorter record than its config says:
         # its state would be judged on the wrong window.  Listed, not classified.
@@ -634,6 +647,13 @@ def main(argv: list[str]) -> int:
               f"{'converged' if r['converged'] else 'NOT converged'}  agreement {r['agreement']:.2f}")
     if previous:
         print(f"{len(previous)} rows from {', '.join(args.previous)} (classified earlier)")
+    elif not any(r["state"] != "unreadable" for r in rows):
+        # Nothing to map: say why instead of writing empty tables and figures.
+        unreadable = sum(r["state"] == "unreadable" for r in rows)
+        print(f"transition: no run classified: of {n_found} run files, {n_found - len(rows)} are not completed "
+              f"(listed above; --include-unfinished classifies them) and {unreadable} could not be read",
+              file=sys.stderr)
+        return 1
     rows = previous + rows
     if args.csv:
         keys = sorted({k for r in rows for k in r})

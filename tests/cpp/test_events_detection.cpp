@@ -8,6 +8,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "events/event_detection.hpp"
@@ -532,4 +533,55 @@ TEST_CASE("MatrixCrossingTimes adapter gives the same catalog as the row-major v
   CHECK(a.extent == b.extent);
   CHECK(a.moment == b.moment);
   CHECK(a.extent[1] == doctest::Approx(2 * s.info.dx).epsilon(1e-14));
+}
+
+TEST_CASE("empty_catalog_reason says which count left the catalog empty and what to change") {
+  const Setup s;
+  const Crack big_a{0, {3, 3, 3, 3}, 0.0}, big_b{20, {3, 3, 3, 3}, 1e-5};
+  const Crack tiny_a{40, {1}, 2e-5}, tiny_b{50, {1}, 3e-5}, big_c{30, {3, 3, 3, 3}, 4e-5};
+
+  SUBCASE("no nodal slip: delta_th above the slip of the run") {
+    EventCatalog c;  // what detection gives for a slip history without a crossing
+    c.delta_th = s.info.delta_th;
+    c.v0 = s.info.v0;
+    const std::string why = empty_catalog_reason(c, 1e-6);
+    CHECK(why.find("0 nodal slips") != std::string::npos);
+    CHECK(why.find("lower output.delta_th") != std::string::npos);
+    CHECK(why.find("v0 t = 2e-09 m") != std::string::npos);  // 2e-3 m/s * 1e-6 s, printed to 3 digits
+  }
+  SUBCASE("only the first and the last event, which are always excluded") {
+    History h(s.n);
+    big_a.add_to(h);
+    big_b.add_to(h);
+    const EventCatalog c = run(h, s);
+    REQUIRE(c.n_events() == 0);
+    REQUIRE(c.n_events_detected == 2);
+    const std::string why = empty_catalog_reason(c);
+    CHECK(why.find("2 events detected") != std::string::npos);
+    CHECK(why.find("always excluded") != std::string::npos);
+    CHECK(why.find("--alpha") != std::string::npos);
+  }
+  SUBCASE("every other event below the size filters") {
+    History h(s.n);
+    big_a.add_to(h);
+    tiny_a.add_to(h);
+    tiny_b.add_to(h);
+    big_c.add_to(h);
+    const EventCatalog c = run(h, s);
+    REQUIRE(c.n_events() == 0);
+    REQUIRE(c.n_events_below_thresholds == 2);
+    const std::string why = empty_catalog_reason(c);
+    CHECK(why.find("all 2 events between the first and the last are below the size thresholds") !=
+          std::string::npos);
+    CHECK(why.find("lower output.delta_th (now 1e-08 m)") != std::string::npos);
+  }
+  SUBCASE("a catalog that keeps events has no reason") {
+    History h(s.n);
+    big_a.add_to(h);
+    big_b.add_to(h);
+    big_c.add_to(h);
+    const EventCatalog c = run(h, s);
+    REQUIRE(c.n_events() == 1);
+    CHECK(empty_catalog_reason(c).empty());
+  }
 }

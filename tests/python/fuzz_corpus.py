@@ -687,9 +687,10 @@ def execute(case: Case, cli: str, python_dir: str, base_runs: dict, tmp: str) ->
 
 
 def classify(case: Case, rc: int, stderr: str, timed_out: bool, subst: dict):
-    """(class, passed).  Passing classes: completed (exit 0), input error (exit 2,
-    one line naming a key or path), diverged (exit 3 with the diagnostic),
-    output error (exit 4)."""
+    """(class, passed).  Passing classes: completed (exit 0), nothing kept (exit
+    1 of `events`/`analyze`, one line "0 events kept ..." saying why), input
+    error (exit 2, one line naming a key or path), diverged (exit 3 with the
+    diagnostic), output error (exit 4)."""
     if timed_out:
         return "hang (timeout)", False
     if rc == -signal.SIGXCPU:
@@ -703,6 +704,8 @@ def classify(case: Case, rc: int, stderr: str, timed_out: bool, subst: dict):
              and not re.match(r"slipstrip \S+ \(([0-9a-f]+(-dirty)?|unknown)\): ", l)]
     if rc == 0:
         return "completed", True
+    if rc == 1 and len(lines) == 1 and "0 events kept" in lines[0]:
+        return "nothing kept", True
     if rc == 2:
         if len(lines) != 1:
             return f"exit 2, {len(lines)} message lines", False

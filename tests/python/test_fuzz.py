@@ -5,6 +5,8 @@ A seeded corpus (tests/python/fuzz_corpus.py) of > 1,000 mutated config files,
 memory limit.  Every case must end in one of
 
 * exit 0 (ran to its end),
+* exit 1 of `events` or `analyze` with one line "0 events kept ..." saying why
+  (a readable run whose damage left no event to keep),
 * exit 2 with one message line naming the key, section, option or attribute
   (or, for damage that has no key such as a truncated file, the input's path),
 * exit 3 with a divergence diagnostic (node, time, values),

@@ -4,12 +4,16 @@ matplotlib's legend warnings, a Python traceback) reaches the user.
 
 Each case goes through the `slipstrip` binary, as a user types it: a
 directory where a run file is expected (plot, export, analyze, events), a
-path that is not there or not HDF5, `analyze` of a run with no kept events
-(exit 1, no figures), and `events`/`analyze` of a run made with
-output.delta_th = 0 (no slip sampling).  The originals: a directory gave
-"[Errno 21] ... bytes actually read = 18446744073709551615"; analyze of an
-empty catalog exited 0 with six empty figures and legend warnings; events
-without slip sampling said only "group /slip_sampling is missing".
+path that is not there or not HDF5 (plot, analyze, export, events,
+transition), `analyze` and `events` of a run with no kept events (exit 1;
+analyze draws no figures), `events`/`analyze` of a run made with
+output.delta_th = 0 (no slip sampling), and `transition` of a directory with
+no run file in it.  The originals: a directory gave "[Errno 21] ... bytes
+actually read = 18446744073709551615"; analyze of an empty catalog exited 0
+with six empty figures and legend warnings; events of an empty catalog exited
+0 without a word; events without slip sampling said only "group
+/slip_sampling is missing"; transition --include-unfinished of a non-HDF5
+file printed a traceback, and of an empty directory exited 0 silently.
 
 Run: /usr/bin/python3 -m pytest tests/python/test_nothing_to_do.py
 """
@@ -64,14 +68,56 @@ def test_a_directory_is_named_as_one(cli, runs, tmp_path, command):
     assert len(r.stderr.strip().splitlines()) == 1
 
 
-@pytest.mark.parametrize("command", ["plot", "analyze"])
+@pytest.mark.parametrize("command", [["plot"], ["analyze"], ["export", "--seas", "seas"], ["events"],
+                                     ["transition"], ["transition", "--include-unfinished"]])
 def test_missing_and_foreign_files(cli, tmp_path, command):
-    r = slipstrip(cli, command, tmp_path / "nope.h5", cwd=tmp_path)
+    name, *rest = command
+    r = slipstrip(cli, name, tmp_path / "nope.h5", *rest, cwd=tmp_path)
     assert r.returncode == 2 and "does not exist" in r.stderr, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
     text = tmp_path / "notes.h5"
     text.write_text("not a run\n")
-    r = slipstrip(cli, command, text, cwd=tmp_path)
-    assert r.returncode == 2 and "is not an HDF5 file" in r.stderr, r.stderr
+    r = slipstrip(cli, name, text, *rest, cwd=tmp_path)
+    assert r.returncode == 2 and "not an HDF5 file" in r.stderr, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "seas").exists()
+
+
+def test_transition_with_nothing_to_classify(cli, tmp_path):
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    r = slipstrip(cli, "transition", empty, "--csv", tmp_path / "map.csv")
+    assert r.returncode == 2 and "holds no run files" in r.stderr, r.stderr
+    # A directory whose only .h5 is not a run file: listed as skipped, then
+    # one line saying that nothing was classified; no empty table written.
+    (empty / "notes.h5").write_text("not a run\n")
+    r = slipstrip(cli, "transition", empty, "--csv", tmp_path / "map.csv")
+    assert r.returncode == 1, r.stderr
+    assert "no run classified" in r.stderr and "1 could not be read" not in r.stderr
+    assert "--include-unfinished" in r.stderr
+    assert not (tmp_path / "map.csv").exists()
+    r = slipstrip(cli, "transition", empty, "--include-unfinished", "--csv", tmp_path / "map.csv")
+    assert r.returncode == 1 and "1 could not be read" in r.stderr, r.stderr
+    assert "not an HDF5 file" in r.stderr
+    assert not (tmp_path / "map.csv").exists()
+
+
+def test_events_with_no_kept_event_says_why(cli, runs, tmp_path):
+    """The catalog is still written (its counts are the answer), but the exit
+    code is 1 and one line says why nothing was kept and what to change."""
+    out = tmp_path / "short_events.h5"
+    r = slipstrip(cli, "events", runs["short"], "--out", out)
+    assert r.returncode == 1, r.stderr
+    assert "0 kept" in r.stdout
+    # 7 events detected: the first and the last excluded, the other 5 too small.
+    assert "0 events kept" in r.stderr and "below the size thresholds" in r.stderr
+    assert "lower output.delta_th" in r.stderr and "run longer" in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
+    assert out.exists()  # the catalog, with its counts
+
+    r = slipstrip(cli, "events", runs["coarse"], "--out", tmp_path / "coarse_events.h5")
+    assert r.returncode == 1, r.stderr
+    assert "0 nodal slips" in r.stderr and "lower output.delta_th" in r.stderr, r.stderr
 
 
 def test_analyze_with_no_kept_event_says_why_and_draws_nothing(cli, runs, tmp_path):

@@ -233,7 +233,10 @@ def _tiny_set(binary, d, extra=()):
     src = d / "source.h5"
     subprocess.run([binary, "run", str(REPO / "configs" / "reference.toml"), *TINY, *extra,
                     "--set", "time.duration_transits=3", "--out", str(src)], check=True, timeout=300)
-    subprocess.run([binary, "events", str(src)], check=True, capture_output=True, timeout=300)
+    # A run this short may keep no event: `events` then still writes the
+    # catalog (all the report needs) and exits 1 saying why.
+    r = subprocess.run([binary, "events", str(src)], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0 or (r.returncode == 1 and "0 events kept" in r.stderr), r.stderr
     for name in report.RUNS:
         shutil.copy(src, d / f"{name}.h5")
     src.unlink()

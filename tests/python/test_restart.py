@@ -120,7 +120,8 @@ def test_interrupted_twice_and_resumed_equals_uninterrupted(cli, tmp_path, case,
         # An event catalog of the interrupted file describes a shorter record:
         # the resume drops it (an uninterrupted run has none).
         r = run_cli(cli, "events", out)
-        assert r.returncode == 0, r.stderr
+        # Written either way; exit 1 if this short record keeps no event.
+        assert r.returncode == 0 or (r.returncode == 1 and "0 events kept" in r.stderr), r.stderr
         with h5py.File(out, "r") as f:
             assert "events" in f
     r = run_cli(cli, "run", "--resume", out, "--quiet", "--stop-after-steps", second)
@@ -340,7 +341,8 @@ def test_scan_relaunch_resumes_an_interrupted_run(cli, tmp_path, capfd, monkeypa
     assert [r["status"] for r in rows] == ["completed", "completed"]
     # The scan ran `slipstrip events` on its file: do the same on the reference.
     r = subprocess.run([str(cli), "events", str(reference)], capture_output=True, text=True)
-    assert r.returncode == 0, r.stderr
+    # Written either way; exit 1 if this short record keeps no event.
+    assert r.returncode == 0 or (r.returncode == 1 and "0 events kept" in r.stderr), r.stderr
     assert_files_identical(reference, task.run_file)
 
 
