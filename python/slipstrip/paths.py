@@ -1,5 +1,6 @@
-"""The one output-path rule of the Python commands and of slipstrip.run(), the
-rule of `slipstrip run --out` (docs/reliability.md, "What survives what"):
+"""The output-path rule of slipstrip.run() and `export --seas`, the rule of
+`slipstrip run --out` (docs/reliability.md, "What survives what"), for any
+Python command to call before it writes:
 
 * an output never names an input (the same file by device and inode, so
   ``./a.h5``, ``a.h5`` and a symbolic link to it are one file), even with

@@ -699,9 +699,12 @@ def classify(case: Case, rc: int, stderr: str, timed_out: bool, subst: dict):
         return f"signal {-rc}", False
     if "Traceback (most recent call last)" in stderr:
         return "traceback", False
-    # The message lines: without warnings and the run's banner ("slipstrip 0.1.0 (hash): CONFIG -> OUT").
+    # The message lines: without warnings, the run's banner ("slipstrip 0.1.0 (hash): CONFIG -> OUT") and
+    # the run header `slipstrip run` prints before its set-up ("run: N steps of dt = ...", "  H = ...",
+    # "  output up to ~...", config/resource_estimate.cpp), which state the cost, not an outcome.
     lines = [l for l in stderr.splitlines() if l.strip() and not l.lstrip().lower().startswith("warning")
-             and not re.match(r"slipstrip \S+ \(([0-9a-f]+(-dirty)?|unknown)\): ", l)]
+             and not re.match(r"slipstrip \S+ \(([0-9a-f]+(-dirty)?|unknown)\): ", l)
+             and not re.match(r"run: \S+ steps of dt = |  H = \S+ m, H/L = |  output up to ~", l)]
     if rc == 0:
         return "completed", True
     if rc == 1 and len(lines) == 1 and "0 events kept" in lines[0]:

@@ -2,7 +2,7 @@
 existing file as `slipstrip run --out` does, and `export --seas DIR` refuses
 files of its names already in DIR; both replace them when told (overwrite=True,
 --overwrite), and neither ever writes over its own input.  The rule is
-slipstrip.paths.check_outputs, one place for every Python command.
+slipstrip.paths.check_outputs, in one place.
 
 The originals: slipstrip.run(cfg, "old.h5") replaced an existing file
 silently, and a second `export --seas DIR` replaced the station files of an
