@@ -633,3 +633,16 @@ def test_trajectory_divergence_of_a_run_with_itself(tiny_rundir, tmp_path):
     assert all(v is None for v in summary["first_exceedance_transits"].values())
     assert all(v == 0.0 for v in summary["rms_at_transits"].values())
     assert_figure(out_png)
+
+
+def test_fig5_volume_solver_sentence_comes_from_the_committed_summary(tmp_path):
+    summary = {"run": "vol.h5", "duration_transits": 251.87, "pulse_windows": 2,
+               "windows": [{"pulse": i in (3, 4)} for i in range(12)]}
+    path = tmp_path / "vol.json"
+    path.write_text(json.dumps(summary))
+    text = report.fig5_volume_solver_text(path)
+    assert "pulse in 2 of 12 windows over 252 L/c_s" in text
+    # The committed summary is the one docs/fig5_resolution.md tabulates.
+    committed = json.loads(report.FIG5_VOLUME_SOLVER_JSON.read_text())
+    assert f"of {len(committed['windows'])} windows" in report.fig5_volume_solver_text()
+    assert report.fig5_volume_solver_text(tmp_path / "absent.json") == ""
