@@ -2,6 +2,7 @@
 
 #include <omp.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -19,9 +20,19 @@
 #include "friction/batch_solve.hpp"
 #include "friction/friction_law.hpp"
 #include "kernels/fft.hpp"
+#include "simd/instruction_set.hpp"
 
 namespace slipstrip {
 namespace {
+
+// CPU time of the whole process [s].  On a machine shared with other jobs the
+// wall clock also counts the time spent waiting for a core; with one thread
+// the CPU time per step does not (it still feels shared caches).
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 double peak_rss_mib() {
   std::ifstream status("/proc/self/status");
@@ -64,7 +75,9 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
     block_steps = std::max(1, half_space->slow_block());
   steps = ((std::max(steps, block_steps) + block_steps - 1) / block_steps) * block_steps;
   const auto t0 = clock::now();
+  const double cpu0 = process_cpu_seconds();
   for (int i = 0; i < steps; ++i) sim.step();
+  const double cpu_us_per_step = 1e6 * (process_cpu_seconds() - cpu0) / steps;
   const double us_per_step =
       std::chrono::duration<double, std::micro>(clock::now() - t0).count() / steps;
 
@@ -81,6 +94,7 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
   const double eta = params.eta;
   const double load = sim.reference_shear_stress() + eta * config.loading.driving_velocity;
   const auto t1 = clock::now();
+  const double cpu1 = process_cpu_seconds();
   for (int s = 0; s < options.steps; ++s) {
     fft.forward(v, spectrum);
     fft.inverse(spectrum, field);
@@ -89,6 +103,7 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
     v.swap(v_new);
     phi.swap(phi_new);
   }
+  const double floor_cpu_us = 1e6 * (process_cpu_seconds() - cpu1) / options.steps;
   const double floor_us =
       std::chrono::duration<double, std::micro>(clock::now() - t1).count() / options.steps;
   const double rss = peak_rss_mib();
@@ -101,9 +116,11 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
     std::printf(
         "{\"N\": %d, \"height\": %s, \"length\": 4.0, \"us_per_step\": %.3f, \"floor_us_per_step\": %.3f, "
         "\"ratio_to_floor\": %.3f, \"rss_mib\": %.2f, \"oscillators\": %zu, \"operator_mib\": %.2f, "
-        "\"dt\": %.6g, \"threads\": %d, \"steps\": %d, \"setup_ms\": %.2f, \"history\": \"%s\"}\n",
+        "\"dt\": %.6g, \"threads\": %d, \"steps\": %d, \"setup_ms\": %.2f, \"history\": \"%s\", "
+        "\"cpu_us_per_step\": %.3f, \"floor_cpu_us_per_step\": %.3f, \"simd\": \"%s\"}\n",
         c.nodes, height.c_str(), us_per_step, floor_us, us_per_step / floor_us, rss, stats.oscillators,
-        stats.memory_bytes / 1048576.0, dt, options.threads, steps, setup_ms, algorithm);
+        stats.memory_bytes / 1048576.0, dt, options.threads, steps, setup_ms, algorithm, cpu_us_per_step,
+        floor_cpu_us, std::string(simd::to_string(simd::instruction_set())).c_str());
   } else {
     std::printf("%6d  %-8s  %12.1f  %12.1f  %8.2f  %9.1f  %12zu  %10.1f  %s\n", c.nodes,
                 std::isinf(c.height) ? "inf" : std::to_string(c.height).substr(0, 5).c_str(), us_per_step,
@@ -116,9 +133,10 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
 
 int run_bench(const BenchOptions& options) {
   if (!options.json)
-    std::printf("# L = 4 m, beta = 0.25, Table S1 friction, %d thread(s), %d steps per case\n"
+    std::printf("# L = 4 m, beta = 0.25, Table S1 friction, %d thread(s), %d steps per case, "
+                "instruction set %s (friction solve: %zu doubles per vector)\n"
                 "#    N  H [m]     us/step     floor us/step  ratio  RSS [MiB]  oscillators  setup [ms]  history\n",
-                options.threads, options.steps);
+                options.threads, options.steps, std::string(simd::to_string(simd::instruction_set())).c_str(), batch_width());
   std::fflush(stdout);
   for (int n : options.nodes) {
     for (double height : options.heights) {

@@ -63,7 +63,9 @@ struct BatchCounts {
   }
 };
 
-// Number of nodes the vector code processes at once (8 with AVX-512).
+// Number of nodes the vector code processes at once with the instruction set
+// chosen for this CPU (simd/instruction_set.hpp): 8 with AVX-512, 4 with
+// AVX2, 2 with SSE2.
 std::size_t batch_width();
 
 // slip_rate[i] = solve_slip_rate(friction, sigma0, eta, tau_history[i], state[i],

@@ -9,12 +9,13 @@
 #include <span>
 #include <string>
 
+#include "friction/local_solve_tolerances.hpp"
+
 namespace slipstrip {
 
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kLn2 = 0.69314718055994530942;
 
 std::string format_double(double x) {
@@ -362,7 +363,7 @@ SlipRateSolution solve_slip_rate_counted(const FrictionParameters& p, double nor
   // logarithms and is only needed by bisection or a cold start, so it is
   // computed lazily.  Both are widened by a small margin so round-off in them
   // can never put the root outside.
-  constexpr double margin = 1e-3;
+  constexpr double margin = local_solve::kBracketMargin;
   LocalProblem lp{p.strength_law, 0.0, T, eta, A, 0.0};
   double strength_at_rest = 0.0;
   switch (p.strength_law) {
@@ -464,14 +465,12 @@ SlipRateSolution solve_slip_rate_counted(const FrictionParameters& p, double nor
     w = lo;
   }
 
-  // Acceptance: |g''| <= |g'| in w for all three laws, so a Newton step of
-  // size dw leaves an error of at most ~dw^2/2 in ln u; taking that last step
-  // linearly in u, u (1 + dw), adds another dw^2/2.  |dw| <= 1e-6 therefore
-  // leaves a relative error <= 1e-12 in u.  The last step is taken in u rather
+  // Acceptance (local_solve::kAcceptStep): |dw| <= 1e-6 leaves a relative
+  // error <= 1e-12 in u.  The last step is taken in u, u (1 + dw), rather
   // than as exp(w + dw) because exp(w) carries the rounding of w itself
   // (|w| eps relative: 5e-14 at u ~ 1e94 m/s).
   constexpr int max_iterations = 200;
-  constexpr double accept_step = 1e-6;
+  constexpr double accept_step = local_solve::kAcceptStep;
   constexpr double bracket_tolerance = 1e-12;
   int slow_steps = 0;
   double previous_abs_g = kInf;
@@ -486,7 +485,7 @@ SlipRateSolution solve_slip_rate_counted(const FrictionParameters& p, double nor
     if (std::fabs(step) <= accept_step) return {sign * (u + u * step), iteration};
     // Round-off floor: the root is only defined to within the rounding of the
     // terms of g (this is the absolute tolerance that matters near u = 0).
-    if (std::fabs(r.g) <= 8.0 * kEps * r.scale) return {sign * u, iteration};
+    if (std::fabs(r.g) <= local_solve::kRoundoffFloor * r.scale) return {sign * u, iteration};
 
     if (r.g > 0.0) {
       lo = w;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "kernels/half_space_kernel.hpp"
+#include "simd/instruction_set.hpp"
 
 namespace slipstrip {
 
@@ -156,85 +157,124 @@ HalfSpaceModeKernel HalfSpaceHistory::mode_kernel(int q) const {
 void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {
   const int n_modes = static_cast<int>(history_.size());
   history_[0] = 0.0;  // uniform mode: radiation damping only
-#pragma omp parallel for schedule(static, 32)
-  for (int q = 1; q < n_modes; ++q) {
-    const std::complex<double> v = slip_rate_spectrum[q];
-    // Ring buffer of the last W slip rates: slot n mod W holds v_{n-W} (leaving
-    // for the far field) and receives v_n.
-    const std::size_t base = first_lag_[q];
-    const std::size_t W = first_lag_[q + 1] - base;
-    const std::size_t slot = static_cast<std::size_t>(step_ % static_cast<long long>(W));
-    std::complex<double>* ring = ring_.data() + base;
-    const std::complex<double> delayed = ring[slot];
-    ring[slot] = v;
-    // Stored lags: K_j v_{n+1-j}, j = 1..W; v_{n+1-j} sits in slot (n+1-j) mod W.
-    const double* w = lag_weight_.data() + base;
-    double near_r = 0.0, near_i = 0.0;
-    std::size_t j = 0;
-    for (std::size_t s = slot + 1; s-- > 0; ++j) {
-      near_r += w[j] * ring[s].real();
-      near_i += w[j] * ring[s].imag();
+  // Modes in chunks of 32 handed to the threads in turn: the cost per mode
+  // grows with q, so contiguous halves would load one thread more.
+  constexpr int kModeChunk = 32;
+  const int chunks = (n_modes - 1 + kModeChunk - 1) / kModeChunk;
+  const simd::InstructionSet set = simd::instruction_set();
+  const std::complex<double>* v = slip_rate_spectrum.data();
+#pragma omp parallel for schedule(static, 1)
+  for (int k = 0; k < chunks; ++k) {
+    const int q_begin = 1 + k * kModeChunk, q_end = std::min(n_modes, q_begin + kModeChunk);
+    switch (set) {
+#if SLIPSTRIP_X86_DISPATCH
+      case simd::InstructionSet::avx512:
+        advance_modes_avx512(q_begin, q_end, v);
+        break;
+      case simd::InstructionSet::avx2:
+        advance_modes_avx2(q_begin, q_end, v);
+        break;
+#endif
+      default:
+        advance_modes_baseline(q_begin, q_end, v);
+        break;
     }
-    for (std::size_t s = W; s-- > slot + 1; ++j) {
-      near_r += w[j] * ring[s].real();
-      near_i += w[j] * ring[s].imag();
-    }
-    // Far field: damped rotations fed with v_{n-W}.
-    const double ur = delayed.real(), ui = delayed.imag();
-    double far_r = 0.0, far_i = 0.0;
-    for (std::size_t m = first_pole_[q]; m < first_pole_[q + 1]; ++m) {
-      const double c = pole_cos_[m], s = pole_sin_[m];
-      const double xr = c_re_[m] + ur, xi = c_im_[m] + ui;
-      const double sr = s_re_[m], si = s_im_[m];
-      const double new_cr = c * xr - s * sr, new_ci = c * xi - s * si;
-      const double new_sr = s * xr + c * sr, new_si = s * xi + c * si;
-      c_re_[m] = new_cr;
-      c_im_[m] = new_ci;
-      s_re_[m] = new_sr;
-      s_im_[m] = new_si;
-      far_r += weight_cos_[m] * new_cr + weight_sin_[m] * new_sr;
-      far_i += weight_cos_[m] * new_ci + weight_sin_[m] * new_si;
-    }
-    std::complex<double> slow = 0.0;
-    if (block_ > 0) {
-      // Slow exponentials: at block position t (t' = t + 1 steps after the block
-      // start) their output is sum over branches of rho^{t'} P_beta(t' - t_c),
-      // with P_beta the Taylor polynomial of the block-start states, plus the
-      // slow kernel's lags 0..t applied to this block's inputs.
-      const int t = static_cast<int>(step_ % block_);
-      std::complex<double>* input = block_input_.data() + static_cast<std::size_t>(q) * block_;
-      input[t] = delayed;
-      const double x = (t + 1) - block_centre_;
-      const std::complex<double>* moment = block_moment_.data() + static_cast<std::size_t>(q) * 4 * terms_;
-      // Polynomial beta = 2 b + c: branch b (shear, P), component c (Re, Im of
-      // the slip rate, kept apart so that a real kernel maps real to real exactly).
-      std::complex<double> branch[4];
-      for (int beta = 0; beta < 4; ++beta) {
-        const std::complex<double>* c = moment + beta * terms_;
-        std::complex<double> acc = c[terms_ - 1];
-        for (int p = terms_ - 2; p >= 0; --p) acc = acc * x + c[p];
-        branch[beta] = acc;
-      }
-      const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
-      const std::complex<double> rho_s = rotation_[at], rho_p = rotation_[at + 1];
-      slow = std::complex<double>(2.0 * (rho_s * branch[0] + rho_p * branch[2]).real(),
-                                  2.0 * (rho_s * branch[1] + rho_p * branch[3]).real());
-      const double* lag = slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_;
-      double in_r = 0.0, in_i = 0.0;
-      for (int j = 0; j <= t; ++j) {  // input j of this block sits at lag t - j
-        in_r += lag[t - j] * input[j].real();
-        in_i += lag[t - j] * input[j].imag();
-      }
-      slow += std::complex<double>(in_r, in_i);
-      if (t == block_ - 1) push_slow_block_end(q);
-    }
-    running_sum_[q] += v;
-    history_[q] = static_weight_[q] * running_sum_[q] + std::complex<double>(near_r + far_r, near_i + far_i) + slow;
   }
   ++step_;
 }
 
-void HalfSpaceHistory::push_slow_block_end(int q) {
+[[gnu::always_inline]] inline void HalfSpaceHistory::advance_mode(int q, const std::complex<double> v) {
+  const int n_modes = static_cast<int>(history_.size());
+  // Ring buffer of the last W slip rates: slot n mod W holds v_{n-W} (leaving
+  // for the far field) and receives v_n.
+  const std::size_t base = first_lag_[q];
+  const std::size_t W = first_lag_[q + 1] - base;
+  const std::size_t slot = static_cast<std::size_t>(step_ % static_cast<long long>(W));
+  std::complex<double>* ring = ring_.data() + base;
+  const std::complex<double> delayed = ring[slot];
+  ring[slot] = v;
+  // Stored lags: K_j v_{n+1-j}, j = 1..W; v_{n+1-j} sits in slot (n+1-j) mod W.
+  const double* w = lag_weight_.data() + base;
+  double near_r = 0.0, near_i = 0.0;
+  std::size_t j = 0;
+  for (std::size_t s = slot + 1; s-- > 0; ++j) {
+    near_r += w[j] * ring[s].real();
+    near_i += w[j] * ring[s].imag();
+  }
+  for (std::size_t s = W; s-- > slot + 1; ++j) {
+    near_r += w[j] * ring[s].real();
+    near_i += w[j] * ring[s].imag();
+  }
+  // Far field: damped rotations fed with v_{n-W}.
+  const double ur = delayed.real(), ui = delayed.imag();
+  double far_r = 0.0, far_i = 0.0;
+  for (std::size_t m = first_pole_[q]; m < first_pole_[q + 1]; ++m) {
+    const double c = pole_cos_[m], s = pole_sin_[m];
+    const double xr = c_re_[m] + ur, xi = c_im_[m] + ui;
+    const double sr = s_re_[m], si = s_im_[m];
+    const double new_cr = c * xr - s * sr, new_ci = c * xi - s * si;
+    const double new_sr = s * xr + c * sr, new_si = s * xi + c * si;
+    c_re_[m] = new_cr;
+    c_im_[m] = new_ci;
+    s_re_[m] = new_sr;
+    s_im_[m] = new_si;
+    far_r += weight_cos_[m] * new_cr + weight_sin_[m] * new_sr;
+    far_i += weight_cos_[m] * new_ci + weight_sin_[m] * new_si;
+  }
+  std::complex<double> slow = 0.0;
+  if (block_ > 0) {
+    // Slow exponentials: at block position t (t' = t + 1 steps after the block
+    // start) their output is sum over branches of rho^{t'} P_beta(t' - t_c),
+    // with P_beta the Taylor polynomial of the block-start states, plus the
+    // slow kernel's lags 0..t applied to this block's inputs.
+    const int t = static_cast<int>(step_ % block_);
+    std::complex<double>* input = block_input_.data() + static_cast<std::size_t>(q) * block_;
+    input[t] = delayed;
+    const double x = (t + 1) - block_centre_;
+    const std::complex<double>* moment = block_moment_.data() + static_cast<std::size_t>(q) * 4 * terms_;
+    // Polynomial beta = 2 b + c: branch b (shear, P), component c (Re, Im of
+    // the slip rate, kept apart so that a real kernel maps real to real exactly).
+    std::complex<double> branch[4];
+    for (int beta = 0; beta < 4; ++beta) {
+      const std::complex<double>* c = moment + beta * terms_;
+      std::complex<double> acc = c[terms_ - 1];
+      for (int p = terms_ - 2; p >= 0; --p) acc = acc * x + c[p];
+      branch[beta] = acc;
+    }
+    const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
+    const std::complex<double> rho_s = rotation_[at], rho_p = rotation_[at + 1];
+    slow = std::complex<double>(2.0 * (rho_s * branch[0] + rho_p * branch[2]).real(),
+                                2.0 * (rho_s * branch[1] + rho_p * branch[3]).real());
+    const double* lag = slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_;
+    double in_r = 0.0, in_i = 0.0;
+    for (int j = 0; j <= t; ++j) {  // input j of this block sits at lag t - j
+      in_r += lag[t - j] * input[j].real();
+      in_i += lag[t - j] * input[j].imag();
+    }
+    slow += std::complex<double>(in_r, in_i);
+    if (t == block_ - 1) push_slow_block_end(q);
+  }
+  running_sum_[q] += v;
+  history_[q] = static_weight_[q] * running_sum_[q] + std::complex<double>(near_r + far_r, near_i + far_i) + slow;
+}
+
+void HalfSpaceHistory::advance_modes_baseline(int q_begin, int q_end, const std::complex<double>* v) {
+  for (int q = q_begin; q < q_end; ++q) advance_mode(q, v[q]);
+}
+
+#if SLIPSTRIP_X86_DISPATCH
+SLIPSTRIP_TARGET_AVX2 void HalfSpaceHistory::advance_modes_avx2(int q_begin, int q_end,
+                                                                 const std::complex<double>* v) {
+  for (int q = q_begin; q < q_end; ++q) advance_mode(q, v[q]);
+}
+
+SLIPSTRIP_TARGET_AVX512 void HalfSpaceHistory::advance_modes_avx512(int q_begin, int q_end,
+                                                                     const std::complex<double>* v) {
+  for (int q = q_begin; q < q_end; ++q) advance_mode(q, v[q]);
+}
+#endif
+
+[[gnu::always_inline]] inline void HalfSpaceHistory::push_slow_block_end(int q) {
   // Per branch b and component c of the slip rate (Re, Im; polynomial beta = 2 b + c):
   //   mu_{beta,p} = sum_{j=1..B} (j - t_c)^p rho_b^j u_c(B - j)      (u(s) = block input s)
   // then per slow exponential and component

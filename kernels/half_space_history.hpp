@@ -99,6 +99,15 @@ class HalfSpaceHistory final : public HistoryOperator {
   // [first_slow_[q], slow_shear_end_[q]) are on the shear branch, the rest up to
   // first_slow_[q+1] on the P branch.
   void push_slow_block_end(int q);
+  // push()'s work for mode q >= 1 fed with slip rate v, and its loop over the
+  // modes [q_begin, q_end): compiled once per instruction set (the wider ones
+  // with target attributes, simd/instruction_set.hpp); push() calls the one
+  // for simd::instruction_set().  advance_mode and push_slow_block_end are
+  // inlined into each.
+  void advance_mode(int q, std::complex<double> v);
+  void advance_modes_baseline(int q_begin, int q_end, const std::complex<double>* slip_rate);
+  void advance_modes_avx2(int q_begin, int q_end, const std::complex<double>* slip_rate);
+  void advance_modes_avx512(int q_begin, int q_end, const std::complex<double>* slip_rate);
   int block_ = 0, terms_ = 0;
   double block_centre_ = 0.0;                      // t_c = (B + 1) / 2
   std::vector<std::size_t> first_slow_, slow_shear_end_;
