@@ -6,11 +6,13 @@
 // time loop.  docs/theory.md, "bounded-memory half-space".
 #include <complex>
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
 #include "kernels/history_convolution.hpp"
+#include "simd/instruction_set.hpp"
 
 namespace slipstrip {
 
@@ -30,6 +32,10 @@ struct HalfSpaceOperatorDesign {
   int slow_block = 128;
   double slow_taylor_radius = 0.25;
   int taylor_terms = 12;
+  // Which compiled copy of push()'s mode loop runs (simd/instruction_set.hpp);
+  // empty: simd::instruction_set(), the widest this CPU supports.  The copies
+  // agree to rounding (FMA contraction); tests and benchmarks pick one here.
+  std::optional<simd::InstructionSet> instruction_set;
 };
 
 // Most Taylor terms a design may ask for (the block-end update keeps them on the stack).

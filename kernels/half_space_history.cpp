@@ -25,10 +25,17 @@ std::size_t bytes_of(const Vectors&... vectors) {
 HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
                                    double time_step, const HalfSpaceOperatorDesign& design,
                                    const CancelCheck& cancelled)
-    : dt_(time_step), eta_(material.radiation_damping()), lags_(design.corrected_lags) {
+    : dt_(time_step),
+      eta_(material.radiation_damping()),
+      instruction_set_(design.instruction_set.value_or(simd::instruction_set())),
+      lags_(design.corrected_lags) {
   if (!(length > 0) || nodes < 2 || !(time_step > 0))
     throw std::invalid_argument("HalfSpaceHistory: need length > 0, nodes >= 2, time_step > 0");
   check_half_space_design(design);
+  if (!simd::compiled(instruction_set_) || !simd::cpu_supports(instruction_set_))
+    throw std::invalid_argument("HalfSpaceHistory: instruction set " +
+                                std::string(simd::to_string(instruction_set_)) +
+                                " is not compiled into this build or not supported by this CPU");
   if (design.slow_block != 0) {
     block_ = design.slow_block;
     terms_ = design.taylor_terms;
@@ -161,7 +168,7 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
   // grows with q, so contiguous halves would load one thread more.
   constexpr int kModeChunk = 32;
   const int chunks = (n_modes - 1 + kModeChunk - 1) / kModeChunk;
-  const simd::InstructionSet set = simd::instruction_set();
+  const simd::InstructionSet set = instruction_set_;
   const std::complex<double>* v = slip_rate_spectrum.data();
 #pragma omp parallel for schedule(static, 1)
   for (int k = 0; k < chunks; ++k) {

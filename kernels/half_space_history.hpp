@@ -24,12 +24,14 @@
 // history (only radiation damping).
 #include <complex>
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
 #include "kernels/half_space_design.hpp"
 #include "kernels/history_convolution.hpp"
+#include "simd/instruction_set.hpp"
 
 namespace slipstrip {
 
@@ -74,6 +76,7 @@ class HalfSpaceHistory final : public HistoryOperator {
 
  private:
   double dt_, eta_;
+  simd::InstructionSet instruction_set_;  // of push()'s mode loop
   long long step_ = 0;
   std::vector<double> wavenumber_, h_;
   std::vector<double> static_weight_;          // per q
@@ -102,8 +105,8 @@ class HalfSpaceHistory final : public HistoryOperator {
   // push()'s work for mode q >= 1 fed with slip rate v, and its loop over the
   // modes [q_begin, q_end): compiled once per instruction set (the wider ones
   // with target attributes, simd/instruction_set.hpp); push() calls the one
-  // for simd::instruction_set().  advance_mode and push_slow_block_end are
-  // inlined into each.
+  // for instruction_set_.  advance_mode and push_slow_block_end are inlined
+  // into each.
   void advance_mode(int q, std::complex<double> v);
   void advance_modes_baseline(int q_begin, int q_end, const std::complex<double>* slip_rate);
   void advance_modes_avx2(int q_begin, int q_end, const std::complex<double>* slip_rate);
