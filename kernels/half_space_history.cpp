@@ -356,8 +356,10 @@ void HalfSpaceHistory::restore_state(const HistoryOperatorState& state) {
   if (!has_format || state.counter("format") != kStateFormat)
     throw std::invalid_argument(
         "history operator state: this half-space restart point was written by a slipstrip older than the "
-        "blocked half-space operator (commit 1419ead, docs/theory.md §8.7) and cannot be resumed by this "
-        "version; rerun the case from the start, or resume it with the version that wrote it");
+        "blocked half-space operator (docs/theory.md §8.7; its state lacks format " +
+        std::to_string(kStateFormat) +
+        ") and cannot be resumed by this version; rerun the case from the start, or resume it with the "
+        "version that wrote it");
   const long long step = state.counter("step");
   if (step < 0) throw std::invalid_argument("half-space history state: step = " + std::to_string(step) + " < 0");
   state.copy_to("ring", std::span<std::complex<double>>(ring_));

@@ -162,7 +162,7 @@ PositivityResult positivity(const Discrete& d, const std::vector<DiscreteMode>& 
   return out;
 }
 
-// The placement used before commit 646fe34 (docs/theory.md, "resolved"): raw
+// The placement discrete_modes replaced (docs/theory.md, "The placement"): raw
 // shear and P weights below Nyquist, the truncated static stiffness on ONE
 // oscillator at phase pi whatever its sign.
 std::vector<DiscreteMode> unfixed_modes(const ElasticMaterial& material, double H, double k,
