@@ -45,12 +45,19 @@ double peak_rss_mib() {
 struct BenchCase {
   int nodes;
   double height;  // inf = half-space
+  PlaneCondition plane = PlaneCondition::strain;
 };
 
-void bench_case(const BenchCase& c, const BenchOptions& options) {
+struct BenchResult {
+  double us_per_step = std::numeric_limits<double>::quiet_NaN();
+  double floor_us_per_step = std::numeric_limits<double>::quiet_NaN();
+};
+
+BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
   using clock = std::chrono::steady_clock;
   SimulationConfig config;
   config.geometry = {4.0, c.height, c.nodes};
+  config.material.plane = c.plane;
   config.time.beta = 0.25;
   config.time.history = options.history;
   config.initial.noise_amplitude = 1e-3;
@@ -112,21 +119,24 @@ void bench_case(const BenchCase& c, const BenchOptions& options) {
   const char* algorithm = dynamic_cast<const BlockStripHistory*>(&sim.history_operator())
                               ? "block"
                               : (std::isinf(c.height) ? "half_space" : "modal");
+  const char* plane = kPlaneConditionNames[static_cast<std::size_t>(c.plane)].data();
   if (options.json) {
     std::printf(
-        "{\"N\": %d, \"height\": %s, \"length\": 4.0, \"us_per_step\": %.3f, \"floor_us_per_step\": %.3f, "
+        "{\"N\": %d, \"height\": %s, \"length\": 4.0, \"plane\": \"%s\", \"us_per_step\": %.3f, "
+        "\"floor_us_per_step\": %.3f, "
         "\"ratio_to_floor\": %.3f, \"rss_mib\": %.2f, \"oscillators\": %zu, \"operator_mib\": %.2f, "
         "\"dt\": %.6g, \"threads\": %d, \"steps\": %d, \"setup_ms\": %.2f, \"history\": \"%s\", "
         "\"cpu_us_per_step\": %.3f, \"floor_cpu_us_per_step\": %.3f, \"simd\": \"%s\"}\n",
-        c.nodes, height.c_str(), us_per_step, floor_us, us_per_step / floor_us, rss, stats.oscillators,
+        c.nodes, height.c_str(), plane, us_per_step, floor_us, us_per_step / floor_us, rss, stats.oscillators,
         stats.memory_bytes / 1048576.0, dt, options.threads, steps, setup_ms, algorithm, cpu_us_per_step,
         floor_cpu_us, std::string(simd::to_string(simd::instruction_set())).c_str());
   } else {
-    std::printf("%6d  %-8s  %12.1f  %12.1f  %8.2f  %9.1f  %12zu  %10.1f  %s\n", c.nodes,
-                std::isinf(c.height) ? "inf" : std::to_string(c.height).substr(0, 5).c_str(), us_per_step,
+    std::printf("%6d  %-8s  %-9s  %12.1f  %12.1f  %8.2f  %9.1f  %12zu  %10.1f  %s\n", c.nodes,
+                std::isinf(c.height) ? "inf" : std::to_string(c.height).substr(0, 5).c_str(), plane, us_per_step,
                 floor_us, us_per_step / floor_us, rss, stats.oscillators, setup_ms, algorithm);
   }
   std::fflush(stdout);
+  return {us_per_step, floor_us};
 }
 
 }  // namespace
@@ -135,20 +145,26 @@ int run_bench(const BenchOptions& options) {
   if (!options.json)
     std::printf("# L = 4 m, beta = 0.25, Table S1 friction, %d thread(s), %d steps per case, "
                 "instruction set %s (friction solve: %zu doubles per vector)\n"
-                "#    N  H [m]     us/step     floor us/step  ratio  RSS [MiB]  oscillators  setup [ms]  history\n",
+                "#    N  H [m]     plane          us/step   floor us/step  ratio  RSS [MiB]  oscillators  setup [ms]  history\n",
                 options.threads, options.steps, std::string(simd::to_string(simd::instruction_set())).c_str(), batch_width());
   std::fflush(stdout);
   for (int n : options.nodes) {
     for (double height : options.heights) {
+     std::vector<std::pair<PlaneCondition, BenchResult>> results;
+     for (PlaneCondition plane : options.planes) {
       // Thick strips hold O(N H/dx) normal modes: estimate the operator's
       // memory before building it.  P ~ (M/2)(1 + c_s/c_d) modes per Fourier
       // mode; modal: 7 doubles per mode; block: ~64 P + 48 B bytes, B < 2P.
       if (!std::isinf(height)) {
-        const ElasticMaterial material;
+        ElasticMaterial material;
+        material.plane = plane;
         const double dx = 4.0 / n;
         const double echo_steps = 2.0 * height / (0.25 * dx);
+        // Antiplane: one (shear) family.
         const double per_mode = (echo_steps / 2.0) *
-                                (1.0 + material.shear_wave_speed() / material.dilatational_wave_speed());
+                                (1.0 + (material.antiplane() ? 0.0
+                                                             : material.shear_wave_speed() /
+                                                                   material.dilatational_wave_speed()));
         const bool block = options.history == HistoryAlgorithm::block ||
                            (options.history == HistoryAlgorithm::automatic && per_mode >= 128);
         const double bytes_per_mode = block ? 64.0 * per_mode + 48.0 * 2.0 * per_mode : 56.0 * per_mode;
@@ -166,20 +182,47 @@ int run_bench(const BenchOptions& options) {
           continue;
         }
       }
+      // Each case in a child process (peak RSS per case); the timings come
+      // back through a pipe for the antiplane/in-plane line.
+      int channel[2];
+      if (pipe(channel) != 0) return 1;
       const pid_t pid = fork();
       if (pid < 0) return 1;
       if (pid == 0) {
+        close(channel[0]);
         omp_set_num_threads(options.threads);
+        BenchResult result;
         try {
-          bench_case({n, height}, options);
+          result = bench_case({n, height, plane}, options);
         } catch (const std::exception& e) {
           std::fprintf(stderr, "bench N=%d H=%g failed: %s\n", n, height, e.what());
           _exit(1);
         }
-        _exit(0);
+        const bool sent = write(channel[1], &result, sizeof result) == static_cast<ssize_t>(sizeof result);
+        _exit(sent ? 0 : 1);
       }
+      close(channel[1]);
+      BenchResult result;
+      if (read(channel[0], &result, sizeof result) == static_cast<ssize_t>(sizeof result))
+        results.emplace_back(plane, result);
+      close(channel[0]);
       int status = 0;
       waitpid(pid, &status, 0);
+     }
+      // The antiplane row against the in-plane one at the same N and height.
+      const BenchResult* inplane = nullptr;
+      const BenchResult* antiplane = nullptr;
+      for (const auto& [plane, result] : results)
+        (plane == PlaneCondition::antiplane ? antiplane : inplane) = &result;
+      if (inplane && antiplane) {
+        const double ratio = antiplane->us_per_step / inplane->us_per_step;
+        if (options.json)
+          std::printf("{\"N\": %d, \"height\": %s, \"antiplane_over_inplane\": %.3f}\n", n,
+                      std::isinf(height) ? "null" : std::to_string(height).c_str(), ratio);
+        else
+          std::printf("#      antiplane / in-plane time per step: %.2f\n", ratio);
+        std::fflush(stdout);
+      }
     }
   }
   return 0;

@@ -13,6 +13,9 @@ struct BenchOptions {
   int threads = 1;
   std::vector<double> heights = {0.1, 1.0, std::numeric_limits<double>::infinity()};  // [m]; inf = half-space
   double max_operator_gib = 6.0;
+  // Plane conditions timed at each N and height (--planes strain,antiplane
+  // adds the antiplane rows and a line with the antiplane/in-plane ratio).
+  std::vector<PlaneCondition> planes = {PlaneCondition::strain};
   HistoryAlgorithm history = HistoryAlgorithm::automatic;  // strip history algorithm  // cases whose estimated operator memory exceeds this are reported as skipped
 };
 

@@ -1,5 +1,7 @@
 // slipstrip bench: time per step and memory (the measurement is apps/bench.cpp).
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
@@ -40,6 +42,20 @@ Command add_bench_command(CLI::App& app) {
             }
           },
           "Strip heights H [m] to time, comma-separated; inf = half-space (default 0.1,1,inf)")
+      ->delimiter(',');
+  bench->add_option_function<std::vector<std::string>>(
+          "--planes",
+          [o](const std::vector<std::string>& values) {
+            o->planes.clear();
+            for (const auto& v : values) {
+              const auto* at = std::find(std::begin(kPlaneConditionNames), std::end(kPlaneConditionNames), v);
+              if (at == std::end(kPlaneConditionNames))
+                throw CLI::ValidationError("--planes", "each plane must be strain, stress or antiplane, got " + v);
+              o->planes.push_back(static_cast<PlaneCondition>(at - std::begin(kPlaneConditionNames)));
+            }
+          },
+          "Plane conditions to time, comma-separated (default strain; strain,antiplane adds the antiplane "
+          "rows and their time ratio to in-plane)")
       ->delimiter(',');
   bench->add_option("--history", o->history, "Strip history algorithm: auto, modal or block (same operator)")
       ->transform(CLI::CheckedTransformer(history_algorithms_by_name(), CLI::ignore_case));

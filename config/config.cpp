@@ -458,6 +458,29 @@ std::string printable_override(const std::string& assignment) {
   return out;
 }
 
+// A mirror bottom body (bottom.body absent or "mirror") must carry the top
+// body's values (config_schema.cpp refuses others).  A resolved config (to_toml)
+// writes them out, so an override of a top-body key is copied to the bottom
+// key the table holds: the pair stays a mirror pair instead of being refused.
+void carry_over_to_mirror(toml::table& root, const std::string& section_name, const std::string& key,
+                          const std::string& text) {
+  std::string bottom_key;
+  if (section_name == "material" &&
+      (key == "shear_modulus" || key == "youngs_modulus" || key == "poisson_ratio" || key == "density"))
+    bottom_key = key;
+  else if (section_name == "geometry" && key == "height")
+    bottom_key = "height";
+  if (bottom_key.empty()) return;
+  const toml::table* bottom = root["bottom"].as_table();
+  if (bottom == nullptr) return;
+  const auto body = (*bottom)["body"].value<std::string>();
+  if (body && *body != "mirror") return;
+  const bool modulus = bottom_key == "shear_modulus" || bottom_key == "youngs_modulus";
+  const bool present = bottom->contains(bottom_key) ||
+                       (modulus && (bottom->contains("shear_modulus") || bottom->contains("youngs_modulus")));
+  if (present) apply_override(root, "bottom." + bottom_key + "=" + text);
+}
+
 void apply_override(toml::table& root, const std::string& assignment) {
   const std::string shown = printable_override(assignment);
   const std::string context = "override '" + shown + "': ";
@@ -514,6 +537,7 @@ void apply_override(toml::table& root, const std::string& assignment) {
     if (k.alternative_to == key) table->erase(k.name);
     if (k.name == key) table->erase(k.alternative_to);
   }
+  carry_over_to_mirror(root, section_name, key, text);
 }
 
 SimulationConfig load_config_string(const std::string& toml_text,

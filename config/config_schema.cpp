@@ -17,6 +17,7 @@
 #include "config/resource_estimate.hpp"
 #include "friction/friction_law.hpp"
 #include "friction/parameter_profile.hpp"
+#include "kernels/antiplane_response.hpp"
 #include "kernels/elastic_material.hpp"
 #include "kernels/passivity.hpp"
 
@@ -168,16 +169,23 @@ void below_nyquist(const SimulationConfig& c, std::int64_t mode, std::string_vie
 }
 
 void beta_rule(const SimulationConfig& c, double beta) {
-  const double beta_max = strip_passivity_beta_limit(c.material.wave_speed_ratio_squared());
+  // Antiplane: 2/pi (docs/bodies.md), above the key's cap; in-plane:
+  // 1/(pi (1 - c_s^2/c_d^2)).  A second body's operator runs at
+  // c_b dt/dx <= beta (the step follows the faster body), so one limit serves both.
+  const double beta_max = c.material.antiplane()
+                              ? antiplane_strip_passivity_beta_limit()
+                              : strip_passivity_beta_limit(c.material.wave_speed_ratio_squared());
   if (beta > beta_max)
     throw KeyOutOfRange(format_config_number(beta),
                         "0 < beta <= " + format_config_number(std::floor(beta_max * 1e4) / 1e4) +
                             " for this material (1/(pi (1 - c_s^2/c_d^2)), the limit of a passive "
                             "discrete strip operator; docs/theory.md)");
-  if (is_half_space(c.geometry.height) && beta > kHalfSpaceBetaLimit)
+  const bool any_half_space = is_half_space(c.geometry.height) ||
+                              (c.bottom.body == BodyKind::elastic && is_half_space(c.bottom.height));
+  if (any_half_space && beta > kHalfSpaceBetaLimit)
     throw KeyOutOfRange(format_config_number(beta),
                         "0 < beta <= " + format_bound(kHalfSpaceBetaLimit) +
-                            " for a half-space (geometry.height = \"inf\"): above it the sampled "
+                            " for a half-space (geometry.height or bottom.height = \"inf\"): above it the sampled "
                             "half-space kernel cannot be made passive at the shortest "
                             "wavelength; docs/theory.md");
 }
@@ -222,11 +230,68 @@ void require_on_interface(double x, double length, bool closed_at_length, const 
                                                      " geometry.length = " + format_config_number(length) + " [m]");
 }
 
+// [top] and [bottom] (docs/bodies.md).  In-plane pairs other than two
+// identical driven strips need the normal-stress coupling, which is not
+// implemented: refused by name rather than run without it.
+void top_rule(const SimulationConfig& c) {
+  if (!c.material.antiplane() && c.top.outer_face == OuterFace::clamped)
+    throw ConfigRuleError({"outer_face"},
+                          "top.outer_face = \"clamped\" is implemented for antiplane sliding only "
+                          "(material.plane = \"antiplane\"); in-plane bodies take \"driven\"");
+}
+
+void bottom_rule(const SimulationConfig& c) {
+  const auto kind = kBodyKindNames[static_cast<std::size_t>(c.bottom.body)];
+  if (!c.material.antiplane() && c.bottom.body != BodyKind::mirror)
+    throw ConfigRuleError({"body"}, "bottom.body = \"" + std::string(kind) +
+                                        "\" with material.plane = \"" +
+                                        std::string(kPlaneConditionNames[static_cast<std::size_t>(c.material.plane)]) +
+                                        "\": in-plane dissimilar bodies and a rigid base are not implemented "
+                                        "yet (they need the normal-stress coupling); allowed: \"mirror\", or "
+                                        "material.plane = \"antiplane\"");
+  if (!c.material.antiplane() && c.bottom.outer_face == OuterFace::clamped)
+    throw ConfigRuleError({"outer_face"},
+                          "bottom.outer_face = \"clamped\" is implemented for antiplane sliding only "
+                          "(material.plane = \"antiplane\"); in-plane bodies take \"driven\"");
+  if (c.bottom.body == BodyKind::mirror && c.bottom.outer_face != c.top.outer_face)
+    throw ConfigRuleError({"outer_face", "body"},
+                          "bottom.outer_face differs from top.outer_face but bottom.body = \"mirror\" "
+                          "(the mirror image of the top body); set bottom.body = \"elastic\"");
+}
+
+// With bottom.body = "mirror" a [bottom] value must be the top body's (what
+// to_toml writes): a config giving another value but forgetting
+// body = "elastic" is refused instead of run as a mirror pair.
+void require_mirror_value(const SimulationConfig& c, double value, double top_value, std::string_view key,
+                          const std::string& top_key) {
+  if (c.bottom.body != BodyKind::mirror) return;
+  const bool same = value == top_value || std::abs(value - top_value) <= 1e-12 * std::abs(top_value);
+  if (!same)
+    throw ConfigRuleError({key, "body"}, "bottom." + std::string(key) + " = " + format_config_number(value) +
+                                             " differs from " + top_key + " = " + format_config_number(top_value) +
+                                             " but bottom.body = \"mirror\" (the mirror image of the top body); "
+                                             "set bottom.body = \"elastic\" to describe another bottom body");
+}
+
+// A [bottom] number: its member, read through the mirror (the top body's
+// value) when body = "mirror".
+template <auto Member, auto TopValue>
+constexpr KeyBinding bottom_member() {
+  return {.get_real = [](const SimulationConfig& c) -> double {
+            return c.bottom.body == BodyKind::mirror ? TopValue(c) : c.bottom.*Member;
+          },
+          .set_real = [](SimulationConfig& c, double v) { c.bottom.*Member = v; }};
+}
+constexpr double top_shear_modulus(const SimulationConfig& c) { return c.material.shear_modulus; }
+constexpr double top_poisson_ratio(const SimulationConfig& c) { return c.material.poisson_ratio; }
+constexpr double top_density(const SimulationConfig& c) { return c.material.density; }
+constexpr double top_height(const SimulationConfig& c) { return c.geometry.height; }
+
 // ---------------------------------------------------------------------------
 // The sections, in reading order: a rule reads only keys of earlier sections
 // (geometry bounds the mode numbers, material sets c_s for duration_transits).
 constexpr ConfigSection kSections[] = {
-    {"geometry"}, {"material"},  {"loading"}, {"friction", friction_rule}, {"state"},
+    {"geometry"}, {"material"}, {"top", top_rule}, {"bottom", bottom_rule}, {"loading"}, {"friction", friction_rule}, {"state"},
     {"interface"}, {"initial", initial_rule}, {"time"}, {"output"},
 };
 
@@ -281,8 +346,84 @@ constexpr ConfigKey kKeys[] = {
      .help = "rho (Table S1); c_s = sqrt(mu/rho)", .comment = "rho [kg/m^3]",
      .bind = real_member<&C::material, &ElasticMaterial::density>()},
     {.section = "material", .name = "plane", .type = KeyType::choice,
-     .help = "in-plane condition (sets c_d/c_s)", .choices = names_of<kPlaneConditionNames>,
+     .help = "in-plane plane strain or plane stress (sets c_d/c_s; slip along x), or `antiplane` "
+             "(slip along z, SH waves only; docs/bodies.md)",
+     .choices = names_of<kPlaneConditionNames>,
      .bind = enum_member<&C::material, &ElasticMaterial::plane, kPlaneConditionNames>()},
+
+    // [top] -----------------------------------------------------------------
+    {.section = "top", .name = "outer_face", .type = KeyType::choice,
+     .help = "the top body's outer face: `driven` (tangential displacement moving with its share "
+             "of v0, normal stress prescribed) or `clamped` (both displacements prescribed; "
+             "antiplane only, where it is the same body response). The top body's material and "
+             "height are [material] and geometry.height (docs/bodies.md)",
+     .choices = names_of<kOuterFaceNames>,
+     .bind = enum_member<&C::top, &TopBodyConfig::outer_face, kOuterFaceNames>()},
+    {.section = "top", .name = "velocity_share", .noun = "velocity_share",
+     .allowed = {0.0, true, 1.0, true},
+     .help = "the top outer face moves at +share v0, the bottom one at -(1 - share) v0; only v0 "
+             "loads the interface, so this sets the frame and changes no interface field",
+     .comment = "top face at +share v0, bottom at -(1 - share) v0",
+     .bind = real_member<&C::top, &TopBodyConfig::velocity_share>()},
+
+    // [bottom] --------------------------------------------------------------
+    {.section = "bottom", .name = "body", .type = KeyType::choice,
+     .help = "`mirror`: the mirror image of the top body (two identical bodies); `elastic`: the "
+             "body described by the keys below (with `mirror` they must equal the top body's values, "
+             "and a --set of a top key carries over to them) (antiplane only for now); `rigid`: a rigid base, "
+             "whose face does not deform (antiplane only for now). docs/bodies.md",
+     .choices = names_of<kBodyKindNames>,
+     .bind = enum_member<&C::bottom, &BottomBodyConfig::body, kBodyKindNames>()},
+    {.section = "bottom", .name = "shear_modulus", .unit = "Pa", .noun = "a modulus",
+     .allowed = positive, .generous = {1.0, true, 1e13, true},
+     .rule_text = "equal to material.shear_modulus when body = \"mirror\"",
+     .help = "mu of the bottom body", .comment = "mu [Pa]",
+     .bind = bottom_member<&BottomBodyConfig::shear_modulus, top_shear_modulus>(),
+     .real_rule = [](const C& c, double v) {
+       require_mirror_value(c, v, c.material.shear_modulus, "shear_modulus", "material.shear_modulus");
+     }},
+    {.section = "bottom", .name = "youngs_modulus", .unit = "Pa", .noun = "a modulus",
+     .allowed = positive, .generous = {1.0, true, 1e13, true},
+     .help = "Young's modulus E of the bottom body; mu = E / (2 (1 + nu))",
+     .alternative_to = "shear_modulus",
+     .bind = {.set_real = [](C& c, double E) {
+       c.bottom.shear_modulus = E / (2.0 * (1.0 + bottom_material(c).poisson_ratio));
+     }},
+     .real_rule = [](const C& c, double E) {
+       require_mirror_value(c, E / (2.0 * (1.0 + c.material.poisson_ratio)), c.material.shear_modulus,
+                            "youngs_modulus", "material.shear_modulus");
+     }},
+    {.section = "bottom", .name = "poisson_ratio", .noun = "poisson_ratio",
+     .allowed = {kMinPoissonRatio, false, kMaxPoissonRatio, false},
+     .rule_text = "equal to material.poisson_ratio when body = \"mirror\"",
+     .help = "nu of the bottom body", .comment = "nu [-]",
+     .bind = bottom_member<&BottomBodyConfig::poisson_ratio, top_poisson_ratio>(),
+     .real_rule = [](const C& c, double v) {
+       require_mirror_value(c, v, c.material.poisson_ratio, "poisson_ratio", "material.poisson_ratio");
+     }},
+    {.section = "bottom", .name = "density", .unit = "kg/m^3", .noun = "a density",
+     .allowed = positive, .generous = {1e-3, true, 1e6, true},
+     .rule_text = "equal to material.density when body = \"mirror\"",
+     .help = "rho of the bottom body", .comment = "rho [kg/m^3]",
+     .bind = bottom_member<&BottomBodyConfig::density, top_density>(),
+     .real_rule = [](const C& c, double v) {
+       require_mirror_value(c, v, c.material.density, "density", "material.density");
+     }},
+    {.section = "bottom", .name = "height", .type = KeyType::number_or_inf, .unit = "m",
+     .noun = "a height", .allowed = positive, .allowed_note = " or \"inf\" (half-space)",
+     .generous = {1e-6, true, 1e6, true},
+     .rule_text = "equal to geometry.height when body = \"mirror\"",
+     .help = "H_b of the bottom body; `\"inf\"` = a half-space. Its shear echo 2H_b/c_b is rounded "
+             "to whole time steps (relative change reported, refused above 1e-3; docs/bodies.md)",
+     .comment = "H_b [m]; \"inf\" = half-space",
+     .bind = bottom_member<&BottomBodyConfig::height, top_height>(),
+     .real_rule = [](const C& c, double v) {
+       require_mirror_value(c, v, c.geometry.height, "height", "geometry.height");
+     }},
+    {.section = "bottom", .name = "outer_face", .type = KeyType::choice,
+     .help = "the bottom body's outer face, as top.outer_face",
+     .choices = names_of<kOuterFaceNames>,
+     .bind = enum_member<&C::bottom, &BottomBodyConfig::outer_face, kOuterFaceNames>()},
 
     // [loading] -------------------------------------------------------------
     {.section = "loading", .name = "driving_velocity", .unit = "m/s", .noun = "a velocity",

@@ -112,9 +112,40 @@ struct OutputConfig {
   double front_slip_rate = 0.0;
 };
 
+// The two bodies (docs/bodies.md).  [material] and geometry.height are the
+// top body; the bottom body is its mirror image (the default: two identical
+// bodies, today's problem), another elastic body, or a rigid base.
+enum class BodyKind { mirror, elastic, rigid };
+inline constexpr std::string_view kBodyKindNames[] = {"mirror", "elastic", "rigid"};  // index = enumerator
+// Outer face of a body: driven (tangential displacement moving with the
+// face's share of v0, normal stress prescribed) or clamped (both
+// displacements prescribed).  Antiplane: both prescribe u_z, the same body.
+enum class OuterFace { driven, clamped };
+inline constexpr std::string_view kOuterFaceNames[] = {"driven", "clamped"};  // index = enumerator
+
+struct TopBodyConfig {
+  OuterFace outer_face = OuterFace::driven;  // [top] outer_face
+  // [top] velocity_share: the top outer face moves at +share v0, the bottom
+  // one at -(1 - share) v0.  Only v0 loads the interface (docs/bodies.md).
+  double velocity_share = 0.5;
+};
+
+struct BottomBodyConfig {
+  BodyKind body = BodyKind::mirror;  // [bottom] body
+  // [bottom] shear_modulus, poisson_ratio, density, height: used when body =
+  // "elastic"; with "mirror" they must equal the top body's.
+  double shear_modulus = 9e9;
+  double poisson_ratio = 0.33;
+  double density = 1200.0;
+  double height = 0.1;
+  OuterFace outer_face = OuterFace::driven;  // [bottom] outer_face
+};
+
 struct SimulationConfig {
   GeometryConfig geometry;
   ElasticMaterial material;  // [material] shear_modulus, poisson_ratio, density, plane
+  TopBodyConfig top;
+  BottomBodyConfig bottom;
   LoadingConfig loading;
   FrictionParameters friction;  // [friction] law, f0, a, b, characteristic_slip, v_star, phi_star; [state] law
   // [friction] f0, a, b, characteristic_slip given as profiles along x (the
@@ -125,5 +156,20 @@ struct SimulationConfig {
   TimeConfig time;
   OutputConfig output;
 };
+
+// The bottom body as the kernels see it: the top body's material and height
+// for "mirror", its own for "elastic" (rigid: not an elastic body; these give
+// its stored values).  The plane condition is always [material]'s.
+inline ElasticMaterial bottom_material(const SimulationConfig& c) {
+  if (c.bottom.body == BodyKind::mirror) return c.material;
+  ElasticMaterial m = c.material;
+  m.shear_modulus = c.bottom.shear_modulus;
+  m.poisson_ratio = c.bottom.poisson_ratio;
+  m.density = c.bottom.density;
+  return m;
+}
+inline double bottom_height(const SimulationConfig& c) {
+  return c.bottom.body == BodyKind::mirror ? c.geometry.height : c.bottom.height;
+}
 
 }  // namespace slipstrip

@@ -1,6 +1,7 @@
 #include "solver/simulation.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -8,6 +9,7 @@
 #include "kernels/block_strip_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/kernel_cache.hpp"
+#include "kernels/two_body_history.hpp"
 
 namespace slipstrip {
 namespace {
@@ -32,29 +34,65 @@ std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& mater
     return std::make_unique<BlockStripHistory>(material, kernels, BlockHistoryDesign{}, cancelled);
   return std::make_unique<StripHistory>(material, kernels, cancelled);
 }
+
+// The operator of two identical copies of one body (material, height): the
+// whole history operator of a mirror pair, and each body's "pair-normalised"
+// operator otherwise (kernels/two_body_history.hpp).
+std::unique_ptr<HistoryOperator> make_pair_history(const SimulationConfig& config,
+                                                   const ElasticMaterial& material, double height,
+                                                   double time_step, const CancelCheck& cancelled) {
+  const auto& g = config.geometry;
+  const int nodes = g.nodes;
+  if (is_half_space(height)) {
+    // Sampled exact half-space kernel, made passive, with bounded memory
+    // (kernels/half_space_history.hpp, docs/theory.md "bounded-memory half-space").
+    return std::make_unique<HalfSpaceHistory>(material, g.length, nodes, time_step,
+                                              HalfSpaceOperatorDesign{}, cancelled);
+  }
+  const auto kernels =
+      config.output.kernel_cache.empty()
+          ? compute_strip_kernels(material, height, g.length, nodes, time_step, cancelled)
+          : load_or_compute_strip_kernels(config.output.kernel_cache, material, height, g.length,
+                                          nodes, time_step, nullptr, cancelled);
+  return make_strip_history(material, kernels, config.time.history, cancelled);
 }
+}  // namespace
 
 Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancelled,
                        const InterfaceLawRegistry& laws)
     : config_(config), nodes_(config.geometry.nodes) {
   const auto& g = config_.geometry;
   dx_ = g.length / nodes_;
-  dt_ = strip_time_step(config_.material, g.height, dx_, config_.time.beta);
-  eta_ = config_.material.radiation_damping();
   fft_ = std::make_unique<RealFft>(nodes_);
-  if (is_half_space(g.height)) {
-    // Sampled exact half-space kernel, made passive, with bounded memory
-    // (kernels/half_space_history.hpp, docs/theory.md "bounded-memory half-space").
-    history_ = std::make_unique<HalfSpaceHistory>(config_.material, g.length, nodes_, dt_,
-                                                  HalfSpaceOperatorDesign{}, cancelled);
+  bottom_height_used_ = bottom_height(config_);
+  if (config_.bottom.body == BodyKind::mirror) {
+    // Two identical bodies: one operator of the pair (docs/theory.md).
+    dt_ = strip_time_step(config_.material, g.height, dx_, config_.time.beta);
+    history_ = make_pair_history(config_, config_.material, g.height, dt_, cancelled);
   } else {
-    const auto kernels =
-        config_.output.kernel_cache.empty()
-            ? compute_strip_kernels(config_.material, g.height, g.length, nodes_, dt_, cancelled)
-            : load_or_compute_strip_kernels(config_.output.kernel_cache, config_.material,
-                                            g.height, g.length, nodes_, dt_, nullptr, cancelled);
-    history_ = make_strip_history(config_.material, kernels, config_.time.history, cancelled);
+    // Two different bodies, each with its own operator (docs/bodies.md).  The
+    // scalar combination is the antiplane one; the config refuses the rest.
+    if (!config_.material.antiplane())
+      throw std::invalid_argument(
+          "bottom.body = \"" + std::string(kBodyKindNames[static_cast<std::size_t>(config_.bottom.body)]) +
+          "\" needs material.plane = \"antiplane\": in-plane dissimilar bodies are not implemented yet");
+    std::unique_ptr<HistoryOperator> bottom;
+    if (config_.bottom.body == BodyKind::rigid) {
+      dt_ = strip_time_step(config_.material, g.height, dx_, config_.time.beta);
+      bottom_height_used_ = std::numeric_limits<double>::quiet_NaN();
+    } else {
+      const ElasticMaterial bottom_body = bottom_material(config_);
+      const TwoBodyTiming timing = two_body_time_step(config_.material, g.height, bottom_body,
+                                                      config_.bottom.height, dx_, config_.time.beta);
+      dt_ = timing.time_step;
+      bottom_height_used_ = timing.bottom_height;
+      bottom = make_pair_history(config_, bottom_body, timing.bottom_height, dt_, cancelled);
+    }
+    history_ = std::make_unique<TwoBodyHistory>(
+        make_pair_history(config_, config_.material, g.height, dt_, cancelled), std::move(bottom));
   }
+  // mu / (2 c_s) for identical bodies (the same expression the operators use).
+  eta_ = history_->radiation_damping();
 
   const auto n = static_cast<std::size_t>(nodes_);
   x_.resize(n);

@@ -50,7 +50,12 @@ class Simulation {
   long long step_index() const { return step_index_; }
   double time_step() const { return dt_; }
   double dx() const { return dx_; }
-  double radiation_damping() const { return eta_; }  // mu / (2 c_s) [Pa s/m]
+  // mu / (2 c_s) for identical bodies; eta_t eta_b / (eta_t + eta_b) for two
+  // different ones (docs/bodies.md) [Pa s/m]
+  double radiation_damping() const { return eta_; }
+  // The bottom body's height as its operator uses it: its shear echo rounded
+  // to whole time steps (docs/bodies.md); NaN for a rigid base.
+  double bottom_height_used() const { return bottom_height_used_; }
   const HistoryOperator& history_operator() const { return *history_; }
 
   std::span<const double> x() const { return x_; }
@@ -87,7 +92,7 @@ class Simulation {
 
   SimulationConfig config_;
   int nodes_;
-  double dx_, dt_, eta_;
+  double dx_, dt_, eta_, bottom_height_used_;
   double driving_velocity_;  // v0 used for the perturbation split (0 for verification laws)
   double time_ = 0.0;
   long long step_index_ = 0;

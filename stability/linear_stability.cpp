@@ -49,7 +49,11 @@ struct Characteristic {
   std::vector<double> pole_frequencies;
 
   complex response(complex z) const {
-    return strip_response(sliding.material, sliding.strip_height, wavenumber, z);
+    if (!sliding.two_bodies) return strip_response(sliding.material, sliding.strip_height, wavenumber, z);
+    const complex top = 2.0 * strip_response(sliding.material, sliding.strip_height, wavenumber, z);
+    if (sliding.bottom_rigid) return top;
+    const complex bottom = 2.0 * strip_response(sliding.bottom_material, sliding.bottom_height, wavenumber, z);
+    return top * bottom / (top + bottom);
   }
 
   // F itself (has the poles of S and the pole at g_phi).
@@ -63,6 +67,17 @@ struct Characteristic {
   // contour sweep stays smooth next to the lossless strip resonances.
   complex regular(complex z) const {
     const double g_phi = lin.state_rate_dstate;
+    if (sliding.two_bodies && !sliding.bottom_rigid) {
+      // F (K_t + K_b) = K_t K_b + friction (K_t + K_b) / (z - g_phi): analytic
+      // where S = K_t K_b / (K_t + K_b) has its poles (zeros of K_t + K_b, not
+      // known in closed form); the poles of K_t and K_b are removed as below.
+      const complex top = 2.0 * strip_response(sliding.material, sliding.strip_height, wavenumber, z);
+      const complex bottom = 2.0 * strip_response(sliding.bottom_material, sliding.bottom_height, wavenumber, z);
+      complex value = top * bottom * (z - g_phi) +
+                      z * (lin.strength_dv * (z - g_phi) + lin.strength_dstate * lin.state_rate_dv) * (top + bottom);
+      for (double w : pole_frequencies) value *= (z - complex(0.0, w)) * (z + complex(0.0, w)) / (w * w);
+      return value;
+    }
     complex value = response(z);
     for (double w : pole_frequencies) value *= (z - complex(0.0, w)) * (z + complex(0.0, w)) / (w * w);
     complex friction = z * (lin.strength_dv * (z - g_phi) + lin.strength_dstate * lin.state_rate_dv);
@@ -86,6 +101,15 @@ std::vector<double> strip_pole_frequencies(const ElasticMaterial& material, doub
                                            double max_frequency) {
   std::vector<double> poles;
   if (is_half_space(H) || k == 0.0) return poles;  // k = 0: shear comb poles, not used here
+  if (material.antiplane()) {
+    // (mu/2) alpha coth(alpha H): poles where alpha H = i m pi, m >= 1 only
+    // (m = 0 is regular: alpha coth(alpha H) -> 1/H), docs/bodies.md.
+    // (every shear mode at or below max_frequency is listed: its comb
+    // partner lies lower.)
+    for (const auto& mode : strip_modes(material, H, k, max_frequency))
+      if (mode.family == ModeFamily::shear) poles.push_back(mode.frequency);
+    return poles;
+  }
   const double cs = material.shear_wave_speed();
   const double cd = material.dilatational_wave_speed();
   if (cs * k <= max_frequency) poles.push_back(cs * k);
@@ -112,8 +136,15 @@ Characteristic make_characteristic(const SteadySliding& sliding, double waveleng
   const double k = 2.0 * pi / wavelength;
   const double reach = 2.0 * std::hypot(std::max(std::abs(box.min_re), std::abs(box.max_re)),
                                         box.max_im);
-  return Characteristic{sliding, linearise_friction(sliding), k,
-                        strip_pole_frequencies(sliding.material, sliding.strip_height, k, reach)};
+  std::vector<double> poles = strip_pole_frequencies(sliding.material, sliding.strip_height, k, reach);
+  if (sliding.two_bodies && !sliding.bottom_rigid) {
+    // Poles of K_b too (regular() multiplies by K_t K_b); a frequency shared
+    // by both bodies is a double pole of K_t K_b.
+    const auto bottom = strip_pole_frequencies(sliding.bottom_material, sliding.bottom_height, k, reach);
+    poles.insert(poles.end(), bottom.begin(), bottom.end());
+    std::sort(poles.begin(), poles.end());
+  }
+  return Characteristic{sliding, linearise_friction(sliding), k, std::move(poles)};
 }
 
 // Sum of arg changes of G along the segment, refined until each step turns by less
@@ -255,8 +286,14 @@ SearchBox unstable_search_box(const SteadySliding& sliding) {
   return SearchBox{min_re, max_re, 1.0137 * radius};
 }
 
+// A half-space body anywhere: branch cuts of S on the imaginary axis.
+bool has_half_space(const SteadySliding& sliding) {
+  return is_half_space(sliding.strip_height) ||
+         (sliding.two_bodies && !sliding.bottom_rigid && is_half_space(sliding.bottom_height));
+}
+
 SearchBox damped_search_box(const SteadySliding& sliding) {
-  if (is_half_space(sliding.strip_height))
+  if (has_half_space(sliding))
     throw std::invalid_argument("damped_search_box: strip_height = inf; the half-space response has "
                                 "branch cuts on the imaginary axis, only Re Lambda > 0 is searched");
   SearchBox box = unstable_search_box(sliding);
@@ -267,7 +304,7 @@ SearchBox damped_search_box(const SteadySliding& sliding) {
 int count_roots(const SteadySliding& sliding, double wavelength, const SearchBox& box) {
   if (!(box.max_re > box.min_re) || !(box.max_im > 0.0))
     throw std::invalid_argument("count_roots: box must have max_re > min_re and max_im > 0");
-  if (is_half_space(sliding.strip_height) && !(box.min_re > 0.0))
+  if (has_half_space(sliding) && !(box.min_re > 0.0))
     throw std::invalid_argument("count_roots: box.min_re = " + std::to_string(box.min_re) +
                                 " with a half-space; it must be > 0 (branch cuts on Re = 0)");
   const Characteristic c = make_characteristic(sliding, wavelength, box);
@@ -348,8 +385,12 @@ double quasi_static_critical_wavelength(const SteadySliding& sliding) {
   const double stiffness_needed =
       lin.strength_dv * lin.state_rate_dstate - lin.strength_dstate * lin.state_rate_dv;
   if (!(stiffness_needed > 0.0)) return std::numeric_limits<double>::infinity();
+  if (sliding.two_bodies)
+    throw std::invalid_argument("quasi_static_critical_wavelength: identical bodies only (bottom.body = \"mirror\")");
   const ElasticMaterial& m = sliding.material;
-  const double mu_star = m.shear_modulus * (1.0 - 1.0 / m.wave_speed_ratio_squared());
+  // Half-space static stiffness mu* |k|: in-plane mu (1 - c_s^2/c_d^2), antiplane mu/2.
+  const double mu_star = m.antiplane() ? 0.5 * m.shear_modulus
+                                       : m.shear_modulus * (1.0 - 1.0 / m.wave_speed_ratio_squared());
   const double k_half_space = stiffness_needed / mu_star;
   if (is_half_space(sliding.strip_height)) return 2.0 * pi / k_half_space;
   // The static strip stiffness increases with k and stays below mu* k, so the

@@ -26,6 +26,14 @@ struct SteadySliding {
   FrictionParameters friction;
   double normal_stress = 1e6;      // sigma0 [Pa]
   double driving_velocity = 2e-3;  // v0 [m/s]
+  // A different bottom body (docs/bodies.md; antiplane): S is then the
+  // series combination (1/K_t + 1/K_b)^-1 of the two face stiffnesses
+  // K_b = 2 strip_response(body b) (a rigid bottom: K_b = inf, S = K_t).
+  // two_bodies = false: the bottom body is the mirror image of the top one.
+  bool two_bodies = false;
+  bool bottom_rigid = false;
+  ElasticMaterial bottom_material;
+  double bottom_height = 0.1;
 };
 
 // Partial derivatives of the friction law at steady sliding (v0, phi_ss(v0)),

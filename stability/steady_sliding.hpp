@@ -20,6 +20,10 @@ inline SteadySliding steady_sliding_of(const SimulationConfig& config) {
                                       "linear stability (growth rates, Lc(H))");
   sliding.normal_stress = config.loading.normal_stress;
   sliding.driving_velocity = config.loading.driving_velocity;
+  sliding.two_bodies = config.bottom.body != BodyKind::mirror;
+  sliding.bottom_rigid = config.bottom.body == BodyKind::rigid;
+  sliding.bottom_material = bottom_material(config);
+  sliding.bottom_height = config.bottom.height;
   return sliding;
 }
 
