@@ -367,10 +367,16 @@ REPRO = ["--set", "geometry.nodes=1024", "--set", "time.duration_transits=2",
          "--set", "output.snapshot_interval=2e-5", "--quiet"]
 
 
+# The strip with its default (modal) history runs in the fast tier; the block
+# and half-space variants repeat the same claim for the other operators at the
+# cost of four more N = 1024 runs each, so they run with the slow tier.
+SLOW_VARIANTS = pytest.mark.slow
+
+
 @pytest.mark.parametrize("extra", [
     [],                                 # strip, modal history (auto: ~77 normal modes per Fourier mode)
-    ["--set", "time.history=block"],
-    ["--set", "geometry.height=inf"],
+    pytest.param(["--set", "time.history=block"], marks=SLOW_VARIANTS),
+    pytest.param(["--set", "geometry.height=inf"], marks=SLOW_VARIANTS),
 ])
 def test_two_runs_are_bitwise_identical(cli, repo, tmp_path, extra):
     outs = []
@@ -383,7 +389,11 @@ def test_two_runs_are_bitwise_identical(cli, repo, tmp_path, extra):
     _assert_bitwise_equal(*outs)
 
 
-@pytest.mark.parametrize("extra", [[], ["--set", "time.history=block"], ["--set", "geometry.height=inf"]])
+@pytest.mark.parametrize("extra", [
+    [],
+    pytest.param(["--set", "time.history=block"], marks=SLOW_VARIANTS),
+    pytest.param(["--set", "geometry.height=inf"], marks=SLOW_VARIANTS),
+])
 def test_one_and_two_threads_are_bitwise_identical(cli, repo, tmp_path, extra):
     # No reduction crosses threads (every loop is over independent nodes or
     # Fourier modes, docs/reliability.md), so the results are identical, not
