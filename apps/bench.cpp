@@ -13,7 +13,9 @@
 #include <limits>
 #include <string>
 
+#include "config/resource_estimate.hpp"
 #include "solver/simulation.hpp"
+#include "solver/simulation_3d.hpp"
 #include "kernels/block_strip_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/elastic_material.hpp"
@@ -139,9 +141,131 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
   return {us_per_step, floor_us};
 }
 
+// Runs one case in a forked child (so its peak resident memory is its own) and
+// waits for it; false if the fork failed.  A failing case reports on stderr.
+template <class Case>
+bool in_child(const BenchOptions& options, const std::string& label, Case&& run_case) {
+  const pid_t pid = fork();
+  if (pid < 0) return false;
+  if (pid == 0) {
+    omp_set_num_threads(options.threads);
+    try {
+      run_case();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench %s failed: %s\n", label.c_str(), e.what());
+      _exit(1);
+    }
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return true;
+}
+
+// A 2D interface of c.nodes x nodes_z nodes: Simulation3d's step against its
+// floor, timed in this binary through the same FFT class and batch routine.
+void bench_case_3d(const BenchCase& c, const BenchOptions& options) {
+  using clock = std::chrono::steady_clock;
+  SimulationConfig config;
+  config.geometry.length = 4.0;
+  config.geometry.height = c.height;
+  config.geometry.nodes = c.nodes;
+  config.geometry.nodes_z = options.nodes_z;
+  config.geometry.width = 4.0 * options.nodes_z / c.nodes;
+  // Half-spaces: below the 2D-interface limit 0.35/sqrt(2) = 0.247 (docs/3d.md).
+  config.time.beta = std::isinf(c.height) ? 0.24 : 0.25;
+  config.initial.noise_amplitude = 1e-3;
+  const auto t_setup = clock::now();
+  Simulation3d sim(config);
+  const double setup_ms = std::chrono::duration<double, std::milli>(clock::now() - t_setup).count();
+  for (int i = 0; i < 10; ++i) sim.step();
+  int steps = options.steps;
+  if (std::isinf(c.height)) steps = ((std::max(steps, 128) + 127) / 128) * 128;  // whole slow blocks
+  const auto t0 = clock::now();
+  for (int i = 0; i < steps; ++i) sim.step();
+  const double us_per_step = std::chrono::duration<double, std::micro>(clock::now() - t0).count() / steps;
+
+  const std::size_t n = sim.nodes();
+  RealFft2d fft(c.nodes, options.nodes_z);
+  std::vector<double> vx(sim.slip_rate_x().begin(), sim.slip_rate_x().end());
+  std::vector<double> vz(sim.slip_rate_z().begin(), sim.slip_rate_z().end());
+  std::vector<double> phi(sim.state().begin(), sim.state().end()), speed(n), speed_new(n), phi_new(n);
+  std::vector<double> hx(n), hz(n), load(n);
+  std::vector<std::complex<double>> spectrum_x(fft.modes()), spectrum_z(fft.modes());
+  for (std::size_t i = 0; i < n; ++i) speed[i] = std::hypot(vx[i], vz[i]);
+  const LocalSolveParameters params{config.friction, config.loading.normal_stress, sim.radiation_damping()};
+  const double drive = sim.reference_shear_stress() + params.eta * config.loading.driving_velocity;
+  const double dt = sim.time_step();
+  const auto t1 = clock::now();
+  for (int s = 0; s < options.steps; ++s) {
+    fft.forward(vx, spectrum_x);
+    fft.forward(vz, spectrum_z);
+    fft.inverse(spectrum_x, hx);
+    fft.inverse(spectrum_z, hz);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double lx = drive - 1e-9 * hx[i], lz = -1e-9 * hz[i];
+      load[i] = std::sqrt(lx * lx + lz * lz);
+    }
+    predictor_corrector_parallel(params, dt, load, speed, phi, speed_new, phi_new);
+    for (std::size_t i = 0; i < n; ++i) {
+      vx[i] = speed_new[i] * (drive - 1e-9 * hx[i]) / load[i];
+      vz[i] = speed_new[i] * (-1e-9 * hz[i]) / load[i];
+    }
+    speed.swap(speed_new);
+    phi.swap(phi_new);
+  }
+  const double floor_us = std::chrono::duration<double, std::micro>(clock::now() - t1).count() / options.steps;
+  const double rss = peak_rss_mib();
+  const auto stats = sim.history_operator().stats();
+  const char* algorithm = std::isinf(c.height) ? "half_space" : "modal";
+  if (options.json) {
+    std::printf(
+        "{\"N\": %d, \"nodes_z\": %d, \"height\": %s, \"length\": 4.0, \"us_per_step\": %.3f, "
+        "\"floor_us_per_step\": %.3f, \"ratio_to_floor\": %.3f, \"rss_mib\": %.2f, \"oscillators\": %zu, "
+        "\"operator_mib\": %.2f, \"dt\": %.6g, \"threads\": %d, \"steps\": %d, \"setup_ms\": %.2f, "
+        "\"history\": \"%s\"}\n",
+        c.nodes, options.nodes_z, std::isinf(c.height) ? "null" : std::to_string(c.height).c_str(), us_per_step,
+        floor_us, us_per_step / floor_us, rss, stats.oscillators, stats.memory_bytes / 1048576.0, dt,
+        options.threads, steps, setup_ms, algorithm);
+  } else {
+    std::printf("%6d x %-5d  %-8s  %12.1f  %12.1f  %8.2f  %9.1f  %12zu  %10.1f  %s\n", c.nodes, options.nodes_z,
+                std::isinf(c.height) ? "inf" : std::to_string(c.height).substr(0, 5).c_str(), us_per_step,
+                floor_us, us_per_step / floor_us, rss, stats.oscillators, setup_ms, algorithm);
+  }
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int run_bench(const BenchOptions& options) {
+  if (options.nodes_z > 1) {
+    if (!options.json)
+      std::printf("# 2D interface: L_x = 4 m, dz = dx, beta = 0.25 (half-space 0.24), Table S1 friction, %d thread(s), %d steps\n"
+                  "#      N x N_z  H [m]     us/step     floor us/step  ratio  RSS [MiB]  oscillators  setup [ms]  history\n",
+                  options.threads, options.steps);
+    std::fflush(stdout);  // before the forks, or each child prints it again
+    for (int n : options.nodes)
+      for (double height : options.heights) {
+        SimulationConfig config;
+        config.geometry.length = 4.0;
+        config.geometry.height = height;
+        config.geometry.nodes = n;
+        config.geometry.nodes_z = options.nodes_z;
+        config.geometry.width = 4.0 * options.nodes_z / n;
+        const double gib = estimate_resources(config).operator_bytes / (1024.0 * 1024.0 * 1024.0);
+        if (gib > options.max_operator_gib) {
+          std::printf(options.json ? "{\"N\": %d, \"nodes_z\": %d, \"height\": %g, \"skipped\": \"estimated "
+                                     "operator memory %.1f GiB > %.1f GiB (--max-gib)\"}\n"
+                                   : "%6d x %-5d  %-8g  skipped: estimated operator memory %.1f GiB > %.1f GiB\n",
+                      n, options.nodes_z, height, gib, options.max_operator_gib);
+          std::fflush(stdout);
+          continue;
+        }
+        const std::string label = "N=" + std::to_string(n) + " x " + std::to_string(options.nodes_z) + " H=" + std::to_string(height);
+        if (!in_child(options, label, [&] { bench_case_3d({n, height}, options); })) return 1;
+      }
+    return 0;
+  }
   if (!options.json)
     std::printf("# L = 4 m, beta = 0.25, Table S1 friction, %d thread(s), %d steps per case, "
                 "instruction set %s (friction solve: %zu doubles per vector)\n"

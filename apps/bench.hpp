@@ -16,6 +16,9 @@ struct BenchOptions {
   // Plane conditions timed at each N and height (--planes strain,antiplane
   // adds the antiplane rows and a line with the antiplane/in-plane ratio).
   std::vector<PlaneCondition> planes = {PlaneCondition::strain};
+  // > 1: time a 2D interface of nodes x nodes_z nodes (square spacing, L_x =
+  // 4 m, L_z = 4 m nodes_z/nodes) instead (solver/simulation_3d.hpp).
+  int nodes_z = 1;
   HistoryAlgorithm history = HistoryAlgorithm::automatic;  // strip history algorithm  // cases whose estimated operator memory exceeds this are reported as skipped
 };
 
@@ -24,6 +27,9 @@ struct BenchOptions {
 // and H/L = 0.025, 0.25 and the half-space (L = 4 m, beta = 0.25, Table S1
 // friction).  Each case runs in a forked child so its peak resident memory
 // (VmHWM) is its own.
+// With options.nodes_z > 1 the rows are 2D interfaces: the full step of
+// Simulation3d against its floor (two forward and two inverse 2D FFTs, the
+// load magnitude, the batch predictor-corrector and the direction at every node).
 int run_bench(const BenchOptions& options);
 
 }  // namespace slipstrip

@@ -31,6 +31,9 @@ Command add_bench_command(CLI::App& app) {
   bench->add_option("--nodes", o->nodes, "Node counts to time (comma-separated)")->delimiter(',');
   bench->add_option("--steps", o->steps, "Time steps per measurement");
   bench->add_option("--threads", o->threads, "OpenMP threads (default 1)");
+  bench->add_option("--nodes-z", o->nodes_z,
+                    "> 1: time 2D interfaces of N x nodes-z nodes (dz = dx, L_x = 4 m; docs/3d.md)")
+      ->check(CLI::PositiveNumber);
   bench->add_option_function<std::vector<std::string>>(
           "--heights",
           [o](const std::vector<std::string>& values) {

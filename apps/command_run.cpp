@@ -20,6 +20,7 @@
 #include "slipstrip/version.hpp"
 #include "solver/checkpoint.hpp"
 #include "solver/run.hpp"
+#include "solver/run_3d.hpp"
 
 namespace slipstrip::cli {
 namespace {
@@ -180,7 +181,9 @@ int run(const RunOptions& o) {
                out_path.c_str());
   RunResult result;
   try {
-    result = run_simulation(config, out_path, hooks);
+    // geometry.nodes_z > 1: a 2D interface between 3D bodies (docs/3d.md).
+    result = config.geometry.nodes_z > 1 ? run_simulation_3d(config, out_path, hooks)
+                                         : run_simulation(config, out_path, hooks);
   } catch (const SetupCancelled& e) {
     std::fprintf(stderr, "interrupted by %s during the set-up (%s); no output written\n", interrupt_name(),
                  e.what());

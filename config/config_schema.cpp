@@ -19,6 +19,7 @@
 #include "friction/parameter_profile.hpp"
 #include "kernels/antiplane_response.hpp"
 #include "kernels/elastic_material.hpp"
+#include "kernels/interface_2d_history.hpp"
 #include "kernels/passivity.hpp"
 
 namespace slipstrip {
@@ -168,26 +169,41 @@ void below_nyquist(const SimulationConfig& c, std::int64_t mode, std::string_vie
                                                   " < nodes/2 = " + std::to_string(half));
 }
 
+void nodes_z_rule(const SimulationConfig& c, std::int64_t nodes_z) {
+  if (nodes_z * c.geometry.nodes > kMaxNodes)
+    throw KeyOutOfRange(std::to_string(nodes_z), "an integer with nodes x nodes_z <= " +
+                                                     std::to_string(kMaxNodes) + " (nodes = " +
+                                                     std::to_string(c.geometry.nodes) + ")");
+}
+
 void beta_rule(const SimulationConfig& c, double beta) {
   // Antiplane: 2/pi (docs/bodies.md), above the key's cap; in-plane:
   // 1/(pi (1 - c_s^2/c_d^2)).  A second body's operator runs at
   // c_b dt/dx <= beta (the step follows the faster body), so one limit serves both.
-  const double beta_max = c.material.antiplane()
-                              ? antiplane_strip_passivity_beta_limit()
-                              : strip_passivity_beta_limit(c.material.wave_speed_ratio_squared());
+  // A 2D interface reaches |k| up to pi sqrt(1/dx^2 + 1/dz^2): the limits,
+  // bounds on c_s |k| dt, scale down accordingly (docs/3d.md).
+  const bool interface_2d = c.geometry.nodes_z > 1;
+  const InterfaceGrid2d grid{c.geometry.length, c.geometry.width, c.geometry.nodes, c.geometry.nodes_z};
+  auto scaled = [&](double limit) { return interface_2d ? interface_2d_beta_limit(grid, limit) : limit; };
+  const char* where = interface_2d ? ", scaled by pi/(min(dx, dz) |k|_max) for the 2D interface" : "";
+  const double beta_max = scaled(c.material.antiplane()
+                                     ? antiplane_strip_passivity_beta_limit()
+                                     : strip_passivity_beta_limit(c.material.wave_speed_ratio_squared()));
   if (beta > beta_max)
     throw KeyOutOfRange(format_config_number(beta),
                         "0 < beta <= " + format_config_number(std::floor(beta_max * 1e4) / 1e4) +
-                            " for this material (1/(pi (1 - c_s^2/c_d^2)), the limit of a passive "
-                            "discrete strip operator; docs/theory.md)");
+                            " for this material (1/(pi (1 - c_s^2/c_d^2)) in-plane, 2/pi antiplane" + where +
+                            ", the limit of a passive discrete strip operator; docs/theory.md)");
   const bool any_half_space = is_half_space(c.geometry.height) ||
                               (c.bottom.body == BodyKind::elastic && is_half_space(c.bottom.height));
-  if (any_half_space && beta > kHalfSpaceBetaLimit)
+  const double half_space_max = scaled(kHalfSpaceBetaLimit);
+  if (any_half_space && beta > half_space_max)
     throw KeyOutOfRange(format_config_number(beta),
-                        "0 < beta <= " + format_bound(kHalfSpaceBetaLimit) +
-                            " for a half-space (geometry.height or bottom.height = \"inf\"): above it the sampled "
-                            "half-space kernel cannot be made passive at the shortest "
-                            "wavelength; docs/theory.md");
+                        "0 < beta <= " +
+                            format_bound(interface_2d ? std::floor(half_space_max * 1e4) / 1e4 : kHalfSpaceBetaLimit) +
+                            " for a half-space (geometry.height or bottom.height = \"inf\")" + where +
+                            ": above it the sampled half-space kernel cannot be made passive at the "
+                            "shortest wavelength; docs/theory.md");
 }
 
 void friction_rule(const SimulationConfig& c) {
@@ -325,6 +341,19 @@ constexpr ConfigKey kKeys[] = {
        c.geometry.nodes = static_cast<int>(std::round(c.geometry.length / dx));
      }},
      .real_rule = dx_rule},
+    {.section = "geometry", .name = "width", .unit = "m", .noun = "a length",
+     .allowed = positive, .generous = {1e-6, true, 1e6, true},
+     .help = "L_z, the period across the interface (along z); used when `nodes_z` > 1 (docs/3d.md)",
+     .comment = "L_z [m], period along z (2D interface: nodes_z > 1)",
+     .bind = real_member<&C::geometry, &GeometryConfig::width>()},
+    {.section = "geometry", .name = "nodes_z", .type = KeyType::integer, .noun = "an integer",
+     .allowed = {1.0, true, static_cast<double>(kMaxNodes), true},
+     .rule_text = "nodes x nodes_z <= 2^24",
+     .help = "nodes along z, dz = width/nodes_z; 1 = a one-dimensional interface (the 2D problem), "
+             "> 1 = a 2D interface between 3D bodies (docs/3d.md)",
+     .comment = "N_z; 1 = 2D problem",
+     .bind = integer_member<&C::geometry, &GeometryConfig::nodes_z>(),
+     .integer_rule = nodes_z_rule},
 
     // [material] ------------------------------------------------------------
     {.section = "material", .name = "shear_modulus", .unit = "Pa", .noun = "a modulus",

@@ -1,5 +1,6 @@
 #include "config/resource_estimate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -61,11 +62,17 @@ std::string duration_text(double seconds) {
 
 ResourceEstimate estimate_resources(const SimulationConfig& c) {
   ResourceEstimate e;
-  const double n = c.geometry.nodes;
-  const double dx = c.geometry.length / n;
+  // A 2D interface (nodes_z > 1, docs/3d.md): nodes_z rows of Fourier modes,
+  // each with an in-plane and an antiplane operator (modal or half-space),
+  // the time step set by the smaller spacing, seven fields per snapshot node.
+  const bool interface_2d = c.geometry.nodes_z > 1;
+  const double rows_z = interface_2d ? c.geometry.nodes_z : 1.0;
+  const double n = c.geometry.nodes * rows_z;
+  const double dx = std::min(c.geometry.length / c.geometry.nodes,
+                             interface_2d ? c.geometry.width / c.geometry.nodes_z : c.geometry.length);
   const double cs = c.material.shear_wave_speed();
   const double cd = c.material.dilatational_wave_speed();
-  const double fourier_modes = std::floor(n / 2.0) + 1.0;
+  const double fourier_modes = (std::floor(c.geometry.nodes / 2.0) + 1.0) * rows_z * (interface_2d ? 2.0 : 1.0);
   const double dt_max = c.time.beta * dx / cs;
   if (is_half_space(c.geometry.height)) {
     e.time_step = dt_max;
@@ -76,9 +83,9 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
     e.echo_steps = std::ceil(2.0 * c.geometry.height / cs / dt_max * (1.0 - 1e-12));
     e.time_step = e.echo_steps >= 1.0 ? 2.0 * c.geometry.height / cs / e.echo_steps : dt_max;
     e.modes_per_fourier_mode = 0.5 * e.echo_steps * (1.0 + cs / cd);
-    e.block_history = c.time.history == HistoryAlgorithm::block ||
-                      (c.time.history == HistoryAlgorithm::automatic &&
-                       e.modes_per_fourier_mode >= kBlockThreshold);
+    e.block_history = !interface_2d && (c.time.history == HistoryAlgorithm::block ||
+                                        (c.time.history == HistoryAlgorithm::automatic &&
+                                         e.modes_per_fourier_mode >= kBlockThreshold));
     const double per_mode = e.block_history ? kBlockBytesPerMode : kModalBytesPerMode;
     e.operator_bytes = fourier_modes * e.modes_per_fourier_mode * per_mode + 8.0 * e.echo_steps;
   }
@@ -105,7 +112,8 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
   // mean slip v0 t gives the number of rows a uniformly sliding run fills.
   const double levels =
       o.delta_th > 0.0 ? c.loading.driving_velocity * c.time.duration / o.delta_th : 0.0;
-  e.output_bytes = 32.0 * rows + (8.0 + 32.0 * n) * snapshots + 8.0 * n * levels;
+  e.output_bytes = interface_2d ? 24.0 * rows + (16.0 + 56.0 * n) * snapshots
+                                 : 32.0 * rows + (8.0 + 32.0 * n) * snapshots + 8.0 * n * levels;
   return e;
 }
 

@@ -20,6 +20,10 @@ struct GeometryConfig {
   double length = 4.0;   // [geometry] length L [m], period in x
   double height = 0.1;   // [geometry] height H [m] of each strip; +inf = half-space
   int nodes = 1600;      // [geometry] nodes N (power of two recommended for FFT speed)
+  // A 2D interface (docs/3d.md): period along z and nodes across it; nodes_z
+  // = 1 is the one-dimensional interface (the 2D problem; width unused).
+  double width = 1.0;    // [geometry] width L_z [m], period in z
+  int nodes_z = 1;       // [geometry] nodes_z
 };
 
 struct LoadingConfig {

@@ -41,4 +41,34 @@ void RealFft::inverse(std::span<const std::complex<double>> in, std::span<double
   for (int j = 0; j < nodes_; ++j) out[j] = real_[j] * scale;
 }
 
+RealFft2d::RealFft2d(int nodes_x, int nodes_z)
+    : nodes_x_(nodes_x), nodes_z_(nodes_z),
+      real_(make_fftw_buffer<double>(static_cast<std::size_t>(nodes_x) * std::max(nodes_z, 1))),
+      spectral_(make_fftw_buffer<fftw_complex>(static_cast<std::size_t>(nodes_x / 2 + 1) *
+                                               std::max(nodes_z, 1))) {
+  if (nodes_x < 1 || nodes_z < 1)
+    throw std::invalid_argument("RealFft2d: nodes_x = " + std::to_string(nodes_x) + ", nodes_z = " +
+                                std::to_string(nodes_z) + " must both be >= 1");
+  // FFTW_ESTIMATE for reproducible plans (see RealFft).
+  forward_plan_ = owned_plan(
+      fftw_plan_dft_r2c_2d(nodes_z, nodes_x, real_.get(), spectral_.get(), FFTW_ESTIMATE), "RealFft2d");
+  inverse_plan_ = owned_plan(
+      fftw_plan_dft_c2r_2d(nodes_z, nodes_x, spectral_.get(), real_.get(), FFTW_ESTIMATE), "RealFft2d");
+}
+
+void RealFft2d::forward(std::span<const double> in, std::span<std::complex<double>> out) {
+  std::copy(in.begin(), in.end(), real_.get());
+  fftw_execute(forward_plan_.get());
+  const auto* s = reinterpret_cast<const std::complex<double>*>(spectral_.get());
+  std::copy(s, s + modes(), out.begin());
+}
+
+void RealFft2d::inverse(std::span<const std::complex<double>> in, std::span<double> out) {
+  // c2r destroys its input: transform a copy in our own buffer.
+  std::copy(in.begin(), in.end(), reinterpret_cast<std::complex<double>*>(spectral_.get()));
+  fftw_execute(inverse_plan_.get());
+  const double scale = 1.0 / static_cast<double>(nodes());
+  for (std::size_t j = 0; j < nodes(); ++j) out[j] = real_[j] * scale;
+}
+
 }  // namespace slipstrip

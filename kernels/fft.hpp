@@ -58,4 +58,32 @@ class RealFft {
   FftwPlan inverse_plan_;
 };
 
+// Real-to-complex FFT of a field on an interface periodic in x and z, stored
+// row-major as [iz][ix] (x fastest), with plans made once (as RealFft).  The
+// spectrum is [qz][qx], qz = 0..nodes_z-1, qx = 0..nodes_x/2 (FFTW's r2c
+// layout): wavenumber 2 pi qx / L_x along x and 2 pi qz' / L_z along z, with
+// qz' = qz for qz <= nodes_z/2 and qz - nodes_z above.
+class RealFft2d {
+ public:
+  RealFft2d(int nodes_x, int nodes_z);
+  RealFft2d(const RealFft2d&) = delete;
+  RealFft2d& operator=(const RealFft2d&) = delete;
+
+  int nodes_x() const { return nodes_x_; }
+  int nodes_z() const { return nodes_z_; }
+  std::size_t nodes() const { return static_cast<std::size_t>(nodes_x_) * nodes_z_; }
+  std::size_t modes() const { return static_cast<std::size_t>(nodes_x_ / 2 + 1) * nodes_z_; }
+  // Unnormalised forward transform.
+  void forward(std::span<const double> in, std::span<std::complex<double>> out);
+  // Inverse including the 1/(nodes_x nodes_z) factor.
+  void inverse(std::span<const std::complex<double>> in, std::span<double> out);
+
+ private:
+  int nodes_x_, nodes_z_;
+  FftwBuffer<double> real_;
+  FftwBuffer<fftw_complex> spectral_;
+  FftwPlan forward_plan_;
+  FftwPlan inverse_plan_;
+};
+
 }  // namespace slipstrip

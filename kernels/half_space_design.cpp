@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -73,10 +75,21 @@ std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& mat
   // starts at tau = W h >= near_field_tau.
   double tau_near_max = 0.0;
   for (int q = 1; q < n_modes; ++q) tau_near_max = std::max(tau_near_max, window[q] * h_of[q]);
+  // The near-field sum must reach down to the smallest h (h_of[1] on a
+  // one-dimensional interface, whose wavenumbers increase with q).
+  double h_min = std::numeric_limits<double>::infinity();
+  for (int q = 1; q < n_modes; ++q) h_min = std::min(h_min, h_of[q]);
   const ExponentialSum near =
       n_modes > 1
-          ? half_space_exponential_sum(shape, h_of[1], 2.0 * tau_near_max + 1.0, kNearNodesPerPanel)
+          ? half_space_exponential_sum(shape, h_min, 2.0 * tau_near_max + 1.0, kNearNodesPerPanel)
           : ExponentialSum{};
+  // Modes of equal h (equal |k|: the modes +-kz of a 2D interface) share one
+  // design: design_of[q] is the first mode with q's h, computed once and copied.
+  std::vector<int> design_of(n_modes, 0);
+  {
+    std::map<double, int> first_of;
+    for (int q = 1; q < n_modes; ++q) design_of[q] = first_of.emplace(h_of[q], q).first->second;
+  }
   const ExponentialSum far =
       half_space_exponential_sum(shape, design.near_field_tau, design.horizon_tau, kFarNodesPerPanel);
   // Slow when lambda (B - 1) / 2 <= radius, lambda = x h (x = -Re rate).
@@ -92,6 +105,7 @@ std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& mat
     if (omp_get_thread_num() == 0 && cancelled && !cancel_seen.load(std::memory_order_relaxed) && cancelled())
       cancel_seen.store(true);
     if (cancel_seen.load(std::memory_order_relaxed)) continue;
+    if (design_of[q] != q) continue;  // copied below from the mode of equal h
     try {
       HalfSpaceModeTerms& t = terms[q];
       const double h = h_of[q];
@@ -128,10 +142,12 @@ std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& mat
   if (cancel_seen.load()) throw SetupCancelled("set-up cancelled during the half-space history operator");
   if (!failure.empty()) {
     std::ostringstream msg;
-    msg << "half-space history operator (dt = " << time_step << " s, c_s k_max dt = " << h_of.back()
-        << "): " << failure;
+    msg << "half-space history operator (dt = " << time_step << " s, c_s k_max dt = "
+        << *std::max_element(h_of.begin(), h_of.end()) << "): " << failure;
     throw std::invalid_argument(msg.str());
   }
+  for (int q = 1; q < n_modes; ++q)
+    if (design_of[q] != q) terms[q] = terms[design_of[q]];
   return terms;
 }
 

@@ -22,15 +22,32 @@ std::size_t bytes_of(const Vectors&... vectors) {
 }
 }  // namespace
 
+namespace {
+std::vector<double> interface_wavenumbers(double length, int nodes) {
+  if (!(length > 0) || nodes < 2)
+    throw std::invalid_argument("HalfSpaceHistory: need length > 0, nodes >= 2, time_step > 0");
+  std::vector<double> k(static_cast<std::size_t>(nodes / 2 + 1));
+  for (std::size_t q = 0; q < k.size(); ++q) k[q] = 2.0 * std::numbers::pi * static_cast<double>(q) / length;
+  return k;
+}
+}  // namespace
+
 HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
+                                   double time_step, const HalfSpaceOperatorDesign& design,
+                                   const CancelCheck& cancelled)
+    : HalfSpaceHistory(material, interface_wavenumbers(length, nodes), time_step, design, cancelled) {}
+
+HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, std::span<const double> wavenumbers,
                                    double time_step, const HalfSpaceOperatorDesign& design,
                                    const CancelCheck& cancelled)
     : dt_(time_step),
       eta_(material.radiation_damping()),
       instruction_set_(design.instruction_set.value_or(simd::instruction_set())),
       lags_(design.corrected_lags) {
-  if (!(length > 0) || nodes < 2 || !(time_step > 0))
-    throw std::invalid_argument("HalfSpaceHistory: need length > 0, nodes >= 2, time_step > 0");
+  if (wavenumbers.size() < 2 || wavenumbers[0] != 0.0 || !(time_step > 0) ||
+      std::any_of(wavenumbers.begin() + 1, wavenumbers.end(), [](double k) { return !(k > 0.0); }))
+    throw std::invalid_argument(
+        "HalfSpaceHistory: need the uniform mode 0 first, every other wavenumber > 0, time_step > 0");
   check_half_space_design(design);
   if (!simd::compiled(instruction_set_) || !simd::cpu_supports(instruction_set_))
     throw std::invalid_argument("HalfSpaceHistory: instruction set " +
@@ -41,14 +58,11 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
     terms_ = design.taylor_terms;
     block_centre_ = 0.5 * (block_ + 1);
   }
-  const int n_modes = nodes / 2 + 1;
+  const int n_modes = static_cast<int>(wavenumbers.size());
   const double cs = material.shear_wave_speed();
-  wavenumber_.assign(n_modes, 0.0);
+  wavenumber_.assign(wavenumbers.begin(), wavenumbers.end());
   h_.assign(n_modes, 0.0);
-  for (int q = 1; q < n_modes; ++q) {
-    wavenumber_[q] = 2.0 * std::numbers::pi * q / length;
-    h_[q] = cs * wavenumber_[q] * dt_;
-  }
+  for (int q = 1; q < n_modes; ++q) h_[q] = cs * wavenumber_[q] * dt_;
   const std::vector<int> window = half_space_windows(h_, design);
   const std::vector<HalfSpaceModeTerms> terms =
       half_space_mode_terms(material, dt_, h_, window, block_, design, cancelled);

@@ -56,6 +56,11 @@ class HalfSpaceHistory final : public HistoryOperator {
  public:
   HalfSpaceHistory(const ElasticMaterial& material, double length, int nodes, double time_step,
                    const HalfSpaceOperatorDesign& design = {}, const CancelCheck& cancelled = {});
+  // Any list of wavenumbers (mode q has |k| = wavenumbers[q]; the uniform mode
+  // 0 first and only there).  Modes of equal |k| share one design, computed once.
+  HalfSpaceHistory(const ElasticMaterial& material, std::span<const double> wavenumbers,
+                   double time_step, const HalfSpaceOperatorDesign& design = {},
+                   const CancelCheck& cancelled = {});
 
   double time_step() const override { return dt_; }
   double radiation_damping() const override { return eta_; }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -74,9 +75,22 @@ double strip_time_step(const ElasticMaterial& material, double strip_height, dou
 StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip_height,
                                    double length, int nodes, double time_step,
                                    const CancelCheck& cancelled) {
+  std::vector<double> wavenumbers(static_cast<std::size_t>(nodes / 2 + 1));
+  for (std::size_t q = 0; q < wavenumbers.size(); ++q)
+    wavenumbers[q] = 2.0 * std::numbers::pi * static_cast<double>(q) / length;
+  return compute_strip_kernels(material, strip_height, wavenumbers, time_step, cancelled);
+}
+
+StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip_height,
+                                   std::span<const double> wavenumbers, double time_step,
+                                   const CancelCheck& cancelled) {
   if (is_half_space(strip_height))
     throw std::invalid_argument("compute_strip_kernels needs a finite strip_height (got inf)");
   if (!(strip_height > 0)) throw std::invalid_argument("strip_height must be > 0");
+  if (wavenumbers.empty() || wavenumbers[0] != 0.0 ||
+      std::any_of(wavenumbers.begin() + 1, wavenumbers.end(), [](double k) { return !(k > 0.0); }))
+    throw std::invalid_argument(
+        "compute_strip_kernels: the wavenumbers must start with the uniform mode 0, all others > 0");
   const double echo_time = 2.0 * strip_height / material.shear_wave_speed();
   StripKernels kernels;
   kernels.time_step = time_step;
@@ -87,14 +101,25 @@ StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip
         "time_step = " + std::to_string(time_step) +
         " s must divide the shear echo time 2H/c_s = " + std::to_string(echo_time) +
         " s into a whole number of steps (use strip_time_step)");
-  const int n_modes = nodes / 2 + 1;
+  // First mode of each distinct wavenumber: later modes of the same |k| copy its design.
+  std::map<double, std::size_t> first_of;
   kernels.first_oscillator.assign(1, 0);
-  for (int q = 0; q < n_modes; ++q) {
-    throw_if_cancelled(cancelled, "the strip kernels");
-    const double k = 2.0 * std::numbers::pi * q / length;
-    for (const auto& m : discrete_modes(material, strip_height, k, time_step, kernels.echo_steps)) {
-      kernels.phase.push_back(m.phase);
-      kernels.weight.push_back(m.weight);
+  for (std::size_t q = 0; q < wavenumbers.size(); ++q) {
+    const auto [at, fresh] = first_of.emplace(wavenumbers[q], q);
+    if (fresh) {
+      throw_if_cancelled(cancelled, "the strip kernels");
+      for (const auto& m :
+           discrete_modes(material, strip_height, wavenumbers[q], time_step, kernels.echo_steps)) {
+        kernels.phase.push_back(m.phase);
+        kernels.weight.push_back(m.weight);
+      }
+    } else {
+      const std::size_t begin = kernels.first_oscillator[at->second];
+      const std::size_t end = kernels.first_oscillator[at->second + 1];
+      for (std::size_t m = begin; m < end; ++m) {
+        kernels.phase.push_back(kernels.phase[m]);
+        kernels.weight.push_back(kernels.weight[m]);
+      }
     }
     kernels.first_oscillator.push_back(kernels.weight.size());
   }

@@ -77,6 +77,14 @@ inline void throw_if_cancelled(const CancelCheck& cancelled, const char* where) 
 StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip_height,
                                    double length, int nodes, double time_step,
                                    const CancelCheck& cancelled = {});
+// The same for any list of wavenumbers (mode q has wavenumber wavenumbers[q];
+// the uniform mode, wavenumbers[0] == 0, must come first and only there: the
+// operators carry it as the shear-echo delay line).  Equal wavenumbers share
+// one design: the modes of each distinct |k| are computed once and copied
+// (an interface periodic in x and z has many Fourier modes of equal |k|).
+StripKernels compute_strip_kernels(const ElasticMaterial& material, double strip_height,
+                                   std::span<const double> wavenumbers, double time_step,
+                                   const CancelCheck& cancelled = {});
 
 struct ModeOperatorStats {
   std::size_t modes = 0;            // Fourier modes q = 0..N/2

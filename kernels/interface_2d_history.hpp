@@ -1,0 +1,107 @@
+#pragma once
+// History part of the traction on a two-dimensional interface, periodic in x
+// and z, between two identical bodies of height H (or half-spaces), for slip
+// in any direction of the interface plane (docs/3d.md).
+//
+// An isotropic body's response to one Fourier mode exp(i (kx x + kz z)) of the
+// slip splits along k-hat = (kx, kz)/|k|: slip along k-hat excites the
+// in-plane (P-SV, plane strain) problem of the plane (k-hat, y), slip across
+// it (along y x k-hat) the antiplane (SH) problem, and the two do not couple.
+// Both are the 2D operators at the wavenumber |k|:
+//   tau_along^  = -S_inplane(|k|, s) delta_along^,
+//   tau_across^ = -S_antiplane(|k|, s) delta_across^,
+// so per mode the traction history is the in-plane history of the slip rate's
+// component along k-hat plus the antiplane history of its component across,
+// rotated back into x and z.  Both operators have the same radiation damping
+// mu / (2 c_s), so the instantaneous part stays scalar and the local friction
+// solve stays collinear.  The uniform mode (k = 0) is the 1-D shear-wave
+// problem in both directions; it is taken with k-hat = x, so a field
+// independent of z sees exactly the in-plane operator along x.
+//
+// Mode layout: RealFft2d's [qz][qx] (kernels/fft.hpp).
+//
+// Nyquist modes.  On an even grid the Nyquist wavenumber pi/dz stands for both
+// +pi/dz and -pi/dz (likewise pi/dx), and the coupling term c s (S_P - S_SH)
+// changes sign between them.  A real field's mode there is its own z-mirror
+// image, so the only operator that keeps both the Hermitian symmetry (a real
+// traction) and the z -> -z mirror symmetry is the average over the two signs,
+// which has no coupling term.  The z-Nyquist row is therefore carried twice
+// (kz = +pi/dz and -pi/dz, sharing one design) and averaged, and the x-Nyquist
+// column is projected onto its Hermitian part (the average over kx = +-pi/dx).
+// Resolved modes are untouched.
+#include <complex>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "kernels/elastic_material.hpp"
+#include "kernels/history_convolution.hpp"
+
+namespace slipstrip {
+
+struct InterfaceGrid2d {
+  double length_x = 0.0, length_z = 0.0;  // periods [m]
+  int nodes_x = 0, nodes_z = 0;
+  std::size_t modes() const { return static_cast<std::size_t>(nodes_x / 2 + 1) * nodes_z; }
+};
+
+// Wavevector of each mode of the grid (RealFft2d's layout): kx, kz [1/m] and
+// |k| = hypot(kx, kz).  kx = 2 pi qx / L_x is computed exactly as for a
+// one-dimensional interface, so the modes with kz = 0 get the 2D designs bit
+// for bit; modes qz and nodes_z - qz have the same |k| bit for bit.
+struct InterfaceWavevectors {
+  std::vector<double> kx, kz, magnitude;
+};
+InterfaceWavevectors interface_wavevectors(const InterfaceGrid2d& grid);
+
+// The operators' mode list: the grid's modes, then (nodes_z even and > 1)
+// the z-Nyquist row again with kz = -pi/dz.
+InterfaceWavevectors interface_operator_wavevectors(const InterfaceGrid2d& grid);
+
+// Largest time.beta for which every mode's discrete operator is passive:
+// the one-dimensional limit `beta_1d` (reached at the Nyquist wavenumber pi/dx
+// of a grid of spacing dx) scaled by pi / (dx_min |k|_max), since the limit is a
+// bound on c_s |k| dt.  dx_min = min(L_x / nodes_x, L_z / nodes_z), the spacing
+// that sets the time step.
+double interface_2d_beta_limit(const InterfaceGrid2d& grid, double beta_1d);
+
+class InterfaceHistory2d {
+ public:
+  // in-plane (plane strain) and antiplane operators built over the |k| list
+  // interface_operator_wavevectors(grid).magnitude, e.g. StripHistory from
+  // compute_strip_kernels(material, H, magnitudes, dt) or HalfSpaceHistory;
+  // both with the same time step and radiation damping.
+  InterfaceHistory2d(const InterfaceGrid2d& grid, std::unique_ptr<HistoryOperator> inplane,
+                     std::unique_ptr<HistoryOperator> antiplane);
+
+  // The in-plane and antiplane operators of `material` (its plane condition
+  // is replaced by strain and antiplane) for strips of height H (finite: the
+  // modal StripHistory; +inf: HalfSpaceHistory).  Throws what the operators
+  // throw (e.g. a time step too large for passivity).
+  static InterfaceHistory2d build(const ElasticMaterial& material, double strip_height,
+                                  const InterfaceGrid2d& grid, double time_step,
+                                  const CancelCheck& cancelled = {});
+
+  const InterfaceGrid2d& grid() const { return grid_; }
+  double time_step() const { return inplane_->time_step(); }
+  double radiation_damping() const { return inplane_->radiation_damping(); }
+  std::size_t modes() const { return history_x_.size(); }
+  ModeOperatorStats stats() const;
+
+  // Feed the slip-rate perturbation spectra (x and z components) at t_n;
+  // afterwards history_x(), history_z() hold the history part at t_{n+1}.
+  // No allocation.
+  void push(std::span<const std::complex<double>> slip_rate_x,
+            std::span<const std::complex<double>> slip_rate_z);
+  std::span<const std::complex<double>> history_x() const { return history_x_; }
+  std::span<const std::complex<double>> history_z() const { return history_z_; }
+
+ private:
+  InterfaceGrid2d grid_;
+  std::unique_ptr<HistoryOperator> inplane_, antiplane_;
+  std::size_t nyquist_row_ = 0;     // first mode of the z-Nyquist row (0: none)
+  std::vector<double> cos_, sin_;  // k-hat per operator mode
+  std::vector<std::complex<double>> along_, across_, history_x_, history_z_;
+};
+
+}  // namespace slipstrip

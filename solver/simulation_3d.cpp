@@ -1,0 +1,180 @@
+#include "solver/simulation_3d.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "laws/initial_state.hpp"
+
+namespace slipstrip {
+
+InterfaceGrid2d interface_grid(const SimulationConfig& config) {
+  const auto& g = config.geometry;
+  return InterfaceGrid2d{g.length, g.width, g.nodes, g.nodes_z};
+}
+
+namespace {
+
+// What the 3D path supports; the message names the key and what is allowed.
+const SimulationConfig& checked_3d(const SimulationConfig& c) {
+  auto refuse = [](const std::string& what) {
+    throw std::invalid_argument(what + " (a 2D interface, geometry.nodes_z > 1; docs/3d.md)");
+  };
+  if (c.material.plane != PlaneCondition::strain)
+    refuse("material.plane = \"" + std::string(kPlaneConditionNames[static_cast<int>(c.material.plane)]) +
+           "\" is not allowed with a 2D interface: expected \"strain\" (the bodies are 3D; slip has x and z parts)");
+  // Two identical bodies only: the dissimilar-body operators are not rotated yet.
+  if (c.bottom.body != BodyKind::mirror)
+    refuse("bottom.body = \"" + std::string(kBodyKindNames[static_cast<int>(c.bottom.body)]) +
+           "\" is not allowed with a 2D interface: expected \"mirror\" (dissimilar bodies are 2D only)");
+  if (c.top.outer_face != OuterFace::driven)
+    refuse("top.outer_face = \"" + std::string(kOuterFaceNames[static_cast<int>(c.top.outer_face)]) +
+           "\" is not allowed with a 2D interface: expected \"driven\"");
+  if (c.interface.law != InterfaceLawName::rate_and_state)
+    refuse("interface.law must be \"rate_and_state\"");
+  if (c.friction_along_x.any()) refuse("friction parameters must be numbers, not profiles along x");
+  if (c.interface.load_pulse_amplitude != 0.0) refuse("interface.load_pulse_amplitude must be 0");
+  if (c.time.history == HistoryAlgorithm::block) refuse("time.history = \"block\" is not available: use \"auto\" or \"modal\"");
+  return c;
+}
+
+double time_step_3d(const SimulationConfig& c) {
+  const auto grid = interface_grid(c);
+  return strip_time_step(c.material, c.geometry.height,
+                         std::min(grid.length_x / grid.nodes_x, grid.length_z / grid.nodes_z),
+                         c.time.beta);
+}
+
+}  // namespace
+
+Simulation3d::Simulation3d(const SimulationConfig& config, const CancelCheck& cancelled)
+    : Simulation3d(config, {}, cancelled) {}
+
+Simulation3d::Simulation3d(const SimulationConfig& config, std::span<const double> initial_state,
+                           const CancelCheck& cancelled)
+    : config_(checked_3d(config)), nodes_x_(config.geometry.nodes), nodes_z_(config.geometry.nodes_z),
+      dx_(config.geometry.length / config.geometry.nodes), dz_(config.geometry.width / config.geometry.nodes_z),
+      dt_(time_step_3d(config)), eta_(config.material.radiation_damping()),
+      v0_(config.loading.driving_velocity),
+      tau0_(frictional_strength(config.friction, config.loading.normal_stress, v0_,
+                                steady_state(config.friction, v0_))),
+      local_(config.friction, config.loading.normal_stress, eta_),
+      history_(InterfaceHistory2d::build(config.material, config.geometry.height, interface_grid(config), dt_,
+                                         cancelled)),
+      fft_(nodes_x_, nodes_z_) {
+  const std::size_t n = fft_.nodes();
+  for (auto* v : {&slip_x_, &slip_z_, &slip_rate_x_, &slip_rate_z_, &state_, &shear_stress_x_,
+                  &shear_stress_z_, &speed_, &previous_speed_, &previous_state_, &previous_rate_x_,
+                  &previous_rate_z_, &load_x_, &load_z_, &load_magnitude_, &work_})
+    v->assign(n, 0.0);
+  spectrum_x_.assign(fft_.modes(), 0.0);
+  spectrum_z_.assign(fft_.modes(), 0.0);
+  initialise(initial_state);
+}
+
+void Simulation3d::initialise(std::span<const double> initial_state) {
+  const std::size_t n = nodes();
+  if (!initial_state.empty()) {
+    if (initial_state.size() != n)
+      throw std::invalid_argument("Simulation3d: the initial state has " + std::to_string(initial_state.size()) +
+                                  " values, the interface " + std::to_string(n) + " nodes");
+    std::copy(initial_state.begin(), initial_state.end(), state_.begin());
+  } else {
+    // [initial] at every node from its x: white noise (noise_modes = 0) is
+    // drawn node by node, so it varies along z too; the sine, the Gaussian bump
+    // and band-limited noise are functions of x, the same on every row.
+    std::vector<double> x(n);
+    for (std::size_t i = 0; i < n; ++i) x[i] = static_cast<double>(i % nodes_x_) * dx_;
+    const std::vector<double> phi_ss(n, steady_state(config_.friction, v0_));
+    const std::vector<double> phi = perturbed_steady_state(config_.initial, x, config_.geometry.length, phi_ss);
+    std::copy(phi.begin(), phi.end(), state_.begin());
+  }
+  // t = 0: no history; tau_h = tau_0 + eta v0 along x.
+  std::fill(load_x_.begin(), load_x_.end(), tau0_ + eta_ * v0_);
+  std::fill(load_z_.begin(), load_z_.end(), 0.0);
+  solve(/*initial=*/true);
+  check_finite("initial fields");
+}
+
+void Simulation3d::solve(bool initial) {
+  const std::size_t n = nodes();
+  for (std::size_t i = 0; i < n; ++i)
+    load_magnitude_[i] = std::sqrt(load_x_[i] * load_x_[i] + load_z_[i] * load_z_[i]);
+  try {
+    if (initial) {
+      std::fill(speed_.begin(), speed_.end(), v0_);  // the guess
+      solve_slip_rate_parallel(local_, load_magnitude_, state_, speed_, speed_);
+    } else {
+      predictor_corrector_parallel(local_, dt_, load_magnitude_, previous_speed_, previous_state_, speed_, state_);
+    }
+  } catch (const BatchFailure& e) {
+    std::ostringstream msg;
+    msg << "local friction solve failed at node (ix, iz) = (" << e.index % nodes_x_ << ", "
+        << e.index / nodes_x_ << "), t = " << time_ << " s, step " << step_index_ << ": " << e.what();
+    throw std::runtime_error(msg.str());
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    // v parallel to the load; a load of zero has no direction and sticks.
+    const double m = load_magnitude_[i];
+    const double along_x = m > 0.0 ? load_x_[i] / m : 0.0, along_z = m > 0.0 ? load_z_[i] / m : 0.0;
+    slip_rate_x_[i] = speed_[i] * along_x;
+    slip_rate_z_[i] = speed_[i] * along_z;
+    shear_stress_x_[i] = load_x_[i] - eta_ * slip_rate_x_[i];
+    shear_stress_z_[i] = load_z_[i] - eta_ * slip_rate_z_[i];
+  }
+}
+
+void Simulation3d::step() {
+  const std::size_t n = nodes();
+  // History at t_{n+1} from the slip-rate perturbations up to t_n; the first
+  // sample enters at half weight, as in the 2D solver (solver/simulation.cpp).
+  const double first_sample_weight = step_index_ == 0 ? 0.5 : 1.0;
+  for (std::size_t i = 0; i < n; ++i) work_[i] = first_sample_weight * (slip_rate_x_[i] - v0_);
+  fft_.forward(work_, spectrum_x_);
+  for (std::size_t i = 0; i < n; ++i) work_[i] = first_sample_weight * slip_rate_z_[i];
+  fft_.forward(work_, spectrum_z_);
+  history_.push(spectrum_x_, spectrum_z_);
+  fft_.inverse(history_.history_x(), load_x_);
+  fft_.inverse(history_.history_z(), load_z_);
+  const double drive = tau0_ + eta_ * v0_;
+  for (std::size_t i = 0; i < n; ++i) {
+    load_x_[i] = drive - load_x_[i];
+    load_z_[i] = -load_z_[i];
+  }
+  std::copy(speed_.begin(), speed_.end(), previous_speed_.begin());
+  std::copy(state_.begin(), state_.end(), previous_state_.begin());
+  std::copy(slip_rate_x_.begin(), slip_rate_x_.end(), previous_rate_x_.begin());
+  std::copy(slip_rate_z_.begin(), slip_rate_z_.end(), previous_rate_z_.begin());
+  solve(/*initial=*/false);
+  for (std::size_t i = 0; i < n; ++i) {
+    slip_x_[i] += 0.5 * dt_ * (previous_rate_x_[i] + slip_rate_x_[i]);
+    slip_z_[i] += 0.5 * dt_ * (previous_rate_z_[i] + slip_rate_z_[i]);
+  }
+  time_ += dt_;
+  ++step_index_;
+  check_finite("interface fields");
+}
+
+void Simulation3d::check_finite(const char* what) const {
+  for (std::size_t i = 0; i < nodes(); ++i) {
+    if (std::isfinite(speed_[i]) && std::isfinite(state_[i]) && std::isfinite(slip_x_[i]) &&
+        std::isfinite(slip_z_[i]) && std::isfinite(shear_stress_x_[i]) && std::isfinite(shear_stress_z_[i]))
+      continue;
+    std::ostringstream msg;
+    msg << "non-finite " << what << " at node (ix, iz) = (" << i % nodes_x_ << ", " << i / nodes_x_
+        << "), t = " << time_ << " s, step " << step_index_ << ": slip_rate = (" << slip_rate_x_[i] << ", "
+        << slip_rate_z_[i] << ") m/s, state = " << state_[i] << " s";
+    throw std::runtime_error(msg.str());
+  }
+}
+
+double Simulation3d::max_slip_rate() const { return *std::max_element(speed_.begin(), speed_.end()); }
+
+double Simulation3d::mean_slip_x() const {
+  return std::accumulate(slip_x_.begin(), slip_x_.end(), 0.0) / static_cast<double>(nodes());
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,93 @@
+#pragma once
+// One simulation of a two-dimensional interface (periodic in x and z) between
+// two identical bodies of height H (or half-spaces): vector slip, rate-and-state
+// friction with the shear traction collinear with the slip rate,
+//   |tau| = sigma0 f(|v|, phi),   tau / |tau| = v / |v|,
+// one state variable per node, loading along x (docs/3d.md).
+//
+// Fields are stored row-major [iz][ix] (x fastest), node (ix, iz) at
+// (ix dx, iz dz).  Per step: the x and z slip-rate perturbations go through a
+// 2D FFT each, the history operator of kernels/interface_2d_history.hpp, and
+// back; at each node the history load tau_h = (tau_0 + eta v0 - h_x, -h_z) is
+// solved for the slip rate.  Because the instantaneous response is the same
+// scalar eta = mu / (2 c_s) in every direction, tau_h - eta v = |tau| v / |v|
+// makes v parallel to tau_h, and |v| solves the scalar local problem
+// |tau_h| - eta |v| = sigma0 f(|v|, phi): the 2D batch predictor-corrector
+// (friction/batch_solve.hpp) on the magnitudes, then v = |v| tau_h / |tau_h|.
+#include <complex>
+#include <span>
+#include <vector>
+
+#include "config/simulation_config.hpp"
+#include "friction/batch_solve.hpp"
+#include "kernels/fft.hpp"
+#include "kernels/interface_2d_history.hpp"
+
+namespace slipstrip {
+
+class Simulation3d {
+ public:
+  // The initial state is steady sliding plus config.initial's perturbations
+  // (white noise node by node; the sine, the bump and band-limited noise as
+  // functions of x, the same on every row z).  Throws
+  // std::invalid_argument naming the key for a config the 3D path does not
+  // support (docs/3d.md, "Limits").
+  explicit Simulation3d(const SimulationConfig& config, const CancelCheck& cancelled = {});
+  // The same with a given initial state phi [s] per node ([iz][ix]) instead.
+  Simulation3d(const SimulationConfig& config, std::span<const double> initial_state,
+               const CancelCheck& cancelled = {});
+
+  void step();  // advance one time step; no allocation
+
+  const SimulationConfig& config() const { return config_; }
+  int nodes_x() const { return nodes_x_; }
+  int nodes_z() const { return nodes_z_; }
+  std::size_t nodes() const { return slip_x_.size(); }
+  double dx() const { return dx_; }
+  double dz() const { return dz_; }
+  double time() const { return time_; }
+  long long step_index() const { return step_index_; }
+  double time_step() const { return dt_; }
+  double radiation_damping() const { return eta_; }
+  double reference_shear_stress() const { return tau0_; }  // steady sliding, along x
+  const InterfaceHistory2d& history_operator() const { return history_; }
+
+  std::span<const double> slip_x() const { return slip_x_; }                  // [m]
+  std::span<const double> slip_z() const { return slip_z_; }
+  std::span<const double> slip_rate_x() const { return slip_rate_x_; }        // [m/s]
+  std::span<const double> slip_rate_z() const { return slip_rate_z_; }
+  std::span<const double> state() const { return state_; }                    // phi [s]
+  std::span<const double> shear_stress_x() const { return shear_stress_x_; }  // [Pa]
+  std::span<const double> shear_stress_z() const { return shear_stress_z_; }
+
+  double max_slip_rate() const;  // max |v| over the nodes
+  double mean_slip_x() const;
+
+ private:
+  void initialise(std::span<const double> initial_state);
+  void solve(bool initial);
+  void check_finite(const char* what) const;
+
+  SimulationConfig config_;
+  int nodes_x_, nodes_z_;
+  double dx_, dz_, dt_, eta_, v0_, tau0_;
+  double time_ = 0.0;
+  long long step_index_ = 0;
+  LocalSolveParameters local_;
+  InterfaceHistory2d history_;
+  RealFft2d fft_;
+
+  std::vector<double> slip_x_, slip_z_, slip_rate_x_, slip_rate_z_, state_;
+  std::vector<double> shear_stress_x_, shear_stress_z_;
+  // Per step: previous magnitudes and state, the history load and its magnitude.
+  std::vector<double> speed_, previous_speed_, previous_state_;
+  std::vector<double> previous_rate_x_, previous_rate_z_;
+  std::vector<double> load_x_, load_z_, load_magnitude_;
+  std::vector<double> work_;
+  std::vector<std::complex<double>> spectrum_x_, spectrum_z_;
+};
+
+// The 2D interface's grid of a config (geometry.length, .width, .nodes, .nodes_z).
+InterfaceGrid2d interface_grid(const SimulationConfig& config);
+
+}  // namespace slipstrip
