@@ -48,6 +48,9 @@ struct BenchCase {
   int nodes;
   double height;  // inf = half-space
   PlaneCondition plane = PlaneCondition::strain;
+  // An in-plane dissimilar pair (per-body 2x2 operators): the bottom body has
+  // the same height and wave speeds, twice mu and rho (twice the impedances).
+  bool dissimilar = false;
 };
 
 struct BenchResult {
@@ -63,6 +66,13 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
   config.time.beta = 0.25;
   config.time.history = options.history;
   config.initial.noise_amplitude = 1e-3;
+  if (c.dissimilar) {
+    config.bottom.body = BodyKind::elastic;
+    config.bottom.shear_modulus = 2.0 * config.material.shear_modulus;
+    config.bottom.poisson_ratio = config.material.poisson_ratio;
+    config.bottom.density = 2.0 * config.material.density;
+    config.bottom.height = c.height;
+  }
   const double dt = strip_time_step(config.material, c.height, config.geometry.length / c.nodes,
                                     config.time.beta);
   // A typical statistics run (100 L/c_s), in case an operator is sized by the
@@ -118,10 +128,11 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
   const double rss = peak_rss_mib();
   const auto stats = sim.history_operator().stats();
   const std::string height = std::isinf(c.height) ? "null" : std::to_string(c.height);
-  const char* algorithm = dynamic_cast<const BlockStripHistory*>(&sim.history_operator())
+  const char* algorithm = c.dissimilar ? "pair_2x2"
+                          : dynamic_cast<const BlockStripHistory*>(&sim.history_operator())
                               ? "block"
                               : (std::isinf(c.height) ? "half_space" : "modal");
-  const char* plane = kPlaneConditionNames[static_cast<std::size_t>(c.plane)].data();
+  const char* plane = c.dissimilar ? "strain-2b" : kPlaneConditionNames[static_cast<std::size_t>(c.plane)].data();
   if (options.json) {
     std::printf(
         "{\"N\": %d, \"height\": %s, \"length\": 4.0, \"plane\": \"%s\", \"us_per_step\": %.3f, "
@@ -274,11 +285,16 @@ int run_bench(const BenchOptions& options) {
   std::fflush(stdout);
   for (int n : options.nodes) {
     for (double height : options.heights) {
-     std::vector<std::pair<PlaneCondition, BenchResult>> results;
-     for (PlaneCondition plane : options.planes) {
+     std::vector<std::pair<BenchCase, BenchResult>> results;
+     std::vector<BenchCase> cases;
+     for (PlaneCondition plane : options.planes) cases.push_back({n, height, plane});
+     if (options.dissimilar && !std::isinf(height)) cases.push_back({n, height, PlaneCondition::strain, true});
+     for (const BenchCase& bench : cases) {
+      const PlaneCondition plane = bench.plane;
       // Thick strips hold O(N H/dx) normal modes: estimate the operator's
       // memory before building it.  P ~ (M/2)(1 + c_s/c_d) modes per Fourier
-      // mode; modal: 7 doubles per mode; block: ~64 P + 48 B bytes, B < 2P.
+      // mode; modal: 7 doubles per mode; block: ~64 P + 48 B bytes, B < 2P;
+      // a dissimilar pair: two 2x2 modal operators, ~144 bytes per mode each.
       if (!std::isinf(height)) {
         ElasticMaterial material;
         material.plane = plane;
@@ -291,7 +307,9 @@ int run_bench(const BenchOptions& options) {
                                                                    material.dilatational_wave_speed()));
         const bool block = options.history == HistoryAlgorithm::block ||
                            (options.history == HistoryAlgorithm::automatic && per_mode >= 128);
-        const double bytes_per_mode = block ? 64.0 * per_mode + 48.0 * 2.0 * per_mode : 56.0 * per_mode;
+        const double bytes_per_mode = bench.dissimilar ? 288.0 * per_mode
+                                      : block          ? 64.0 * per_mode + 48.0 * 2.0 * per_mode
+                                                       : 56.0 * per_mode;
         const double gib = (n / 2.0) * bytes_per_mode / (1024.0 * 1024.0 * 1024.0);
         if (gib > options.max_operator_gib) {
           if (options.json)
@@ -307,7 +325,7 @@ int run_bench(const BenchOptions& options) {
         }
       }
       // Each case in a child process (peak RSS per case); the timings come
-      // back through a pipe for the antiplane/in-plane line.
+      // back through a pipe for the ratio lines.
       int channel[2];
       if (pipe(channel) != 0) return 1;
       const pid_t pid = fork();
@@ -317,7 +335,7 @@ int run_bench(const BenchOptions& options) {
         omp_set_num_threads(options.threads);
         BenchResult result;
         try {
-          result = bench_case({n, height, plane}, options);
+          result = bench_case(bench, options);
         } catch (const std::exception& e) {
           std::fprintf(stderr, "bench N=%d H=%g failed: %s\n", n, height, e.what());
           _exit(1);
@@ -328,25 +346,30 @@ int run_bench(const BenchOptions& options) {
       close(channel[1]);
       BenchResult result;
       if (read(channel[0], &result, sizeof result) == static_cast<ssize_t>(sizeof result))
-        results.emplace_back(plane, result);
+        results.emplace_back(bench, result);
       close(channel[0]);
       int status = 0;
       waitpid(pid, &status, 0);
      }
-      // The antiplane row against the in-plane one at the same N and height.
+      // The antiplane and the dissimilar rows against the identical in-plane
+      // one at the same N and height.
       const BenchResult* inplane = nullptr;
       const BenchResult* antiplane = nullptr;
-      for (const auto& [plane, result] : results)
-        (plane == PlaneCondition::antiplane ? antiplane : inplane) = &result;
-      if (inplane && antiplane) {
-        const double ratio = antiplane->us_per_step / inplane->us_per_step;
+      const BenchResult* dissimilar = nullptr;
+      for (const auto& [bench, result] : results)
+        (bench.dissimilar ? dissimilar : bench.plane == PlaneCondition::antiplane ? antiplane : inplane) = &result;
+      const auto ratio_line = [&](const BenchResult* row, const char* key, const char* words) {
+        if (!inplane || !row) return;
+        const double ratio = row->us_per_step / inplane->us_per_step;
         if (options.json)
-          std::printf("{\"N\": %d, \"height\": %s, \"antiplane_over_inplane\": %.3f}\n", n,
-                      std::isinf(height) ? "null" : std::to_string(height).c_str(), ratio);
+          std::printf("{\"N\": %d, \"height\": %s, \"%s\": %.3f}\n", n,
+                      std::isinf(height) ? "null" : std::to_string(height).c_str(), key, ratio);
         else
-          std::printf("#      antiplane / in-plane time per step: %.2f\n", ratio);
+          std::printf("#      %s time per step: %.2f\n", words, ratio);
         std::fflush(stdout);
-      }
+      };
+      ratio_line(antiplane, "antiplane_over_inplane", "antiplane / in-plane");
+      ratio_line(dissimilar, "dissimilar_over_identical", "dissimilar pair / identical pair (in-plane)");
     }
   }
   return 0;

@@ -60,6 +60,9 @@ Command add_bench_command(CLI::App& app) {
           "Plane conditions to time, comma-separated (default strain; strain,antiplane adds the antiplane "
           "rows and their time ratio to in-plane)")
       ->delimiter(',');
+  bench->add_flag("--pairs", o->dissimilar,
+                  "Also time an in-plane dissimilar pair (bottom body: same height and wave speeds, twice mu "
+                  "and rho) at each finite height, and its ratio to the identical pair");
   bench->add_option("--history", o->history, "Strip history algorithm: auto, modal or block (same operator)")
       ->transform(CLI::CheckedTransformer(history_algorithms_by_name(), CLI::ignore_case));
   bench->add_option("--max-gib", o->max_operator_gib,

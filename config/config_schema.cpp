@@ -247,32 +247,41 @@ void require_on_interface(double x, double length, bool closed_at_length, const 
 }
 
 // [top] and [bottom] (docs/bodies.md).  In-plane pairs other than two
-// identical driven strips need the normal-stress coupling, which is not
-// implemented: refused by name rather than run without it.
-void top_rule(const SimulationConfig& c) {
-  if (!c.material.antiplane() && c.top.outer_face == OuterFace::clamped)
-    throw ConfigRuleError({"outer_face"},
-                          "top.outer_face = \"clamped\" is implemented for antiplane sliding only "
-                          "(material.plane = \"antiplane\"); in-plane bodies take \"driven\"");
-}
-
+// identical driven strips run through the per-body 2x2 operators
+// (FaceModalHistory), which exist for finite strips only: in-plane half-spaces
+// in a dissimilar pair are refused by name rather than run without a kernel.
 void bottom_rule(const SimulationConfig& c) {
-  const auto kind = kBodyKindNames[static_cast<std::size_t>(c.bottom.body)];
-  if (!c.material.antiplane() && c.bottom.body != BodyKind::mirror)
-    throw ConfigRuleError({"body"}, "bottom.body = \"" + std::string(kind) +
-                                        "\" with material.plane = \"" +
-                                        std::string(kPlaneConditionNames[static_cast<std::size_t>(c.material.plane)]) +
-                                        "\": in-plane dissimilar bodies and a rigid base are not implemented "
-                                        "yet (they need the normal-stress coupling); allowed: \"mirror\", or "
-                                        "material.plane = \"antiplane\"");
-  if (!c.material.antiplane() && c.bottom.outer_face == OuterFace::clamped)
-    throw ConfigRuleError({"outer_face"},
-                          "bottom.outer_face = \"clamped\" is implemented for antiplane sliding only "
-                          "(material.plane = \"antiplane\"); in-plane bodies take \"driven\"");
+  const bool inplane = !c.material.antiplane();
+  const bool clamped = c.top.outer_face == OuterFace::clamped || c.bottom.outer_face == OuterFace::clamped;
   if (c.bottom.body == BodyKind::mirror && c.bottom.outer_face != c.top.outer_face)
     throw ConfigRuleError({"outer_face", "body"},
                           "bottom.outer_face differs from top.outer_face but bottom.body = \"mirror\" "
                           "(the mirror image of the top body); set bottom.body = \"elastic\"");
+  if (inplane && c.bottom.body == BodyKind::mirror && clamped)
+    throw ConfigRuleError({"outer_face", "body"},
+                          "outer_face = \"clamped\" in-plane needs bottom.body = \"elastic\" or \"rigid\" "
+                          "(the per-body operators); the mirror pair's operator has driven faces");
+  if (inplane && c.bottom.body != BodyKind::mirror) {
+    if (is_half_space(c.geometry.height))
+      throw ConfigRuleError({"body"}, "geometry.height = \"inf\" with bottom.body = \"" +
+                                          std::string(kBodyKindNames[static_cast<std::size_t>(c.bottom.body)]) +
+                                          "\" in-plane: the 2x2 half-space operator is not implemented; "
+                                          "give the top body a finite height (or material.plane = \"antiplane\")");
+    if (c.bottom.body == BodyKind::elastic && is_half_space(c.bottom.height))
+      throw ConfigRuleError({"height", "body"},
+                            "bottom.height = \"inf\" in-plane: the 2x2 half-space operator is not implemented; "
+                            "give the bottom body a finite height (or material.plane = \"antiplane\")");
+  }
+}
+
+// Two forms of the normal-stress memory, one at a time (docs/bodies.md).
+void interface_rule(const SimulationConfig& c) {
+  if (c.interface.normal_stress_slip > 0.0 && c.interface.normal_stress_time > 0.0)
+    throw ConfigRuleError({"normal_stress_time", "normal_stress_slip"},
+                          "interface.normal_stress_slip = " + format_config_number(c.interface.normal_stress_slip) +
+                              " and interface.normal_stress_time = " +
+                              format_config_number(c.interface.normal_stress_time) +
+                              ": give one of them (slip-scale or time-scale relaxation), not both");
 }
 
 // With bottom.body = "mirror" a [bottom] value must be the top body's (what
@@ -307,8 +316,8 @@ constexpr double top_height(const SimulationConfig& c) { return c.geometry.heigh
 // The sections, in reading order: a rule reads only keys of earlier sections
 // (geometry bounds the mode numbers, material sets c_s for duration_transits).
 constexpr ConfigSection kSections[] = {
-    {"geometry"}, {"material"}, {"top", top_rule}, {"bottom", bottom_rule}, {"loading"}, {"friction", friction_rule}, {"state"},
-    {"interface"}, {"initial", initial_rule}, {"time"}, {"output"},
+    {"geometry"}, {"material"}, {"top"}, {"bottom", bottom_rule}, {"loading"}, {"friction", friction_rule}, {"state"},
+    {"interface", interface_rule}, {"initial", initial_rule}, {"time"}, {"output"},
 };
 
 using C = SimulationConfig;
@@ -546,6 +555,22 @@ constexpr ConfigKey kKeys[] = {
              "0 = off",
      .comment = "[Pa] extra shear-load pulse on the rate_and_state interface (same shape); 0 = off",
      .bind = real_member<&C::interface, &InterfaceConfig::load_pulse_amplitude>()},
+    {.section = "interface", .name = "normal_stress_slip", .unit = "m", .noun = "a length",
+     .allowed = non_negative, .allowed_note = " (0 = friction.characteristic_slip)",
+     .generous = {0.0, true, 1.0, true},
+     .help = "in-plane dissimilar bodies: L_sigma of the normal-stress memory; the friction sees "
+             "sigma_eff with d sigma_eff/dt = -((|v| + v*)/L_sigma)(sigma_eff - sigma) (Prakash & Clifton "
+             "1993; Cochard & Rice 2000); 0 = friction.characteristic_slip. Identical bodies keep "
+             "sigma = sigma0 and do not use it (docs/bodies.md)",
+     .comment = "L_sigma [m]; 0 = friction.characteristic_slip (dissimilar in-plane pairs)",
+     .bind = real_member<&C::interface, &InterfaceConfig::normal_stress_slip>()},
+    {.section = "interface", .name = "normal_stress_time", .unit = "s", .noun = "a time",
+     .allowed = non_negative, .allowed_note = " (0 = off)",
+     .generous = {0.0, true, 1e3, true},
+     .help = "in-plane dissimilar bodies: > 0 relaxes sigma_eff over this fixed time instead, "
+             "d sigma_eff/dt = -(sigma_eff - sigma)/t_sigma (Prakash 1998); 0 = the slip form above",
+     .comment = "t_sigma [s]; 0 = off (use normal_stress_slip)",
+     .bind = real_member<&C::interface, &InterfaceConfig::normal_stress_time>()},
     {.section = "interface", .name = "pulse_center", .unit = "m", .help = "free: pulse centre x0",
      .comment = "x0 [m] (free)", .bind = real_member<&C::interface, &InterfaceConfig::pulse_center>()},
     {.section = "interface", .name = "pulse_width", .type = KeyType::number_or_inf, .unit = "m",

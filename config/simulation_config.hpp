@@ -13,6 +13,7 @@
 #include "friction/friction_law.hpp"
 #include "friction/parameter_profile.hpp"
 #include "kernels/elastic_material.hpp"
+#include "kernels/face_response.hpp"
 
 namespace slipstrip {
 
@@ -61,6 +62,12 @@ struct InterfaceConfig {
   // smooth way to nucleate at a chosen place, and a problem that is smooth in
   // time (an initial state perturbation makes v jump at t = 0+).
   double load_pulse_amplitude = 0.0;
+  // In-plane dissimilar bodies: the friction sees an effective normal stress
+  // relaxing towards the current one over a slip L_sigma (0 = the friction's
+  // characteristic slip) or, when normal_stress_time > 0, over that time
+  // (docs/bodies.md, "normal-stress memory").
+  double normal_stress_slip = 0.0;
+  double normal_stress_time = 0.0;
 };
 
 // Initial perturbations on top of steady sliding at v0 (phi = phi_ss(v0)).
@@ -121,11 +128,9 @@ struct OutputConfig {
 // bodies, today's problem), another elastic body, or a rigid base.
 enum class BodyKind { mirror, elastic, rigid };
 inline constexpr std::string_view kBodyKindNames[] = {"mirror", "elastic", "rigid"};  // index = enumerator
-// Outer face of a body: driven (tangential displacement moving with the
-// face's share of v0, normal stress prescribed) or clamped (both
-// displacements prescribed).  Antiplane: both prescribe u_z, the same body.
-enum class OuterFace { driven, clamped };
-inline constexpr std::string_view kOuterFaceNames[] = {"driven", "clamped"};  // index = enumerator
+// Outer face of a body (OuterFace, kernels/face_response.hpp): driven (tangential
+// displacement moving with the face's share of v0, normal stress prescribed) or
+// clamped (both displacements prescribed).  Antiplane: both prescribe u_z.
 
 struct TopBodyConfig {
   OuterFace outer_face = OuterFace::driven;  // [top] outer_face

@@ -208,4 +208,32 @@ void FaceModalHistory::push(std::span<const complex> vx, std::span<const complex
   }
 }
 
+void FaceModalHistory::save_into(HistoryOperatorState& state, const std::string& prefix) const {
+  state.add(prefix + "cx", cx_);
+  state.add(prefix + "sx", sx_);
+  state.add(prefix + "cy", cy_);
+  state.add(prefix + "sy", sy_);
+  state.add(prefix + "running_x", running_x_);
+  state.add(prefix + "running_y", running_y_);
+  state.add(prefix + "history_x", history_x_);
+  state.add(prefix + "history_y", history_y_);
+}
+
+void FaceModalHistory::restore_from(const HistoryOperatorState& state, const std::string& prefix) {
+  state.copy_to(prefix + "cx", std::span<complex>(cx_));
+  state.copy_to(prefix + "sx", std::span<complex>(sx_));
+  state.copy_to(prefix + "cy", std::span<complex>(cy_));
+  state.copy_to(prefix + "sy", std::span<complex>(sy_));
+  state.copy_to(prefix + "running_x", std::span<complex>(running_x_));
+  state.copy_to(prefix + "running_y", std::span<complex>(running_y_));
+  state.copy_to(prefix + "history_x", std::span<complex>(history_x_));
+  state.copy_to(prefix + "history_y", std::span<complex>(history_y_));
+}
+
+std::size_t FaceModalHistory::memory_bytes() const {
+  return sizeof(complex) * (4 * cx_.size() + 4 * running_x_.size()) +
+         sizeof(double) * (cos_.size() + sin_.size()) + sizeof(FaceMatrix) * (weight_.size() + weight_sum_.size()) +
+         sizeof(std::size_t) * first_.size();
+}
+
 }  // namespace slipstrip

@@ -18,10 +18,12 @@
 #include <complex>
 #include <cstddef>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "kernels/face_modes.hpp"
 #include "kernels/face_response.hpp"
+#include "kernels/history_convolution.hpp"
 
 namespace slipstrip {
 
@@ -55,6 +57,13 @@ class FaceModalHistory {
   std::span<const std::complex<double>> history_y() const { return history_y_; }
   // The discrete weights of Fourier mode q (for tests).
   FaceDiscreteModes mode(int q) const;
+  // Everything push() changes, as arrays named prefix + "...", and its
+  // restoration into an operator built with the same arguments (then push()
+  // continues bit for bit).  Allocates: not in the time loop.
+  void save_into(HistoryOperatorState& state, const std::string& prefix) const;
+  void restore_from(const HistoryOperatorState& state, const std::string& prefix);
+  std::size_t memory_bytes() const;
+  std::size_t discrete_modes() const { return weight_.size(); }
 
  private:
   double dt_, impedance_x_, impedance_y_;

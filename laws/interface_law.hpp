@@ -39,6 +39,12 @@ struct InterfaceFields {
   std::span<const double> history_stress;  // history part of the shear stress [Pa] (0 at t = 0)
   std::span<const double> previous_slip_rate, previous_state;  // at t_n (advance only)
   std::span<double> slip, slip_rate, state, shear_stress;      // set by the law
+  // In-plane dissimilar bodies only (empty otherwise: the normal stress is
+  // sigma0 everywhere): the compressive normal stress from the elastodynamics
+  // at the level solved for and at t_n [Pa], and the effective normal stress the
+  // friction sees (at t_n on entry to advance, set by the law at the new level).
+  std::span<const double> normal_stress = {}, previous_normal_stress = {};
+  std::span<double> effective_normal_stress = {};
 };
 
 // The level being solved for: t = time + dt (initialise: time = t = 0, dt = 0).

@@ -5,6 +5,7 @@
 // at all nodes with the batch predictor-corrector (friction/batch_solve.hpp).
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "laws/initial_state.hpp"
@@ -23,6 +24,9 @@ class RateAndStateLaw final : public InterfaceLaw {
   explicit RateAndStateLaw(const InterfaceSetup& setup)
       : config_(setup.config), eta_(setup.eta),
         driving_velocity_(setup.config.loading.driving_velocity),
+        normal_stress_slip_(setup.config.interface.normal_stress_slip > 0.0
+                                ? setup.config.interface.normal_stress_slip
+                                : setup.config.friction.characteristic_slip),
         tau_history_(setup.x.size(), 0.0), reference_(setup.x.size(), 0.0) {
     const auto n = setup.x.size();
     const auto& f = config_.friction;
@@ -83,6 +87,10 @@ class RateAndStateLaw final : public InterfaceLaw {
     for (int i = 0; i < n; ++i)
       tau_history_[i] = reference_[i] + drive - fields.history_stress[i] +
                         imposed_stress(in, in.load_pulse_amplitude, length, fields.x[i], t_load);
+    if (!fields.normal_stress.empty()) {
+      solve_with_normal_stress(fields, dt, initial);
+      return;
+    }
     try {
       if (initial) {
         std::fill(fields.slip_rate.begin(), fields.slip_rate.end(), driving_velocity_);  // the guess
@@ -98,9 +106,65 @@ class RateAndStateLaw final : public InterfaceLaw {
     for (int i = 0; i < n; ++i) fields.shear_stress[i] = tau_history_[i] - eta_ * fields.slip_rate[i];
   }
 
+  // In-plane dissimilar bodies: sigma varies, and the friction sees
+  // sigma_eff, which relaxes towards it (Prakash & Clifton 1993; Cochard &
+  // Rice 2000; docs/bodies.md).  Node by node with the scalar routines (the
+  // batch ones take one sigma for all nodes); the same predictor-corrector as
+  // the batch step, with sigma_eff advanced like the state:
+  //   phi_p, sigma_p from (v_old);  v_p = solve(sigma_p, phi_p);
+  //   phi, sigma_eff from ((v_old + v_p)/2);  v = solve(sigma_eff, phi).
+  // sigma_eff over a step solves d sigma_eff/dt = -r (sigma_eff - sigma(t)), sigma
+  // linear in t between the two levels, exactly for the rate r held fixed.
+  double relaxed(double effective_old, double sigma_old, double sigma_new, double slip_rate, double dt) const {
+    const auto& in = config_.interface;
+    const double rate = in.normal_stress_time > 0.0
+                            ? 1.0 / in.normal_stress_time
+                            : (std::abs(slip_rate) + config_.friction.v_star) / normal_stress_slip_;
+    const double x = rate * dt;
+    const double decay = std::exp(-x);
+    const double ramp = x > 0.0 ? -std::expm1(-x) / x : 1.0;  // (1 - e^-x) / x
+    return sigma_new + (effective_old - sigma_old) * decay - (sigma_new - sigma_old) * ramp;
+  }
+
+  void solve_with_normal_stress(InterfaceFields& fields, double dt, bool initial) {
+    const LocalSolveParameters params{config_.friction, config_.loading.normal_stress, eta_, per_node_};
+    const std::size_t n = fields.x.size();
+    std::size_t i = 0;
+    try {
+      for (i = 0; i < n; ++i) {
+        const FrictionParameters p = params.at(i);
+        const double tau = tau_history_[i];
+        if (initial) {
+          fields.effective_normal_stress[i] = fields.normal_stress[i];
+          fields.slip_rate[i] =
+              solve_slip_rate(p, fields.normal_stress[i], eta_, tau, fields.state[i], driving_velocity_);
+          continue;
+        }
+        const double v_old = fields.previous_slip_rate[i], phi_old = fields.previous_state[i];
+        const double s_old = fields.previous_normal_stress[i], s_new = fields.normal_stress[i];
+        const double e_old = fields.effective_normal_stress[i];
+        const double phi_p = evolve_state(p, phi_old, v_old, dt);
+        const double e_p = relaxed(e_old, s_old, s_new, v_old, dt);
+        const double v_p = solve_slip_rate(p, e_p, eta_, tau, phi_p, v_old);
+        const double v_mid = 0.5 * (v_old + v_p);
+        const double phi = evolve_state(p, phi_old, v_mid, dt);
+        const double e = relaxed(e_old, s_old, s_new, v_mid, dt);
+        fields.state[i] = phi;
+        fields.effective_normal_stress[i] = e;
+        fields.slip_rate[i] = solve_slip_rate(p, e, eta_, tau, phi, v_p);
+      }
+    } catch (const LocalSolveFailure& e) {
+      throw InterfaceFailure("local friction solve failed", i, e.what());
+    } catch (const std::invalid_argument& e) {
+      throw InterfaceFailure("state update failed", i, e.what());
+    }
+    for (std::size_t j = 0; j < n; ++j) fields.shear_stress[j] = tau_history_[j] - eta_ * fields.slip_rate[j];
+  }
+
   SimulationConfig config_;  // a copy: the law must not depend on where Simulation keeps its own
   double eta_;
   double driving_velocity_;
+  double normal_stress_slip_;  // L_sigma [m]
   FrictionNodeValues nodes_;   // per-node parameters (only with profiles)
   FrictionNodeSpans per_node_; // views of nodes_, or empty (uniform)
   std::vector<double> phi_ss_;

@@ -43,7 +43,8 @@ std::string directory_of(const std::string& path) {
 std::size_t state_bytes(const RunCheckpoint& c) {
   const auto& s = c.simulation;
   std::size_t doubles = s.slip.size() + s.slip_rate.size() + s.state.size() + s.shear_stress.size() +
-                        s.history_stress.size() + c.output.levels_reached.size() +
+                        s.history_stress.size() + s.normal_stress.size() + s.effective_normal_stress.size() +
+                        c.output.levels_reached.size() +
                         c.output.next_threshold.size() + c.output.rupture_front.size();
   for (const auto& [name, values] : s.history.arrays) doubles += values.size();
   return 8 * doubles;
@@ -67,6 +68,11 @@ void write_file(const std::string& path, const RunCheckpoint& c) {
     io::write_vector(group, "state", s.state);
     io::write_vector(group, "shear_stress", s.shear_stress);
     io::write_vector(group, "history_stress", s.history_stress);
+    // In-plane dissimilar bodies only (a varying normal stress).
+    if (!s.normal_stress.empty()) {
+      io::write_vector(group, "normal_stress", s.normal_stress);
+      io::write_vector(group, "effective_normal_stress", s.effective_normal_stress);
+    }
   }
   {
     const auto& h = c.simulation.history;
@@ -120,6 +126,10 @@ RunCheckpoint read_file(const std::string& path) {
     s.state = io::read_vector<double>(group, "state");
     s.shear_stress = io::read_vector<double>(group, "shear_stress");
     s.history_stress = io::read_vector<double>(group, "history_stress");
+    if (io::has_member(group, "normal_stress")) {
+      s.normal_stress = io::read_vector<double>(group, "normal_stress");
+      s.effective_normal_stress = io::read_vector<double>(group, "effective_normal_stress");
+    }
   }
   {
     auto& h = c.simulation.history;

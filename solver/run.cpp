@@ -82,6 +82,7 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   options.snapshots_by_slip = out_cfg.snapshot_slip_increment > 0.0;
   options.station_x = out_cfg.stations;
   options.front_slip_rate = out_cfg.front_slip_rate;
+  options.normal_stress_snapshots = sim.variable_normal_stress();
   if (config.interface.law == InterfaceLawName::rate_and_state) {
     // The parameters every node ran with (profiles resolved), so the file is
     // interpretable without the profile files the config may name.
@@ -103,15 +104,21 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   StationSampler station_slip(out_cfg.stations, sim.dx(), sim.x().size()),
       station_rate(out_cfg.stations, sim.dx(), sim.x().size()),
       station_stress(out_cfg.stations, sim.dx(), sim.x().size()),
-      station_state(out_cfg.stations, sim.dx(), sim.x().size());
+      station_state(out_cfg.stations, sim.dx(), sim.x().size()),
+      station_normal(out_cfg.stations, sim.dx(), sim.x().size());
   const double mu_dx = config.material.shear_modulus * sim.dx();
   auto record_stations = [&] {
     if (station_slip.empty()) return;
     double sum_rate = 0.0;
     for (double v : sim.slip_rate()) sum_rate += v;
-    output.append_stations(sim.time(), station_slip.sample(sim.slip()), station_rate.sample(sim.slip_rate()),
-                           station_stress.sample(sim.shear_stress()), station_state.sample(sim.state()),
-                           config.loading.normal_stress, sim.max_slip_rate(), mu_dx * sum_rate);
+    if (sim.variable_normal_stress())
+      output.append_stations(sim.time(), station_slip.sample(sim.slip()), station_rate.sample(sim.slip_rate()),
+                             station_stress.sample(sim.shear_stress()), station_state.sample(sim.state()),
+                             station_normal.sample(sim.normal_stress()), sim.max_slip_rate(), mu_dx * sum_rate);
+    else
+      output.append_stations(sim.time(), station_slip.sample(sim.slip()), station_rate.sample(sim.slip_rate()),
+                             station_stress.sample(sim.shear_stress()), station_state.sample(sim.state()),
+                             config.loading.normal_stress, sim.max_slip_rate(), mu_dx * sum_rate);
   };
   std::vector<double> front_arrival(out_cfg.front_slip_rate > 0.0 ? sim.x().size() : 0,
                                     std::numeric_limits<double>::quiet_NaN());
@@ -133,7 +140,8 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   std::vector<double> previous_slip(sim.slip().begin(), sim.slip().end());
 
   auto write_snapshot = [&] {
-    output.write_snapshot(sim.time(), sim.slip(), sim.slip_rate(), sim.state(), sim.shear_stress());
+    output.write_snapshot(sim.time(), sim.slip(), sim.slip_rate(), sim.state(), sim.shear_stress(),
+                          sim.normal_stress());
   };
   double next_station = out_cfg.station_interval;
   double next_timeseries = out_cfg.timeseries_interval;

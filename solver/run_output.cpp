@@ -38,8 +38,9 @@ constexpr std::size_t station_buffer_rows = 1024;
 constexpr const char* timeseries_names[4] = {"time", "max_slip_rate", "mean_slip",
                                              "mean_shear_stress"};
 constexpr const char* timeseries_units[4] = {"s", "m/s", "m", "Pa"};
-constexpr const char* snapshot_names[4] = {"slip", "slip_rate", "state", "shear_stress"};
-constexpr const char* snapshot_units[4] = {"m", "m/s", "s", "Pa"};
+// The fifth, normal_stress, only with RunOutputOptions::normal_stress_snapshots.
+constexpr const char* snapshot_names[5] = {"slip", "slip_rate", "state", "shear_stress", "normal_stress"};
+constexpr const char* snapshot_units[5] = {"m", "m/s", "s", "Pa", "Pa"};
 
 constexpr const char* units_table =
     "SI units throughout; every dataset also carries a 'units' attribute.\n"
@@ -171,7 +172,8 @@ void RunOutput::initialise_buffers(const SlipSamplingSetup& slip_sampling) {
 
   timeseries_buffer_.reserve(4 * static_cast<std::size_t>(options_.timeseries_buffer_rows));
   snapshot_time_buffer_.reserve(static_cast<std::size_t>(options_.snapshot_chunk));
-  snapshot_field_buffer_.reserve(4 * node_count_ * static_cast<std::size_t>(options_.snapshot_chunk));
+  snapshot_fields_ = options_.normal_stress_snapshots ? 5 : 4;
+  snapshot_field_buffer_.reserve(snapshot_fields_ * node_count_ * static_cast<std::size_t>(options_.snapshot_chunk));
   station_count_ = options_.station_x.size();
   if (station_count_ > 0) station_buffer_.reserve(station_buffer_rows * (3 + 5 * station_count_));
   if (options_.front_slip_rate > 0.0) rupture_front_.assign(node_count_, nan_value);
@@ -204,7 +206,8 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
     // compressed fields never leave dead space behind when a flush ends
     // mid-chunk (see create_extendible).
     const io::ExtendibleLayout layout{.columns = n, .chunk_rows = 1, .deflate = options_.gzip_level};
-    for (int f = 0; f < 4; ++f) create_extendible(group, snapshot_names[f], layout, snapshot_units[f]);
+    for (std::size_t f = 0; f < snapshot_fields_; ++f)
+      create_extendible(group, snapshot_names[f], layout, snapshot_units[f]);
     write_fixed_vector(group, "x", slip_sampling.x, "m");
   }
   if (!options_.node_parameters.empty()) {
@@ -273,12 +276,33 @@ void RunOutput::append_stations(double time, std::span<const double> slip,
                                 std::span<const double> slip_rate, std::span<const double> shear_stress,
                                 std::span<const double> state, double normal_stress,
                                 double max_slip_rate, double moment_rate) {
+  append_station_row(time, slip, slip_rate, shear_stress, state, {}, normal_stress, max_slip_rate, moment_rate);
+}
+
+void RunOutput::append_stations(double time, std::span<const double> slip,
+                                std::span<const double> slip_rate, std::span<const double> shear_stress,
+                                std::span<const double> state, std::span<const double> normal_stress,
+                                double max_slip_rate, double moment_rate) {
+  if (normal_stress.size() < station_count_)
+    throw std::invalid_argument("append_stations: normal_stress has " + std::to_string(normal_stress.size()) +
+                                " values, expected one per station (" + std::to_string(station_count_) + ")");
+  append_station_row(time, slip, slip_rate, shear_stress, state, normal_stress, 0.0, max_slip_rate, moment_rate);
+}
+
+// One station row; the normal stress per station, or `uniform` at every one.
+void RunOutput::append_station_row(double time, std::span<const double> slip,
+                                   std::span<const double> slip_rate, std::span<const double> shear_stress,
+                                   std::span<const double> state, std::span<const double> normal_stress,
+                                   double uniform, double max_slip_rate, double moment_rate) {
   if (closed_) throw std::logic_error("RunOutput::append_stations after close: " + path_);
   if (station_count_ == 0) throw std::logic_error("RunOutput::append_stations without stations");
   station_buffer_.insert(station_buffer_.end(), {time, max_slip_rate, moment_rate});
   for (const auto field : {slip, slip_rate, shear_stress, state})
     station_buffer_.insert(station_buffer_.end(), field.begin(), field.begin() + station_count_);
-  station_buffer_.insert(station_buffer_.end(), station_count_, normal_stress);
+  if (normal_stress.empty())
+    station_buffer_.insert(station_buffer_.end(), station_count_, uniform);
+  else
+    station_buffer_.insert(station_buffer_.end(), normal_stress.begin(), normal_stress.begin() + station_count_);
   if (station_buffer_.size() >= station_buffer_rows * (3 + 5 * station_count_))
     write_out(WriteTrigger::buffer_full);
 }
@@ -291,17 +315,21 @@ void RunOutput::set_rupture_front(std::span<const double> arrival_time) {
 
 void RunOutput::write_snapshot(double time, std::span<const double> slip,
                                std::span<const double> slip_rate, std::span<const double> state,
-                               std::span<const double> shear_stress) {
+                               std::span<const double> shear_stress, std::span<const double> normal_stress) {
   if (closed_) throw std::logic_error("RunOutput::write_snapshot after close: " + path_);
-  const std::span<const double> fields[4] = {slip, slip_rate, state, shear_stress};
-  for (int f = 0; f < 4; ++f)
+  if (normal_stress.empty() == options_.normal_stress_snapshots)
+    throw std::invalid_argument(std::string("write_snapshot: normal_stress ") +
+                                (normal_stress.empty() ? "missing (normal_stress_snapshots is set)"
+                                                       : "given but normal_stress_snapshots is not set"));
+  const std::span<const double> fields[5] = {slip, slip_rate, state, shear_stress, normal_stress};
+  for (std::size_t f = 0; f < snapshot_fields_; ++f)
     if (fields[f].size() != node_count_)
       throw std::invalid_argument(std::string("write_snapshot: ") + snapshot_names[f] + " has " +
                                   std::to_string(fields[f].size()) + " values, expected N = " +
                                   std::to_string(node_count_));
   snapshot_time_buffer_.push_back(time);
-  for (const auto& field : fields)
-    snapshot_field_buffer_.insert(snapshot_field_buffer_.end(), field.begin(), field.end());
+  for (std::size_t f = 0; f < snapshot_fields_; ++f)
+    snapshot_field_buffer_.insert(snapshot_field_buffer_.end(), fields[f].begin(), fields[f].end());
   if (snapshot_time_buffer_.size() >= static_cast<std::size_t>(options_.snapshot_chunk))
     write_out(WriteTrigger::buffer_full);
 }
@@ -364,7 +392,7 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
   {
     const Handle group = io::open_group(file, "snapshots");
     cut(group, "time", cursor.snapshots);
-    for (const char* name : snapshot_names) cut(group, name, cursor.snapshots);
+    for (std::size_t f = 0; f < snapshot_fields_; ++f) cut(group, snapshot_names[f], cursor.snapshots);
   }
   if (station_count_ > 0) {
     const Handle group = io::open_group(file, "stations");
@@ -474,7 +502,7 @@ void RunOutput::update_xdmf_sidecar() {
   description.h5_file_name = std::filesystem::path(path_).filename().string();
   description.snapshot_count = snapshots_in_file_;
   description.node_count = node_count_;
-  description.fields.assign(std::begin(snapshot_names), std::end(snapshot_names));
+  description.fields.assign(std::begin(snapshot_names), std::begin(snapshot_names) + snapshot_fields_);
   io::write_xdmf_sidecar(io::xdmf_sidecar_path(path_), description);
   snapshots_in_sidecar_ = snapshots_in_file_;
 }
@@ -534,11 +562,11 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
     const Handle time = io::open_dataset(group, "time");
     io::grow_rows(time, snapshots_in_file_ + snapshots);
     io::write_rows(time, snapshots_in_file_, snapshots, snapshot_time_buffer_.data());
-    for (int f = 0; f < 4; ++f) {
+    for (std::size_t f = 0; f < snapshot_fields_; ++f) {
       const Handle dset = io::open_dataset(group, snapshot_names[f]);
       io::grow_rows(dset, snapshots_in_file_ + snapshots);
       for (std::size_t s = 0; s < snapshots; ++s)
-        io::write_rows(dset, snapshots_in_file_ + s, 1, snapshot_field_buffer_.data() + (4 * s + f) * node_count_);
+        io::write_rows(dset, snapshots_in_file_ + s, 1, snapshot_field_buffer_.data() + (snapshot_fields_ * s + f) * node_count_);
     }
     snapshots_in_file_ += snapshots;
     snapshot_time_buffer_.clear();

@@ -76,6 +76,9 @@ struct RunOutputOptions {
   // [s wall] how long writes are deferred while a reader holds the file open
   // (h5py's shared lock) before writing anyway; see docs/output.md.
   double reader_lock_timeout = 30.0;
+  // /snapshots/normal_stress as a fifth field (in-plane dissimilar bodies,
+  // whose normal stress varies; otherwise it is loading.normal_stress).
+  bool normal_stress_snapshots = false;
 };
 
 // Where the run file's records stand after a complete write-out: what a
@@ -114,14 +117,20 @@ class RunOutput {
 
   void append_timeseries(double time, double max_slip_rate, double mean_slip,
                          double mean_shear_stress);
+  // normal_stress: given exactly when RunOutputOptions::normal_stress_snapshots.
   void write_snapshot(double time, std::span<const double> slip, std::span<const double> slip_rate,
-                      std::span<const double> state, std::span<const double> shear_stress);
+                      std::span<const double> state, std::span<const double> shear_stress,
+                      std::span<const double> normal_stress = {});
   // One row of every station's fields (values at the stations, in the order
   // of station_x) and the global max slip rate [m/s] and moment rate
   // [N/s per m: mu * sum(v) dx].  Only with stations.
   void append_stations(double time, std::span<const double> slip, std::span<const double> slip_rate,
                        std::span<const double> shear_stress, std::span<const double> state,
                        double normal_stress, double max_slip_rate, double moment_rate);
+  // The same with the normal stress at each station (in-plane dissimilar bodies).
+  void append_stations(double time, std::span<const double> slip, std::span<const double> slip_rate,
+                       std::span<const double> shear_stress, std::span<const double> state,
+                       std::span<const double> normal_stress, double max_slip_rate, double moment_rate);
   // The per-node rupture-front arrival times [s] (NaN = not yet), written whole
   // at every write-out.  Only with front_slip_rate > 0.
   void set_rupture_front(std::span<const double> arrival_time);
@@ -186,7 +195,12 @@ class RunOutput {
   // Buffered rows, row-major.
   std::vector<double> timeseries_buffer_;  // 4 values per row
   std::vector<double> snapshot_time_buffer_;
-  std::vector<double> snapshot_field_buffer_;  // 4 fields x N per snapshot, field-major per snapshot
+  std::size_t snapshot_fields_ = 4;              // 5 with normal_stress_snapshots
+  std::vector<double> snapshot_field_buffer_;  // fields x N per snapshot, field-major per snapshot
+  void append_station_row(double time, std::span<const double> slip, std::span<const double> slip_rate,
+                          std::span<const double> shear_stress, std::span<const double> state,
+                          std::span<const double> normal_stress, double uniform, double max_slip_rate,
+                          double moment_rate);
   // Stations: per row, time, max slip rate, moment rate, then 5 fields x stations.
   std::size_t station_count_ = 0;
   std::size_t station_rows_in_file_ = 0;

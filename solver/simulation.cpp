@@ -9,6 +9,8 @@
 #include "kernels/block_strip_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/kernel_cache.hpp"
+#include "kernels/face_history.hpp"
+#include "kernels/inplane_pair_history.hpp"
 #include "kernels/two_body_history.hpp"
 
 namespace slipstrip {
@@ -65,17 +67,36 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
   dx_ = g.length / nodes_;
   fft_ = std::make_unique<RealFft>(nodes_);
   bottom_height_used_ = bottom_height(config_);
+  const bool inplane = !config_.material.antiplane();
   if (config_.bottom.body == BodyKind::mirror) {
     // Two identical bodies: one operator of the pair (docs/theory.md).
     dt_ = strip_time_step(config_.material, g.height, dx_, config_.time.beta);
     history_ = make_pair_history(config_, config_.material, g.height, dt_, cancelled);
+  } else if (inplane) {
+    // In-plane dissimilar bodies: each body's 2x2 operator, combined with the
+    // normal-stress coupling (kernels/inplane_pair_history.hpp).  No shear echo
+    // needs a whole number of steps (the modes carry the echoes), so the step
+    // follows the faster body: exactly the mirror pair's step when the top body
+    // is the faster one (identical bodies step alike on both paths).
+    const ElasticMaterial bottom_body = bottom_material(config_);
+    const bool rigid = config_.bottom.body == BodyKind::rigid;
+    const double c_top = config_.material.shear_wave_speed();
+    const double c_bottom = rigid ? 0.0 : bottom_body.shear_wave_speed();
+    dt_ = c_top >= c_bottom ? strip_time_step(config_.material, g.height, dx_, config_.time.beta)
+                            : config_.time.beta * dx_ / c_bottom;
+    if (rigid) bottom_height_used_ = std::numeric_limits<double>::quiet_NaN();
+    auto top = std::make_unique<FaceModalHistory>(config_.material, g.height, config_.top.outer_face,
+                                                  g.length, nodes_, dt_);
+    throw_if_cancelled(cancelled, "the top body's operator");
+    std::unique_ptr<FaceModalHistory> bottom;
+    if (!rigid)
+      bottom = std::make_unique<FaceModalHistory>(bottom_body, config_.bottom.height, config_.bottom.outer_face,
+                                                  g.length, nodes_, dt_);
+    auto pair = std::make_unique<InplanePairHistory>(std::move(top), std::move(bottom));
+    pair_ = pair.get();
+    history_ = std::move(pair);
   } else {
-    // Two different bodies, each with its own operator (docs/bodies.md).  The
-    // scalar combination is the antiplane one; the config refuses the rest.
-    if (!config_.material.antiplane())
-      throw std::invalid_argument(
-          "bottom.body = \"" + std::string(kBodyKindNames[static_cast<std::size_t>(config_.bottom.body)]) +
-          "\" needs material.plane = \"antiplane\": in-plane dissimilar bodies are not implemented yet");
+    // Antiplane: the scalar per-body combination (kernels/two_body_history.hpp).
     std::unique_ptr<HistoryOperator> bottom;
     if (config_.bottom.body == BodyKind::rigid) {
       dt_ = strip_time_step(config_.material, g.height, dx_, config_.time.beta);
@@ -106,6 +127,11 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
   history_stress_.assign(n, 0.0);
   work_real_.assign(n, 0.0);
   spectrum_.assign(n / 2 + 1, 0.0);
+  if (pair_) {
+    // Steady sliding: sigma = sigma_eff = sigma0 (the history is empty).
+    normal_stress_.assign(n, config_.loading.normal_stress);
+    previous_normal_stress_ = effective_normal_stress_ = normal_stress_;
+  }
 
   law_ = laws.make(InterfaceSetup{config_, x_, eta_});
   driving_velocity_ = law_->driving_velocity();
@@ -115,8 +141,29 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
 }
 
 InterfaceFields Simulation::fields() {
-  return InterfaceFields{x_, history_stress_, previous_slip_rate_, previous_state_,
-                         slip_,  slip_rate_,     state_,              shear_stress_};
+  return InterfaceFields{x_,    history_stress_, previous_slip_rate_, previous_state_,
+                         slip_, slip_rate_,      state_,              shear_stress_,
+                         normal_stress_, previous_normal_stress_, effective_normal_stress_};
+}
+
+// The normal stress at t_{n+1} from the pair operator (it has no instantaneous
+// term in the slip rate).  Where it is not compressive the interface would
+// open; opening is not modelled, so the run stops here, naming the node.
+void Simulation::update_normal_stress() {
+  std::copy(normal_stress_.begin(), normal_stress_.end(), previous_normal_stress_.begin());
+  fft_->inverse(pair_->normal_stress(), work_real_);
+  const double sigma0 = config_.loading.normal_stress;
+  for (int i = 0; i < nodes_; ++i) {
+    normal_stress_[i] = sigma0 + work_real_[i];
+    if (!(normal_stress_[i] > 0.0)) {
+      std::ostringstream msg;
+      msg << "interface opening at node " << i << " (x = " << x_[i] << " m), t = " << time_ + dt_
+          << " s, step " << step_index_ + 1 << ": the compressive normal stress would be "
+          << normal_stress_[i] << " Pa (loading.normal_stress = " << sigma0
+          << " Pa); opening (zero traction, a gap) is not modelled, so the run stops (docs/bodies.md)";
+      throw SimulationError(msg.str());
+    }
+  }
 }
 
 template <class Call>
@@ -153,6 +200,7 @@ void Simulation::step() {
   fft_->forward(work_real_, spectrum_);
   history_->push(spectrum_);
   fft_->inverse(history_->history(), history_stress_);
+  if (pair_) update_normal_stress();
 
   std::copy(slip_rate_.begin(), slip_rate_.end(), previous_slip_rate_.begin());
   std::copy(state_.begin(), state_.end(), previous_state_.begin());
@@ -189,6 +237,8 @@ SimulationState Simulation::save_state() const {
   saved.state = state_;
   saved.shear_stress = shear_stress_;
   saved.history_stress = history_stress_;
+  saved.normal_stress = normal_stress_;
+  saved.effective_normal_stress = effective_normal_stress_;
   saved.history = history_->save_state();
   return saved;
 }
@@ -196,8 +246,10 @@ SimulationState Simulation::save_state() const {
 void Simulation::restore_state(const SimulationState& saved) {
   const std::pair<const std::vector<double>*, std::vector<double>*> fields[] = {
       {&saved.slip, &slip_}, {&saved.slip_rate, &slip_rate_}, {&saved.state, &state_},
-      {&saved.shear_stress, &shear_stress_}, {&saved.history_stress, &history_stress_}};
-  const char* names[] = {"slip", "slip_rate", "state", "shear_stress", "history_stress"};
+      {&saved.shear_stress, &shear_stress_}, {&saved.history_stress, &history_stress_},
+      {&saved.normal_stress, &normal_stress_}, {&saved.effective_normal_stress, &effective_normal_stress_}};
+  const char* names[] = {"slip", "slip_rate", "state", "shear_stress", "history_stress", "normal_stress",
+                         "effective_normal_stress"};
   for (std::size_t f = 0; f < std::size(fields); ++f)
     if (fields[f].first->size() != fields[f].second->size())
       throw std::invalid_argument(std::string("saved simulation state: ") + names[f] + " has " +

@@ -13,6 +13,7 @@
 #include "config/simulation_config.hpp"
 #include "kernels/fft.hpp"
 #include "kernels/history_convolution.hpp"
+#include "kernels/inplane_pair_history.hpp"
 
 namespace slipstrip {
 
@@ -30,6 +31,8 @@ struct SimulationState {
   double time = 0.0;
   long long step_index = 0;
   std::vector<double> slip, slip_rate, state, shear_stress, history_stress;
+  // In-plane dissimilar bodies only (empty otherwise).
+  std::vector<double> normal_stress, effective_normal_stress;
   HistoryOperatorState history;
 };
 
@@ -63,6 +66,13 @@ class Simulation {
   std::span<const double> slip_rate() const { return slip_rate_; }      // [m/s]
   std::span<const double> state() const { return state_; }              // phi [s]
   std::span<const double> shear_stress() const { return shear_stress_; }  // [Pa]
+  // True for in-plane dissimilar bodies, where the normal stress changes with
+  // time and position (docs/bodies.md); otherwise it is loading.normal_stress.
+  bool variable_normal_stress() const { return pair_ != nullptr; }
+  // Compressive normal stress sigma and the effective one the friction sees
+  // [Pa]; empty unless variable_normal_stress().
+  std::span<const double> normal_stress() const { return normal_stress_; }
+  std::span<const double> effective_normal_stress() const { return effective_normal_stress_; }
 
   // Save (allocates: outside the time loop) and restore into a Simulation
   // built from the same config; the restored one then steps bit for bit as
@@ -89,6 +99,7 @@ class Simulation {
   template <class Call>
   void run_law(Call&& call);
   void check_finite(const char* what) const;
+  void update_normal_stress();
 
   SimulationConfig config_;
   int nodes_;
@@ -100,11 +111,14 @@ class Simulation {
   std::vector<double> x_, slip_, slip_rate_, state_, shear_stress_;
   std::vector<double> previous_slip_rate_, previous_state_;
   std::vector<double> history_stress_;  // history part in x [Pa]
+  // In-plane dissimilar bodies (empty otherwise).
+  std::vector<double> normal_stress_, previous_normal_stress_, effective_normal_stress_;
   std::vector<double> work_real_;
   std::vector<std::complex<double>> spectrum_;
 
   std::unique_ptr<RealFft> fft_;
   std::unique_ptr<HistoryOperator> history_;
+  const InplanePairHistory* pair_ = nullptr;  // history_ when it is one (normal stress), else null
   std::unique_ptr<InterfaceLaw> law_;
 };
 

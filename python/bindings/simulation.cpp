@@ -37,8 +37,13 @@ std::span<const double> field_of(const Simulation& sim, const std::string& name)
   if (name == "slip_rate") return sim.slip_rate();
   if (name == "state") return sim.state();
   if (name == "shear_stress") return sim.shear_stress();
+  // Empty (a zero-length array) unless the normal stress varies (in-plane
+  // dissimilar bodies, docs/bodies.md).
+  if (name == "normal_stress") return sim.normal_stress();
+  if (name == "effective_normal_stress") return sim.effective_normal_stress();
   throw std::invalid_argument("field = '" + name +
-                              "' is unknown: allowed are x, slip, slip_rate, state, shear_stress");
+                              "' is unknown: allowed are x, slip, slip_rate, state, shear_stress, normal_stress, "
+                              "effective_normal_stress");
 }
 
 // A read-only 1-D array over the solver's own memory.  `owner` (the Python
@@ -185,6 +190,13 @@ void bind_simulation(py::module_& m) {
                              "State phi [s] (read-only view, updated in place by step())")
       .def_property_readonly("shear_stress", [](py::object self) { return field_view(self, "shear_stress"); },
                              "Shear stress [Pa] (read-only view, updated in place by step())")
+      .def_property_readonly("normal_stress", [](py::object self) { return field_view(self, "normal_stress"); },
+                             "Compressive normal stress [Pa] (read-only view); empty unless the normal stress "
+                             "varies (in-plane dissimilar bodies)")
+      .def_property_readonly("effective_normal_stress",
+                             [](py::object self) { return field_view(self, "effective_normal_stress"); },
+                             "Effective normal stress the friction sees [Pa] (read-only view); empty unless "
+                             "the normal stress varies")
       .def("_field_address",
            [](const Simulation& sim, const std::string& name) {
              return reinterpret_cast<std::uintptr_t>(field_of(sim, name).data());

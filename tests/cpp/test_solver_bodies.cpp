@@ -69,15 +69,19 @@ velocity_share = 1.0
   // A mirror config round-trips too (to_toml writes the top body's values under [bottom]).
   CHECK(to_toml(load_config_string(to_toml(defaults))) == to_toml(defaults));
 
-  // In-plane dissimilar bodies, a rigid base and clamped faces are refused by name.
-  for (const char* body : {"elastic", "rigid"}) {
-    const auto e = error_of(std::string("[bottom]\nbody = \"") + body + "\"\n");
+  // In-plane: half-spaces in a dissimilar pair (no 2x2 half-space operator) and
+  // clamped faces on the mirror pair's operator are refused by name.
+  {
+    const auto e = error_of("[bottom]\nbody = \"elastic\"\nheight = \"inf\"\n");
     INFO(e);
-    CHECK(contains(e, "bottom.body"));
+    CHECK(contains(e, "bottom.height"));
     CHECK(contains(e, "not implemented"));
+    CHECK(contains(error_of("[geometry]\nheight = \"inf\"\n[bottom]\nbody = \"rigid\"\n"), "bottom.body"));
   }
   CHECK(contains(error_of("[bottom]\nouter_face = \"clamped\"\n[top]\nouter_face = \"clamped\"\n"),
-                 "top.outer_face"));
+                 "outer_face"));
+  CHECK(contains(error_of("[interface]\nnormal_stress_slip = 1e-5\nnormal_stress_time = 1e-3\n"),
+                 "interface.normal_stress_time"));
   // With body = "mirror" a [bottom] value other than the top body's is refused,
   // naming the key (a forgotten body = "elastic" is never run as a mirror pair).
   for (const char* key : {"height = 1.0", "shear_modulus = 1e9", "youngs_modulus = 1e9",

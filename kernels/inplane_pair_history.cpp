@@ -1,0 +1,102 @@
+#include "kernels/inplane_pair_history.hpp"
+
+#include <limits>
+#include <stdexcept>
+
+namespace slipstrip {
+
+InplanePairHistory::InplanePairHistory(std::unique_ptr<FaceModalHistory> top,
+                                       std::unique_ptr<FaceModalHistory> bottom)
+    : top_(std::move(top)), bottom_(std::move(bottom)) {
+  if (!top_) throw std::invalid_argument("InplanePairHistory: the top body needs an operator");
+  if (bottom_ && (bottom_->modes() != top_->modes() || bottom_->time_step() != top_->time_step()))
+    throw std::invalid_argument("InplanePairHistory: the two body operators differ in modes or time step");
+  constexpr double rigid = std::numeric_limits<double>::infinity();
+  ex_top_ = top_->shear_impedance();
+  ey_top_ = top_->normal_impedance();
+  ex_bottom_ = bottom_ ? bottom_->shear_impedance() : rigid;
+  ey_bottom_ = bottom_ ? bottom_->normal_impedance() : rigid;
+  eta_ = bottom_ ? ex_top_ * ex_bottom_ / (ex_top_ + ex_bottom_) : ex_top_;
+  const auto n = static_cast<std::size_t>(top_->modes());
+  top_x_.assign(n, 0.0);
+  top_y_ = history_ = normal_ = top_x_;
+  bottom_x_.assign(bottom_ ? n : 0, 0.0);
+  bottom_y_ = bottom_x_;
+}
+
+ModeOperatorStats InplanePairHistory::stats() const {
+  ModeOperatorStats s;
+  s.modes = history_.size();
+  s.oscillators = top_->discrete_modes() + (bottom_ ? bottom_->discrete_modes() : 0);
+  s.memory_bytes = top_->memory_bytes() + (bottom_ ? bottom_->memory_bytes() : 0) +
+                   sizeof(std::complex<double>) *
+                       (top_x_.size() + top_y_.size() + bottom_x_.size() + bottom_y_.size() +
+                        history_.size() + normal_.size());
+  return s;
+}
+
+void InplanePairHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {
+  const std::size_t n = history_.size();
+  const auto hx_t = top_->history_x(), hy_t = top_->history_y();
+  if (!bottom_) {
+    // Rigid bottom: the top face carries the whole slip and does not move normally.
+    for (std::size_t q = 0; q < n; ++q) {
+      top_x_[q] = slip_rate_spectrum[q];
+      top_y_[q] = 0.0;
+    }
+    top_->push(top_x_, top_y_);
+    const auto x = top_->history_x(), y = top_->history_y();
+    for (std::size_t q = 0; q < n; ++q) {
+      history_[q] = x[q];
+      normal_[q] = y[q];
+    }
+    return;
+  }
+  {
+    // Face velocities at t_n from the slip rate and the body histories at t_n.
+    const auto hx_b = bottom_->history_x(), hy_b = bottom_->history_y();
+    const double sum_x = ex_top_ + ex_bottom_, sum_y = ey_top_ + ey_bottom_;
+    for (std::size_t q = 0; q < n; ++q) {
+      const std::complex<double> v = slip_rate_spectrum[q];
+      const std::complex<double> vy = -(hy_t[q] - hy_b[q]) / sum_y;
+      const std::complex<double> vx_bottom = -(ex_top_ * v + hx_t[q] + hx_b[q]) / sum_x;
+      top_x_[q] = vx_bottom + v;
+      top_y_[q] = vy;
+      bottom_x_[q] = vx_bottom;
+      bottom_y_[q] = -vy;  // the bottom body's own frame
+    }
+  }
+  top_->push(top_x_, top_y_);
+  bottom_->push(bottom_x_, bottom_y_);
+  const auto x_t = top_->history_x(), y_t = top_->history_y();
+  const auto x_b = bottom_->history_x(), y_b = bottom_->history_y();
+  const double sum_x = ex_top_ + ex_bottom_, sum_y = ey_top_ + ey_bottom_;
+  for (std::size_t q = 0; q < n; ++q) {
+    history_[q] = (ex_bottom_ * x_t[q] - ex_top_ * x_b[q]) / sum_x;
+    normal_[q] = (ey_bottom_ * y_t[q] + ey_top_ * y_b[q]) / sum_y;
+  }
+}
+
+namespace {
+constexpr const char* kKind = "in-plane pair";
+}
+
+HistoryOperatorState InplanePairHistory::save_state() const {
+  HistoryOperatorState s;
+  s.kind = kKind;
+  top_->save_into(s, "top.");
+  if (bottom_) bottom_->save_into(s, "bottom.");
+  s.add("history", history_);
+  s.add("normal_stress", normal_);
+  return s;
+}
+
+void InplanePairHistory::restore_state(const HistoryOperatorState& state) {
+  state.require_kind(kKind);
+  top_->restore_from(state, "top.");
+  if (bottom_) bottom_->restore_from(state, "bottom.");
+  state.copy_to("history", std::span<std::complex<double>>(history_));
+  state.copy_to("normal_stress", std::span<std::complex<double>>(normal_));
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,57 @@
+#pragma once
+// The history operator of an in-plane interface between two different bodies
+// (docs/bodies.md, "In-plane dissimilar bodies"): each body carried by its own
+// 2x2 operator (FaceModalHistory, docs/inplane_bodies.md §5), combined with
+// continuous tractions, no interpenetration and slip = jump of u_x.
+//
+// Per Fourier mode, body b's traction in its own frame (the body above its
+// face) is t_b = E_b v_b + h_b, E_b = diag(Ex_b, Ey_b) = diag(mu/c_s, rho c_d).
+// The top body's t is -(sigma_xy, sigma_yy); the bottom body is the mirror
+// image (y -> -y), so its own-frame velocity is D v and its traction D
+// (sigma_xy, sigma_yy), D = diag(1, -1).  With the slip rate V = v_x,top -
+// v_x,bottom and v_y continuous, eliminating the face velocities gives
+//   sigma_xy = -eta V - h,        eta = Ex_t Ex_b / (Ex_t + Ex_b),
+//                                 h   = (Ex_b hx_t - Ex_t hx_b) / (Ex_t + Ex_b),
+//   sigma    = -sigma_yy = (Ey_b hy_t + Ey_t hy_b) / (Ey_t + Ey_b)   (compressive),
+// so the normal stress at t_{n+1} follows from the history alone (it has no
+// instantaneous term in V): the friction solve stays local and scalar.  Then
+//   v_y       = -(hy_t - hy_b) / (Ey_t + Ey_b),
+//   v_x,bottom = -(Ex_t V + hx_t + hx_b) / (Ex_t + Ex_b),   v_x,top = v_x,bottom + V,
+// which feed the body operators (the bottom one with -v_y).  A rigid bottom
+// (no operator) has Ex_b = Ey_b = inf: v_top = (V, 0), h = hx_t, sigma = hy_t.
+// Identical bodies give h = (hx_t - hx_b)/2 and sigma = 0 by symmetry.
+#include <complex>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "kernels/face_history.hpp"
+#include "kernels/history_convolution.hpp"
+
+namespace slipstrip {
+
+class InplanePairHistory final : public HistoryOperator {
+ public:
+  // Both operators share the time step and the number of Fourier modes;
+  // bottom == nullptr is a rigid bottom body.
+  InplanePairHistory(std::unique_ptr<FaceModalHistory> top, std::unique_ptr<FaceModalHistory> bottom);
+
+  double time_step() const override { return top_->time_step(); }
+  double radiation_damping() const override { return eta_; }
+  int modes() const override { return top_->modes(); }
+  ModeOperatorStats stats() const override;
+  void push(std::span<const std::complex<double>> slip_rate_spectrum) override;
+  // Shear history part h at t_{n+1} (sigma_xy = -eta V - h).
+  std::span<const std::complex<double>> history() const override { return history_; }
+  // Compressive normal stress perturbation at t_{n+1} [Pa] (spectrum).
+  std::span<const std::complex<double>> normal_stress() const { return normal_; }
+  HistoryOperatorState save_state() const override;
+  void restore_state(const HistoryOperatorState& state) override;
+
+ private:
+  std::unique_ptr<FaceModalHistory> top_, bottom_;
+  double ex_top_, ey_top_, ex_bottom_, ey_bottom_, eta_;
+  std::vector<std::complex<double>> top_x_, top_y_, bottom_x_, bottom_y_, history_, normal_;
+};
+
+}  // namespace slipstrip
