@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -25,6 +26,32 @@ using slipstrip::Simulation;
 namespace {
 
 using clock_type = std::chrono::steady_clock;
+
+// A Simulation as Python holds it: advance() releases the GIL, so several
+// Python threads can call into one object at once; without `busy` their steps
+// interleaved inside one another and gave nonsense (slip rates of 1e37 m/s)
+// with no error.  Every call that steps or reads the state takes `busy`, so
+// calls from several threads are serialised at whole steps: n calls of
+// advance(k) end exactly where one advance(n k) does.  The NumPy views are
+// not covered (they are the solver's memory): read them when no other thread
+// is stepping, or copy.
+class PySimulation : public Simulation {
+ public:
+  explicit PySimulation(const slipstrip::SimulationConfig& config) : Simulation(config) {}
+  std::mutex busy;
+};
+
+// A value of the simulation read with `busy` held.  Waiting for it happens
+// with the GIL released: the thread that holds `busy` never waits for the
+// GIL while it does, so there is no deadlock.
+template <class R>
+auto read_locked(R (Simulation::*get)() const) {
+  return [get](PySimulation& sim) {
+    py::gil_scoped_release release;
+    std::lock_guard lock(sim.busy);
+    return (static_cast<const Simulation&>(sim).*get)();
+  };
+}
 
 // How often the GIL is taken back to look for Ctrl-C while C++ runs: often
 // enough that an interrupt feels immediate, rarely enough that other Python
@@ -51,7 +78,7 @@ std::span<const double> field_of(const Simulation& sim, const std::string& name)
 // view; the vectors never reallocate after construction.  Read-only because the
 // solver owns the data: writing into it would silently corrupt the run.
 py::array field_view(py::object owner, const std::string& name) {
-  const auto data = field_of(owner.cast<const Simulation&>(), name);
+  const auto data = field_of(owner.cast<const PySimulation&>(), name);
   py::array view(py::dtype::of<double>(), {static_cast<py::ssize_t>(data.size())},
                  {static_cast<py::ssize_t>(sizeof(double))}, data.data(), owner);
   view.attr("setflags")(py::arg("write") = false);
@@ -60,12 +87,14 @@ py::array field_view(py::object owner, const std::string& name) {
 
 // Steps until n steps are done, releasing the GIL; Ctrl-C is honoured between
 // steps (the simulation stays at a whole step) and raised as KeyboardInterrupt.
-void advance(Simulation& sim, long long n) {
+// `busy` is held for each stretch of steps between two signal checks.
+void advance(PySimulation& sim, long long n) {
   if (n < 0) throw std::invalid_argument("n = " + std::to_string(n) + " is invalid: expected n >= 0 steps");
   long long done = 0;
   while (done < n) {
     {
       py::gil_scoped_release release;
+      std::lock_guard lock(sim.busy);
       const auto start = clock_type::now();
       do {
         sim.step();
@@ -174,12 +203,19 @@ RunResult resume(const std::string& output_path, py::object progress, double pro
 }  // namespace
 
 void bind_simulation(py::module_& m) {
-  py::class_<Simulation>(m, "_Simulation")
+  py::class_<PySimulation>(m, "_Simulation")
       .def(py::init<const slipstrip::SimulationConfig&>(), py::arg("config"))
-      .def("step", &Simulation::step, "Advance one time step dt.", py::call_guard<py::gil_scoped_release>())
+      .def("step",
+           [](PySimulation& sim) {
+             py::gil_scoped_release release;
+             std::lock_guard lock(sim.busy);
+             sim.step();
+           },
+           "Advance one time step dt.")
       .def("advance", &advance, py::arg("n"),
            "Advance n time steps with the GIL released.  Ctrl-C raises KeyboardInterrupt "
-           "between steps; the simulation is then at a whole step (see step_index).")
+           "between steps; the simulation is then at a whole step (see step_index).  Calls "
+           "from several threads are serialised: each step is whole, and the steps add up.")
       .def_property_readonly("x", [](py::object self) { return field_view(self, "x"); },
                              "Node positions [m] (read-only view of the solver's memory)")
       .def_property_readonly("slip", [](py::object self) { return field_view(self, "slip"); },
@@ -198,20 +234,20 @@ void bind_simulation(py::module_& m) {
                              "Effective normal stress the friction sees [Pa] (read-only view); empty unless "
                              "the normal stress varies")
       .def("_field_address",
-           [](const Simulation& sim, const std::string& name) {
+           [](const PySimulation& sim, const std::string& name) {
              return reinterpret_cast<std::uintptr_t>(field_of(sim, name).data());
            },
            py::arg("name"), "Address of the C++ vector behind a field (for zero-copy checks).")
-      .def_property_readonly("time", &Simulation::time, "t [s]")
-      .def_property_readonly("step_index", &Simulation::step_index)
+      .def_property_readonly("time", read_locked(&Simulation::time), "t [s]")
+      .def_property_readonly("step_index", read_locked(&Simulation::step_index))
       .def_property_readonly("time_step", &Simulation::time_step, "dt [s]")
       .def_property_readonly("dx", &Simulation::dx, "[m]")
       .def_property_readonly("radiation_damping", &Simulation::radiation_damping, "mu / (2 c_s) [Pa s/m]")
       .def_property_readonly("reference_shear_stress", &Simulation::reference_shear_stress, "tau_0 [Pa]")
-      .def_property_readonly("max_slip_rate", &Simulation::max_slip_rate, "[m/s]")
-      .def_property_readonly("mean_slip", &Simulation::mean_slip, "[m]")
-      .def_property_readonly("mean_shear_stress", &Simulation::mean_shear_stress, "[Pa]")
-      .def_property_readonly("_native_config", [](const Simulation& sim) { return sim.config(); });
+      .def_property_readonly("max_slip_rate", read_locked(&Simulation::max_slip_rate), "[m/s]")
+      .def_property_readonly("mean_slip", read_locked(&Simulation::mean_slip), "[m]")
+      .def_property_readonly("mean_shear_stress", read_locked(&Simulation::mean_shear_stress), "[Pa]")
+      .def_property_readonly("_native_config", [](const PySimulation& sim) { return sim.config(); });
 
   py::class_<RunResult>(m, "RunResult")
       .def_readonly("status", &RunResult::status, "'completed', 'interrupted' or 'diverged: ...'")

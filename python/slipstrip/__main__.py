@@ -16,7 +16,19 @@ import argparse
 import importlib
 import sys
 
+from .paths import OutputPathError, check_outputs, one_line
+
 USAGE = __doc__
+
+
+def _outputs_ok(outputs: dict, inputs: list, overwrite: bool) -> bool:
+    """The output-path rule (slipstrip.paths); False after printing why not."""
+    try:
+        check_outputs(outputs, inputs=inputs, overwrite=overwrite)
+    except OutputPathError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return False
+    return True
 
 
 def plot_main(argv: list[str]) -> int:
@@ -29,18 +41,21 @@ def plot_main(argv: list[str]) -> int:
     parser.add_argument("--vmin", type=float, default=None, help="colour scale minimum of log10(v/v0)")
     parser.add_argument("--vmax", type=float, default=None, help="colour scale maximum of log10(v/v0)")
     parser.add_argument("--dpi", type=int, default=150)
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing --out file")
     args = parser.parse_args(argv)
 
     from . import plots  # matplotlib is imported only when plotting
 
     out = args.out or f"{args.kind}.png"
+    if not _outputs_ok({"--out": out}, [args.run], args.overwrite):
+        return 2
     try:
         if args.kind == "spacetime":
             plots.spacetime(args.run, out, vmin=args.vmin, vmax=args.vmax, dpi=args.dpi)
         else:
             plots.timeseries(args.run, out, dpi=args.dpi)
     except (ValueError, OSError, KeyError) as e:
-        print(f"error: {e}", file=sys.stderr)
+        print(f"error: {one_line(e)}", file=sys.stderr)
         return 2
     print(f"wrote {out}")
     return 0
@@ -53,12 +68,15 @@ def plot_stability_main(argv: list[str]) -> int:
                                                  "growth rate vs wavelength).")
     parser.add_argument("table", help="CSV from `slipstrip stability --out`")
     parser.add_argument("--out", required=True, help="output PNG")
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing --out file")
     args = parser.parse_args(argv)
     from . import plots
+    if not _outputs_ok({"--out": args.out}, [args.table], args.overwrite):
+        return 2
     try:
         plots.stability(args.table, args.out)
     except (ValueError, OSError, KeyError) as e:
-        print(f"error: {e}", file=sys.stderr)
+        print(f"error: {one_line(e)}", file=sys.stderr)
         return 2
     print(f"wrote {args.out}")
     return 0

@@ -32,7 +32,8 @@ import h5py
 import numpy as np
 from scipy import optimize, stats
 
-from .runfile import decode_attr, open_h5, unreadable_reason
+from .paths import OutputPathError, check_outputs, one_line
+from .runfile import decode_attr, open_h5, read_times, unreadable_reason
 
 DEFAULT_ALPHA = 15.0
 SENSITIVITY_ALPHAS = (8.0, 15.0, 30.0, 60.0)
@@ -118,9 +119,9 @@ def read_run_info(path: str | os.PathLike) -> RunInfo:
             n = int(geometry.get("nodes", 0))
         duration = math.nan
         if "timeseries" in f and f["timeseries/time"].shape[0] > 0:
-            duration = float(f["timeseries/time"][-1])
+            duration = float(read_times(f, "timeseries/time")[-1])
         elif "snapshots" in f and f["snapshots/time"].shape[0] > 0:
-            duration = float(f["snapshots/time"][-1])
+            duration = float(read_times(f, "snapshots/time")[-1])
         return RunInfo(D=D, L=L, H=H, v0=v0, mu=mu, c_s=math.sqrt(mu / rho) if rho > 0 else math.nan,
                        sigma0=float(config.get("loading", {}).get("normal_stress", math.nan)),
                        delta_th=float(ss.get("delta_th", math.nan)), n_nodes=n, duration=duration)
@@ -780,7 +781,7 @@ def read_spacetime(path, max_rows: int | None = None):
     with open_h5(path) as f:
         if "snapshots" not in f or f["snapshots/time"].shape[0] < 2:
             return None
-        t = f["snapshots/time"][:]
+        t = read_times(f, "snapshots/time")
         step = 1 if not max_rows else _stride(t.size, max_rows)
         return t[::step], f["snapshots/x"][:], f["snapshots/slip_rate"][::step]
 
@@ -797,7 +798,7 @@ def periodic_pulse_of_run(path, catalog: dict, info: RunInfo) -> dict:
     """All three periodic-pulse criteria of one run file and the decision."""
     by_events = periodic_pulse_from_catalog(catalog, info)
     with open_h5(path) as f:
-        by_ts = (periodic_pulse_from_timeseries(f["timeseries/time"][:], f["timeseries/max_slip_rate"][:], info.v0)
+        by_ts = (periodic_pulse_from_timeseries(read_times(f, "timeseries/time"), f["timeseries/max_slip_rate"][:], info.v0)
                  if "timeseries" in f else {"flag": False})
     st = read_spacetime(path)
     by_st = None
@@ -1104,7 +1105,7 @@ def plot_event_fields(path, catalog: dict, index: int, info: RunInfo, out_dir: P
     t0 = float(catalog["t_start"][index])
     t1 = t0 + float(catalog["T"][index])
     with open_h5(path) as f:
-        ts = f["snapshots/time"][:]
+        ts = read_times(f, "snapshots/time")
         before = np.nonzero(ts <= t0)[0]
         after = np.nonzero(ts >= t1)[0]
         if before.size == 0 or after.size == 0:
@@ -1263,6 +1264,21 @@ def format_summary(s: dict) -> str:
     return "\n".join(lines)
 
 
+# The figures analyze() writes under fixed names (besides event_<i>_fields, whose
+# index is known only after the detection).
+FIGURE_NAMES = ("space_time", "space_slip", "event_map", "pdfs", "stationarity", "threshold_sensitivity")
+
+
+def analysis_outputs(out_dir, alpha: float = DEFAULT_ALPHA, pdf: bool = False,
+                     sensitivity_alphas=SENSITIVITY_ALPHAS) -> dict[str, Path]:
+    """The files analyze() writes into out_dir under fixed names, as
+    {"--out-dir NAME": path}, for the output-path check (slipstrip.paths)."""
+    out_dir = Path(out_dir)
+    names = ["summary.json"] + [f"{n}.png" for n in FIGURE_NAMES] + ([f"{n}.pdf" for n in FIGURE_NAMES] if pdf else [])
+    names += [f"events_alpha{a:g}.h5" for a in dict.fromkeys([alpha, *sensitivity_alphas])]
+    return {f"--out-dir {name}": out_dir / name for name in names}
+
+
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(prog="slipstrip analyze",
                                      description="Slip-event statistics and figures of one run file")
@@ -1275,6 +1291,8 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--write-events", action="store_true",
                         help="add the catalog as /events to the run file when it has none "
                              "(default: the run file is only read; the catalog goes to --out-dir)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace the files of an earlier analysis in --out-dir")
     args = parser.parse_args(list(argv[1:] if argv and argv[0] == "analyze" else argv))
     if not args.alpha > 0:
         print(f"analyze: --alpha {args.alpha}: must be > 0", file=sys.stderr)
@@ -1284,6 +1302,12 @@ def main(argv: list[str]) -> int:
         return 2
     out_dir = args.out_dir or str(Path(args.run).with_suffix("")) + "_analysis"
     try:
+        check_outputs(analysis_outputs(out_dir, args.alpha, args.pdf), directories={"--out-dir": out_dir},
+                      inputs=[args.run], overwrite=args.overwrite)
+    except OutputPathError as err:
+        print(f"analyze: {err}", file=sys.stderr)
+        return 2
+    try:
         summary = analyze(args.run, out_dir, pdf=args.pdf, alpha=args.alpha, event=args.event,
                           write_events=args.write_events)
     except EmptyCatalog as err:  # a valid run with nothing to analyse: no figures, exit 1
@@ -1291,8 +1315,7 @@ def main(argv: list[str]) -> int:
         return 1
     except (FileNotFoundError, RuntimeError, KeyError, ValueError, OSError, TypeError, IndexError) as err:
         # A damaged or foreign run file: one line naming the file, never a traceback.
-        message = " ".join(str(err).split()) or type(err).__name__
-        print(f"analyze: {args.run}: {message}", file=sys.stderr)
+        print("analyze: " + one_line(f"{args.run}: {str(err) or type(err).__name__}"), file=sys.stderr)
         return 2
     print(format_summary(summary))
     print(f"summary: {Path(out_dir) / 'summary.json'}")

@@ -145,6 +145,9 @@ class Config(_slipstrip._Config):
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], overrides=None) -> "Config":
+        if not isinstance(data, Mapping):
+            raise TypeError(f"Config.from_dict: data of type {type(data).__name__} is not a mapping: pass a "
+                            "dict of sections such as {'geometry': {'nodes': 256}} (or Config() for the defaults)")
         return cls.from_string(to_toml_text(data), overrides)
 
     @property

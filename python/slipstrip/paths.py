@@ -1,23 +1,14 @@
-"""The output-path rule of slipstrip.run() and `export --seas`, the rule of
-`slipstrip run --out` (docs/reliability.md, "What survives what"), for any
-Python command to call before it writes:
+"""Output paths and error messages of every command, by the rules of the C++
+CLI (the same functions, through the bindings; docs/reliability.md "Output
+paths"):
 
-* an output never names an input (the same file by device and inode, so
-  ``./a.h5``, ``a.h5`` and a symbolic link to it are one file), even with
-  overwrite;
-* two outputs never name the same file;
-* an output that exists is refused unless overwrite is given (the message
-  names how: ``--overwrite`` for a command line, ``overwrite=True`` for a
-  function); a directory in the place of a file output is refused;
-* a file output's directory must exist and accept it: the file is opened for
-  writing as the command will (without truncating; a new file is created and
-  removed again), so a missing or read-only directory is found before
-  anything is computed;
-* a directory output (the command writes files into it) may exist, but only
-  as a directory; the files written there are file outputs of their own.
-
-Raises ``OutputPathError`` (a ``ValueError``) with one line naming the
-option, the path and the reason.
+* ``check_outputs``: an output never names an input (even with overwrite),
+  never an existing file unless overwrite is given, never the same file as
+  another output, and its directory must accept it -- checked before anything
+  is computed.  Raises ``OutputPathError`` (a ``ValueError``) with one line.
+* ``one_line``: any text as one printable line of bounded length (control
+  characters escaped; head and tail of a long text kept), for every message
+  that reaches a user.
 
     from slipstrip.paths import check_outputs
     check_outputs({"--csv": args.csv, "--plot": args.plot}, inputs=[args.run], overwrite=args.overwrite)
@@ -27,73 +18,36 @@ from __future__ import annotations
 import os
 from typing import Iterable, Mapping, Union
 
-__all__ = ["OutputPathError", "check_outputs"]
+from . import _slipstrip
+from ._slipstrip import LockHeldError, OutputPathError  # noqa: F401  (re-exported)
+
+__all__ = ["OutputPathError", "LockHeldError", "check_outputs", "one_line", "MAX_MESSAGE_CHARS"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
-
-class OutputPathError(ValueError):
-    """A refused output path (a bad command line: exit code 2)."""
-
-
-def _same_file(a: str, b: str) -> bool:
-    try:
-        return os.path.samefile(a, b)
-    except (OSError, ValueError):  # one of them does not exist (or is not a valid path)
-        return False
-
-
-def _check_file(option: str, path: str, overwrite: bool, overwrite_flag: str) -> None:
-    if os.path.isdir(path):
-        raise OutputPathError(f"{option} '{path}' is a directory: expected a file name")
-    if os.path.islink(path) and not os.path.exists(path):
-        raise OutputPathError(f"{option} '{path}' is a symbolic link to nothing: refusing to write through it")
-    exists = os.path.exists(path)
-    if exists and not overwrite:
-        raise OutputPathError(f"{option} '{path}' already exists: refusing to overwrite it "
-                              f"(give {overwrite_flag} to replace it, or choose another path)")
-    directory = os.path.dirname(path) or "."
-    if not os.path.isdir(directory):
-        reason = "is not a directory" if os.path.lexists(directory) else "does not exist"
-        raise OutputPathError(f"{option} '{path}': output directory '{directory}' {reason}")
-    # The real test of writability (permissions, read-only file system): open
-    # the file as the command will, without truncating anything.
-    try:
-        fd = os.open(path, os.O_WRONLY) if exists else os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
-    except OSError as e:
-        raise OutputPathError(f"{option} '{path}' cannot be written: {e.strerror}") from None
-    os.close(fd)
-    if not exists:
-        os.unlink(path)
+# The default bound of one_line (io::kMaxMessageChars).
+MAX_MESSAGE_CHARS: int = _slipstrip.max_message_chars
 
 
 def check_outputs(files: Mapping[str, PathLike | None] | None = None, *,
                   directories: Mapping[str, PathLike | None] | None = None,
                   inputs: Iterable[PathLike] = (), overwrite: bool = False,
                   overwrite_flag: str = "--overwrite") -> None:
-    """Check every output of a command before it runs.
+    """Check every output of a command before it runs (io/output_paths.hpp).
 
-    files / directories: {option name as the user wrote it: path}; None or
-    empty values (options not given) are skipped.  inputs: the files the
-    command reads.  Raises OutputPathError for the first refused output."""
-    outputs = [(str(o), os.fspath(p), False) for o, p in (files or {}).items() if p is not None and os.fspath(p)]
-    outputs += [(str(o), os.fspath(p), True) for o, p in (directories or {}).items()
-                if p is not None and os.fspath(p)]
-    inputs = [os.fspath(p) for p in inputs]
-    seen: list[tuple[str, str]] = []
-    for option, path, is_directory in outputs:
-        for source in inputs:
-            if _same_file(path, source) or os.path.abspath(path) == os.path.abspath(source):
-                raise OutputPathError(f"{option} '{path}' is the input '{source}': refusing to write over an "
-                                      f"input (even with {overwrite_flag})")
-        for other_option, other in seen:
-            if os.path.abspath(path) == os.path.abspath(other) or _same_file(path, other):
-                raise OutputPathError(f"{option} '{path}' and {other_option} '{other}' are the same file: "
-                                      "give each output its own path")
-        seen.append((option, path))
-        if is_directory:
-            if os.path.lexists(path) and not os.path.isdir(path):
-                raise OutputPathError(f"{option} '{path}' exists and is not a directory: expected a directory "
-                                      "for the files it writes")
-        else:
-            _check_file(option, path, overwrite, overwrite_flag)
+    files / directories: {option name as the user wrote it: path}; None values
+    (options not given) are skipped.  A directory output may exist as a
+    directory; the files written into it are checked as files.
+    overwrite_flag: how the message tells the user to allow replacing
+    ("--overwrite" for a command line, "overwrite=True" for a function)."""
+    outputs = [(str(o), os.fspath(p), False) for o, p in (files or {}).items() if p is not None]
+    outputs += [(str(o), os.fspath(p), True) for o, p in (directories or {}).items() if p is not None]
+    _slipstrip.check_output_paths(outputs, [os.fspath(p) for p in inputs], bool(overwrite), overwrite_flag)
+
+
+def one_line(text: object, max_chars: int = MAX_MESSAGE_CHARS) -> str:
+    """str(text) (or bytes) as one printable line of at most max_chars bytes
+    (io/messages.hpp).  Bytes that are not UTF-8 (a surrogate-escaped file
+    name, binary input) are shown as \\xNN."""
+    raw = text if isinstance(text, bytes) else str(text).encode("utf-8", errors="surrogateescape")
+    return _slipstrip.one_line(raw, int(max_chars))

@@ -42,6 +42,7 @@ from scipy import stats
 from . import analysis as an
 from . import hierarchy as hi
 from . import runfile
+from .paths import OutputPathError, check_outputs, one_line
 from . import transition
 from .claims import BY_ID, CLAIMS, MEASUREMENTS
 
@@ -2185,6 +2186,8 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--bootstrap", type=int, default=N_BOOTSTRAP, help="bootstrap resamples (default 200)")
     parser.add_argument("--jobs", type=int, default=1, help="build the two readings in parallel processes (2)")
     parser.add_argument("--quiet", action="store_true")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace an existing --out file and the PNG figures in --figures")
     args = parser.parse_args(list(argv[1:] if argv and argv[0] == "report" else argv))
     dirs = {"asrun": Path(args.rundir), "printed": Path(args.printed) if args.printed else None}
     for key, d in dirs.items():
@@ -2196,6 +2199,16 @@ def main(argv: list[str]) -> int:
               "column as not run", file=sys.stderr)
         return 2
     out, figdir = Path(args.out), Path(args.figures)
+    # The figures of an earlier report are replaced as a whole (below), so each is an output.
+    old_figures = sorted(figdir.glob("*.png")) + sorted(figdir.glob("*/*.png")) if figdir.is_dir() else []
+    try:
+        check_outputs({"--out": out, **{f"--figures {p.relative_to(figdir)}": p for p in old_figures}},
+                      directories={"--figures": figdir, "the directory of --out": out.parent},
+                      inputs=[f for d in dirs.values() if d is not None for f in sorted(d.glob("*.h5"))],
+                      overwrite=args.overwrite)
+    except OutputPathError as err:
+        print(f"report: {err}", file=sys.stderr)
+        return 2
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, file=sys.stderr))
     with tempfile.TemporaryDirectory() as work:
         reports = {key: Report(dirs[key], figdir / key, args.allow_missing, args.allow_incomplete, out.parent,
@@ -2233,7 +2246,7 @@ def main(argv: list[str]) -> int:
             print(f"report: {err}", file=sys.stderr)
             return 2
         command = ("python3 -m slipstrip report RUNDIR --printed PRINTED --out " + _rel(out) + " --figures "
-                   + _rel(figdir) + (" --allow-missing" if args.allow_missing else "")
+                   + _rel(figdir) + " --overwrite" + (" --allow-missing" if args.allow_missing else "")
                    + (" --allow-incomplete" if args.allow_incomplete else ""))
         text = markdown(reports, command, {k: (d.name if d is not None else None) for k, d in dirs.items()})
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -24,8 +24,8 @@ from typing import Any
 import h5py
 import numpy as np
 
-__all__ = ["RunFile", "RunFileError", "LazyDataset", "open_run", "open_h5", "unreadable_reason", "decode_attr", "read_attrs", "read_config_text",
-           "read_config", "read_status", "wall_seconds", "has_group", "read_event_count"]
+__all__ = ["RunFile", "RunFileError", "LazyDataset", "open_run", "open_h5", "unreadable_reason", "decode_attr", "read_attrs",
+           "read_config_text", "read_config", "read_status", "wall_seconds", "has_group", "read_event_count", "read_times"]
 
 TIMESERIES = ("time", "max_slip_rate", "mean_slip", "mean_shear_stress")
 SNAPSHOT_FIELDS = ("slip", "slip_rate", "state", "shear_stress")
@@ -75,6 +75,27 @@ def open_h5(path: str | os.PathLike, attempts: int = 100, wait: float = 0.05) ->
                 raise
             raise RunFileError(unreadable_reason(path)) from None
     raise AssertionError("unreachable")
+
+
+def read_times(f: h5py.File, name: str) -> np.ndarray:
+    """A time axis of an open run file (``timeseries/time``, ``snapshots/time``,
+    ``stations/time``): every value finite, >= 0 and none below the one before,
+    as the solver writes them; else ValueError naming the dataset and the first
+    bad row, so a damaged file is reported as such instead of failing later
+    inside a reduction over no rows."""
+    t = np.asarray(f[name][()], dtype=float)
+    if t.ndim != 1:
+        raise ValueError(f"{name} has shape {t.shape}: expected one time per row")
+    bad = np.flatnonzero(~np.isfinite(t) | (t < 0))
+    if bad.size:
+        raise ValueError(f"{name}[{bad[0]}] = {t[bad[0]]!r}: expected a finite time >= 0 in every row "
+                         "(the run file is damaged)")
+    back = np.flatnonzero(np.diff(t) < 0)
+    if back.size:
+        k = back[0] + 1
+        raise ValueError(f"{name}[{k}] = {t[k]!r} is before {name}[{k - 1}] = {t[k - 1]!r}: "
+                         "times must not decrease (the run file is damaged)")
+    return t
 
 
 def decode_attr(value: Any) -> Any:

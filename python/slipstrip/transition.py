@@ -579,6 +579,8 @@ def main(argv: list[str]) -> int:
     import csv
     import sys
     from pathlib import Path
+
+    from .paths import OutputPathError, check_outputs, one_line
     p = argparse.ArgumentParser(prog="python3 -m slipstrip transition",
                                 description="Classify the long-time state of run files (docs/transition.md).")
     p.add_argument("paths", nargs="*", help="run files or directories holding them")
@@ -592,6 +594,8 @@ def main(argv: list[str]) -> int:
     p.add_argument("--heights", help="write the transition heights H* per friction and L (CSV)")
     p.add_argument("--include-unfinished", action="store_true",
                    help="also classify runs whose status is not 'completed'")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace existing output files (never an input: a run file or a --previous CSV)")
     args = p.parse_args(argv)
     if not args.paths and not args.previous:
         p.error("give run files, directories, or --previous CSV")
@@ -613,6 +617,13 @@ def main(argv: list[str]) -> int:
             return 2
         files.append(entry)
     n_found = len(files)
+    outputs = {"--csv": args.csv, "--plot": args.plot, "--table": args.table, "--collapse": args.collapse,
+               "--heights": args.heights}
+    try:
+        check_outputs(outputs, inputs=[*files, *args.previous], overwrite=args.overwrite)
+    except OutputPathError as err:
+        print(f"transition: {err}", file=sys.stderr)
+        return 2
     if not args.include_unfinished:
         # A running or interrupted run is a shorter record than its config says:
         # its state would be judged on the wrong window.  Listed, not classified.
@@ -635,7 +646,7 @@ def main(argv: list[str]) -> int:
         try:
             earlier = read_map_csv(csv_path)
         except (OSError, KeyError, ValueError) as err:
-            print(f"error: --previous {csv_path}: {err}", file=sys.stderr)
+            print(f"error: --previous {one_line(f'{csv_path}: {err}')}", file=sys.stderr)
             return 2
         previous += [r for r in earlier if _map_cell(r) not in fresh]
     for r in rows:

@@ -431,3 +431,64 @@ def test_python_run_ctrl_c_during_setup_raises_keyboard_interrupt(slipstrip_modu
     assert proc.returncode == 7, stderr
     assert "KeyboardInterrupt" in stdout
     assert not out.exists()
+
+
+# ---------------------------------------------------------------------------
+# E. Misuse beyond the fuzz corpus: threads, messages, damaged inputs
+# ---------------------------------------------------------------------------
+
+def test_concurrent_advance_from_threads_is_serialised(slipstrip_module, repo):
+    # Was: four threads advancing one Simulation (advance releases the GIL)
+    # stepped inside one another; max slip rates of 3.9e37 or 3.0e16 m/s, no error.
+    # Now the calls are serialised at whole steps, so four advance(200) from four
+    # threads end bit for bit where one advance(800) does.
+    import threading
+    text = (repo / "configs/quickstart.toml").read_text()
+    overrides = ["geometry.nodes=64", "time.duration_transits=5"]
+    shared = slipstrip_module.Simulation(text, overrides)
+    readings = []
+
+    def read_while_stepping():
+        while any(t.is_alive() for t in threads):
+            readings.append((shared.step_index, shared.max_slip_rate))
+
+    threads = [threading.Thread(target=shared.advance, args=(200,)) for _ in range(4)]
+    reader = threading.Thread(target=read_while_stepping)
+    for t in threads:
+        t.start()
+    reader.start()
+    for t in threads + [reader]:
+        t.join()
+    alone = slipstrip_module.Simulation(text, overrides)
+    alone.advance(800)
+    assert shared.step_index == 800
+    for name in ("slip", "slip_rate", "state", "shear_stress"):
+        assert np.array_equal(getattr(shared, name), getattr(alone, name)), name
+    assert shared.time == alone.time
+    # Readings taken during the steps are of whole steps: finite, below the end's scale.
+    assert all(0 <= k <= 800 and np.isfinite(v) and v < 1.0 for k, v in readings)
+
+
+def test_config_from_dict_of_something_else_is_a_type_error(slipstrip_module):
+    # Was: Config.from_dict(None) raised AttributeError ('NoneType' object has no attribute 'items').
+    for bad in (None, 3, "geometry.nodes=3", [("geometry", {})]):
+        with pytest.raises(TypeError, match="Config.from_dict: data of type .* is not a mapping"):
+            slipstrip_module.Config.from_dict(bad)
+
+
+@pytest.mark.parametrize("row", [-1, 5, "all"])
+def test_analyze_on_nan_times_names_the_dataset(cli, small_run, tmp_path, row):
+    # Was: "zero-size array to reduction operation minimum which has no identity".
+    path = tmp_path / "nan_time.h5"
+    shutil.copy(small_run, path)
+    with h5py.File(path, "r+") as f:
+        t = f["timeseries/time"][()]
+        if row == "all":
+            t[:] = np.nan
+        else:
+            t[row] = np.nan
+        f["timeseries/time"][...] = t
+    r = run(cli, "analyze", path, "--out-dir", tmp_path / "out", env={"SLIPSTRIP_BIN": str(cli)}, timeout=300)
+    lines = [line for line in r.stderr.splitlines() if line.strip()]
+    assert r.returncode == 2 and len(lines) == 1, r.stderr
+    assert str(path) in lines[0] and "timeseries/time[" in lines[0] and "= nan" in lines[0]

@@ -398,7 +398,10 @@ def test_report_rows_come_from_the_run_files(tiny_rundir, tiny_printed, tmp_path
         for k in ("u_mean", "M0"):
             data = f["events"][k][:]
             f["events"][k][...] = 2 * data
-    r2, out2, _ = _report(d, tmp_path, "--allow-missing", env_bin=binary, printed=tiny_printed)
+    # The earlier report is an existing output: kept unless --overwrite.
+    refused, _, _ = _report(d, tmp_path, "--allow-missing", env_bin=binary, printed=tiny_printed)
+    assert refused.returncode == 2 and "already exists" in refused.stderr and out.read_text() == text
+    r2, out2, _ = _report(d, tmp_path, "--allow-missing", "--overwrite", env_bin=binary, printed=tiny_printed)
     assert r2.returncode == 0, r2.stderr
     text2 = out2.read_text()
     assert "1:02:03 (3723 s)" in _row(text2, "RUNDIR/fig3a.h5")
@@ -408,7 +411,7 @@ def test_report_rows_come_from_the_run_files(tiny_rundir, tiny_printed, tmp_path
     # The whole report is regenerated: a stale figure is removed.
     stale = figs / "asrun" / "stale.png"
     stale.write_bytes(b"x")
-    r3, _, _ = _report(d, tmp_path, "--allow-missing", env_bin=binary, printed=tiny_printed)
+    r3, _, _ = _report(d, tmp_path, "--allow-missing", "--overwrite", env_bin=binary, printed=tiny_printed)
     assert r3.returncode == 0 and not stale.exists()
 
 

@@ -8,6 +8,7 @@ import signal
 import sys
 from pathlib import Path
 
+from ..paths import check_outputs, one_line
 from .executors import emit_slurm, run_scan
 from .spec import check_runs, dry_run_lines, expand_runs, load_scan
 from .stopping import ScanInterrupted, StopSignals, exit_code
@@ -31,6 +32,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--collect", action="store_true",
                    help="only write the summary of the runs on disk (after a Slurm array)")
     p.add_argument("--plot-durations", metavar="PNG", help="afterwards, plot p(T) of every run (Fig. 3d style)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --plot-durations file")
     p.add_argument("--run-task", metavar="TASK_JSON", help="run one task file written by --emit-slurm")
     return p
 
@@ -53,6 +55,13 @@ def main(argv: list[str] | None = None) -> int:
             print("error: a scan file is required (slipstrip scan SCAN.toml ...)", file=sys.stderr)
             return 2
         spec = load_scan(args.scan, args.out)
+        # The run files and summaries in the output directory are the scan's own
+        # state (resumed or redone on a relaunch, docs/scans.md); the rule
+        # covers what the user names.
+        check_outputs({"--plot-durations": args.plot_durations},
+                      directories={"output directory": spec.output_dir, "--emit-slurm": args.emit_slurm},
+                      inputs=[spec.path, spec.base_config],
+                      overwrite=args.overwrite)
         if args.dry_run:
             print("\n".join(dry_run_lines(spec)))
             errors, warnings = check_runs(spec)
@@ -86,7 +95,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"[scan] {e}", file=sys.stderr)
         return exit_code(e.signal)
     except (ValueError, FileNotFoundError) as e:
-        print(f"error: {e}", file=sys.stderr)
+        print(f"error: {one_line(e)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:  # before the runs start (reading the scan file)
         print("interrupted before any run started", file=sys.stderr)
