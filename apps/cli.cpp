@@ -5,6 +5,8 @@
 #include <csignal>
 #include <cstdio>
 
+#include "io/messages.hpp"
+
 namespace slipstrip::cli {
 namespace {
 
@@ -72,6 +74,7 @@ RunHooks run_hooks(bool quiet, bool tty, long long stop_after_steps) {
   hooks.progress_interval = tty ? 0.25 : 5.0;
   hooks.stop_requested = [] { return interrupted(); };
   hooks.stop_after_steps = stop_after_steps;
+  hooks.warning = [](const std::string& text) { std::fprintf(stderr, "warning: %s\n", io::one_line(text).c_str()); };
   return hooks;
 }
 

@@ -2,12 +2,16 @@
 // sampling (docs/events.md).
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "apps/cli.hpp"
 #include "events/catalog_io.hpp"
 #include "events/event_detection.hpp"
+#include "io/file_lock.hpp"
+#include "io/output_paths.hpp"
+#include "solver/checkpoint.hpp"
 
 namespace slipstrip::cli {
 namespace {
@@ -15,9 +19,19 @@ namespace {
 struct EventsOptions {
   std::string run_path, out_path, csv_path;
   double alpha = 15.0;
+  bool overwrite = false;
 };
 
 int events(const EventsOptions& o) {
+  // The output-path rule (io/output_paths.hpp): --out and --csv never name
+  // the run file (the default --out, the run file itself, adds /events to it)
+  // nor, without --overwrite, an existing file.
+  const io::OutputPath outputs[] = {{"--out", o.out_path}, {"--csv", o.csv_path}};
+  const std::string inputs[] = {o.run_path};
+  io::check_output_paths(outputs, inputs, o.overwrite);
+  // Writing into the run file: not while a run or resume writes it.
+  std::optional<io::FileLock> lock;
+  if (o.out_path.empty()) lock.emplace(run_lock_path(o.run_path), "run file '" + o.run_path + "'");
   events::EventDetectionOptions options;
   options.alpha = o.alpha;
   events::EventCatalog catalog;
@@ -52,6 +66,7 @@ Command add_events_command(CLI::App& app) {
   ev->add_option("--alpha", o->alpha, "Waiting-time threshold factor alpha (threshold alpha*delta_th/(v0 N))");
   ev->add_option("--out", o->out_path, "Catalog HDF5 file (default: add /events to the run file)");
   ev->add_option("--csv", o->csv_path, "Also write the catalog as CSV");
+  ev->add_flag("--overwrite", o->overwrite, "Replace an existing --out or --csv file (never the run file itself)");
   return {ev, [o] { return events(*o); }};
 }
 

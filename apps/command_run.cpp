@@ -1,13 +1,9 @@
 // slipstrip run CONFIG [--set ...] [--out RUN.h5]: one simulation, one HDF5
 // file; and slipstrip run --resume RUN.h5: continue it from its restart point.
-#include <fcntl.h>
-#include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -17,6 +13,8 @@
 #include "apps/cli.hpp"
 #include "config/config.hpp"
 #include "config/resource_estimate.hpp"
+#include "io/messages.hpp"
+#include "io/output_paths.hpp"
 #include "slipstrip/version.hpp"
 #include "solver/checkpoint.hpp"
 #include "solver/run.hpp"
@@ -33,42 +31,14 @@ struct RunOptions {
   ResourceLimits limits;
 };
 
-std::string errno_text(int err) { return std::strerror(err); }
-
-// Everything about --out that can be checked before the (possibly long)
-// set-up: never the config itself, never an existing file without
-// --overwrite, and the directory must exist and accept a new file.  Throws
-// std::invalid_argument (exit 2) naming the path and the errno text.
-void check_output_path(const std::string& out_path, const std::string& config_path, bool overwrite) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::path out(out_path);
-  const auto status = fs::status(out, ec);
-  const bool exists = fs::exists(status);
-  if (exists && fs::equivalent(out, fs::path(config_path), ec))
-    throw std::invalid_argument("--out '" + out_path + "' is the config file '" + config_path +
-                                "': refusing to write the run over its own input (even with --overwrite)");
-  if (exists && fs::is_directory(status))
-    throw std::invalid_argument("--out '" + out_path + "' is a directory: expected a file name");
-  if (exists && !overwrite)
-    throw std::invalid_argument("--out '" + out_path +
-                                "' already exists: refusing to overwrite it (give --overwrite to replace it, "
-                                "or choose another --out)");
-  const fs::path dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
-  struct stat dir_stat {};
-  if (::stat(dir.c_str(), &dir_stat) != 0)
-    throw std::invalid_argument("--out '" + out_path + "': output directory '" + dir.string() +
-                                "' is not usable: " + errno_text(errno));
-  if (!S_ISDIR(dir_stat.st_mode))
-    throw std::invalid_argument("--out '" + out_path + "': '" + dir.string() + "' is not a directory");
-  // The real test of writability (permissions, read-only file system, quota):
-  // open the file for writing as the run will, without truncating anything.
-  const int fd = exists ? ::open(out_path.c_str(), O_WRONLY)
-                        : ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
-  if (fd < 0)
-    throw std::invalid_argument("--out '" + out_path + "' cannot be written: " + errno_text(errno));
-  ::close(fd);
-  if (!exists) ::unlink(out_path.c_str());
+// Everything about the outputs that can be checked before the (possibly
+// long) set-up, by the rule of every command (io/output_paths.hpp): the run
+// file and its restart point are outputs, the config an input.  (The run
+// checks again under its lock, solver/run.hpp.)
+void check_run_outputs(const std::string& out_path, const std::string& config_path, bool overwrite) {
+  const io::OutputPath outputs[] = {{"--out", out_path}, {"the restart point of --out", checkpoint_path(out_path)}};
+  const std::string inputs[] = {config_path};
+  io::check_output_paths(outputs, inputs, overwrite);
 }
 
 // The first line where two resolved configs differ, for the message of a
@@ -128,7 +98,7 @@ int resume(const RunOptions& o) {
   }
   const bool tty = isatty(fileno(stderr));
   const RunHooks hooks = run_hooks(o.quiet, tty, o.stop_after_steps);
-  std::fprintf(stderr, "slipstrip %s (%s): resuming %s\n", code_version, git_hash, run_path.c_str());
+  std::fprintf(stderr, "slipstrip %s (%s): resuming %s\n", code_version, git_hash, io::one_line(run_path).c_str());
   RunResult result;
   try {
     result = resume_simulation(run_path, hooks);
@@ -169,7 +139,7 @@ int run(const RunOptions& o) {
     if (auto dot = base.rfind('.'); dot != std::string::npos) base = base.substr(0, dot);
     out_path = base + ".h5";
   }
-  check_output_path(out_path, config_path, o.overwrite);
+  check_run_outputs(out_path, config_path, o.overwrite);
   // What the run will cost, and the config's plausibility warnings, before
   // the limits refuse it or the (possibly long) set-up starts.
   std::fputs(run_header(config).c_str(), stderr);
@@ -177,13 +147,15 @@ int run(const RunOptions& o) {
   warn_if_disk_too_small(config, out_path);
   const bool tty = isatty(fileno(stderr));
   const RunHooks hooks = run_hooks(o.quiet, tty, o.stop_after_steps);
-  std::fprintf(stderr, "slipstrip %s (%s): %s -> %s\n", code_version, git_hash, config_path.c_str(),
-               out_path.c_str());
+  std::fprintf(stderr, "slipstrip %s (%s): %s -> %s\n", code_version, git_hash, io::one_line(config_path).c_str(),
+               io::one_line(out_path).c_str());
   RunResult result;
   try {
-    // geometry.nodes_z > 1: a 2D interface between 3D bodies (docs/3d.md).
+    // geometry.nodes_z > 1: a 2D interface between 3D bodies (docs/3d.md; no
+    // restart points there).  With --overwrite, an old restart point of this
+    // name goes (under the run's lock), so it is never taken for this run's.
     result = config.geometry.nodes_z > 1 ? run_simulation_3d(config, out_path, hooks)
-                                         : run_simulation(config, out_path, hooks);
+                                         : run_simulation(config, out_path, hooks, o.overwrite);
   } catch (const SetupCancelled& e) {
     std::fprintf(stderr, "interrupted by %s during the set-up (%s); no output written\n", interrupt_name(),
                  e.what());

@@ -12,6 +12,7 @@
 #include "apps/cli.hpp"
 #include "apps/python_launcher.hpp"
 #include "config/config.hpp"
+#include "io/output_paths.hpp"
 #include "stability/linear_stability.hpp"
 #include "stability/steady_sliding.hpp"
 
@@ -21,8 +22,16 @@ namespace {
 struct StabilityOptions {
   std::string config_path, out_path, wavelengths, height_range;
   std::vector<std::string> overrides;
-  bool json = false;
+  bool json = false, overwrite = false;
 };
+
+// The figure written next to the CSV of --out: the same name with .png.
+std::string figure_path(const std::string& out_path) {
+  std::string png = out_path;
+  if (auto dot = png.rfind('.'); dot != std::string::npos && png.find('/', dot) == std::string::npos)
+    png = png.substr(0, dot);
+  return png + ".png";
+}
 
 std::vector<double> parse_list(const std::string& text, const std::string& what) {
   std::vector<double> values;
@@ -46,6 +55,12 @@ int stability(const StabilityOptions& o) {
   const std::string& wavelengths_text = o.wavelengths;
   const bool json = o.json;
   const auto config = load_config_file(config_path, o.overrides);
+  if (!out_path.empty()) {
+    // The output-path rule (io/output_paths.hpp), before any computing.
+    const io::OutputPath outputs[] = {{"--out", out_path}, {"the figure of --out", figure_path(out_path)}};
+    const std::string inputs[] = {config_path};
+    io::check_output_paths(outputs, inputs, o.overwrite);
+  }
   const auto sliding = steady_sliding_of(config);
   std::ostringstream table, csv, js;
   if (!height_range.empty()) {
@@ -100,12 +115,10 @@ int stability(const StabilityOptions& o) {
     f << csv.str();
     f.close();
     std::fprintf(stderr, "wrote %s\n", out_path.c_str());
-    // The figure (Fig. S2 style) comes from the Python package, next to the CSV.
-    std::string png = out_path;
-    if (auto dot = png.rfind('.'); dot != std::string::npos && png.find('/', dot) == std::string::npos)
-      png = png.substr(0, dot);
-    png += ".png";
-    if (run_python_module({"plot-stability", out_path, "--out", png}) != 0)
+    // The figure (Fig. S2 style) comes from the Python package, next to the
+    // CSV; its path was checked above, so the plot may replace it.
+    const std::string png = figure_path(out_path);
+    if (run_python_module({"plot-stability", out_path, "--out", png, "--overwrite"}) != 0)
       std::fprintf(stderr, "warning: could not plot %s (the CSV is written)\n", png.c_str());
   }
   return 0;
@@ -122,6 +135,7 @@ Command add_stability_command(CLI::App& app) {
   stab->add_option("--height-range", o->height_range, "Hmin:Hmax:n -> Lc for n evenly spaced heights [m] (both ends included)");
   stab->add_option("--out", o->out_path, "Write the table as CSV");
   stab->add_flag("--json", o->json, "Print JSON instead of a table");
+  stab->add_flag("--overwrite", o->overwrite, "Replace an existing --out file and its figure");
   return {stab, [o] { return stability(*o); }};
 }
 

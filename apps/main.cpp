@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "apps/cli.hpp"
+#include "io/messages.hpp"
 #include "slipstrip/version.hpp"
 #include "solver/run_output.hpp"
 
@@ -27,7 +28,7 @@ int main(int argc, char** argv) {
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     std::string message = e.what();
     std::replace(message.begin(), message.end(), '\n', ' ');
-    return "error: " + message + " (see --help)\n";
+    return "error: " + slipstrip::io::one_line(message) + " (see --help)\n";
   });
 
   std::vector<cli::Command> commands = {cli::add_run_command(app), cli::add_stability_command(app),
@@ -47,10 +48,10 @@ int main(int argc, char** argv) {
     for (const auto& command : commands)
       if (*command.app) return command.run();
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", slipstrip::io::one_line(e.what()).c_str());
     return 2;
   } catch (const slipstrip::OutputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", slipstrip::io::one_line(e.what()).c_str());
     std::fflush(stderr);
     // A file whose H5Fclose failed stays open inside HDF5, whose exit handler
     // would retry the close and crash (exit 139 on a full disk): leave
@@ -61,7 +62,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: out of memory\n");
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", slipstrip::io::one_line(e.what()).c_str());
     return 1;
   }
   return 0;

@@ -123,20 +123,35 @@ std::string top_level_key_message(std::string_view key) {
 std::string format_number(double value) { return format_config_number(value); }
 std::string quote(std::string_view text) { return quote_toml(text); }
 
-// The value as the user wrote it, for error messages.
-std::string describe(const toml::node& node) {
+// The value as the user wrote it, on one line (toml++ prints arrays and
+// tables over several lines), for error messages.
+std::string describe_unbounded(const toml::node& node) {
   if (const auto* s = node.as_string()) return quote(s->get());
   if (const auto* i = node.as_integer()) return std::to_string(i->get());
   if (const auto* f = node.as_floating_point()) return format_number(f->get());
   if (const auto* b = node.as_boolean()) return b->get() ? "true" : "false";
-  std::ostringstream out;
-  if (const auto* t = node.as_table()) {
-    out << "{" << *t << "}";
-  } else {
-    node.visit([&out](const auto& n) { out << n; });
+  std::string out;
+  if (const auto* a = node.as_array()) {
+    out = "[";
+    for (std::size_t k = 0; k < a->size() && out.size() < 200; ++k)
+      out += (k ? ", " : "") + describe_unbounded(*a->get(k));
+    return out + (out.size() >= 200 ? ", ...]" : "]");
   }
-  return out.str();
+  if (const auto* t = node.as_table()) {
+    out = "{";
+    for (const auto& [key, value] : *t) {
+      if (out.size() >= 200) return out + ", ...}";
+      out += (out.size() > 1 ? ", " : " ") + std::string(key.str()) + " = " + describe_unbounded(value);
+    }
+    return out + " }";
+  }
+  std::ostringstream text;
+  node.visit([&text](const auto& n) { text << n; });
+  return text.str();
 }
+
+// ... and bounded: a value never takes over the message (io/messages.hpp).
+std::string describe(const toml::node& node) { return io::one_line(describe_unbounded(node), 120); }
 
 // "file:line: " when the node came from a file, "line N: " for text input.
 std::string location(const toml::node* node) {

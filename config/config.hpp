@@ -18,15 +18,18 @@
 #endif
 
 #include "config/simulation_config.hpp"
+#include "io/messages.hpp"
 
 namespace slipstrip {
 
 // Any problem with a configuration: unreadable file, TOML syntax, unknown
 // section or key, wrong type, value out of range, conflicting keys, malformed
 // override.  Derives from std::invalid_argument (the project's type for bad
-// input), so `catch (const std::invalid_argument&)` catches it too.
+// input), so `catch (const std::invalid_argument&)` catches it too.  The
+// message is made one printable line of bounded length (io/messages.hpp)
+// here, whatever value or file content it quotes.
 struct ConfigError : std::invalid_argument {
-  using std::invalid_argument::invalid_argument;
+  explicit ConfigError(const std::string& message) : std::invalid_argument(io::one_line(message)) {}
 };
 
 // Reads a TOML file, applies the overrides in order ("section.key=value"),

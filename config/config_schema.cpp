@@ -134,10 +134,9 @@ std::string delta_th_plausibility(const SimulationConfig& c) {
   return "each time step slips v0 dt = " + format_short(slip_per_step) + " m = " +
          format_short(slip_per_step / c.output.delta_th) + " output.delta_th at the loading rate (loading." +
          "driving_velocity = " + format_short(c.loading.driving_velocity) + " m/s, dt = " + format_short(dt) +
-         " s): several slip levels are crossed within one step, where their times are only "
-         "interpolated, so the event catalog is coarser than its slip sampling, and the file grows with "
-         "v0 t / delta_th; check that loading.driving_velocity is in m/s (2 mm/s = 2e-3), or raise "
-         "output.delta_th";
+         " s): slip levels crossed within one step get interpolated times (a coarser event catalog, "
+         "a file growing with v0 t / delta_th); check that loading.driving_velocity is in m/s "
+         "(2 mm/s = 2e-3), or raise output.delta_th";
 }
 
 // ---------------------------------------------------------------------------

@@ -8,6 +8,9 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "io/messages.hpp"
+#include "io/output_paths.hpp"
+
 namespace slipstrip {
 namespace {
 
@@ -15,7 +18,7 @@ namespace {
 constexpr std::uintmax_t kMaxNodeFileBytes = std::uintmax_t{1} << 29;
 
 [[noreturn]] void invalid(std::string_view key, const std::string& message) {
-  throw std::invalid_argument(std::string(key) + " = {...}: " + message);
+  throw std::invalid_argument(io::one_line(std::string(key) + " = {...}: " + message));
 }
 
 std::string shortest(double value) {
@@ -62,8 +65,8 @@ std::string text_value(const toml::table& table, std::string_view name, std::str
 std::vector<double> read_node_file(const std::filesystem::path& path, std::string_view key) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    invalid(key, "node file '" + path.string() + "' does not exist or is not a regular file");
+  if (const std::string what = io::not_a_regular_file(path.string()); !what.empty())
+    invalid(key, "node file " + io::quoted_input(path.string(), 160) + " " + what);
   if (fs::file_size(path, ec) > kMaxNodeFileBytes)
     invalid(key, "node file '" + path.string() + "' is larger than 512 MiB");
   std::ifstream file(path);
@@ -78,8 +81,8 @@ std::vector<double> read_node_file(const std::filesystem::path& path, std::strin
     double value = 0.0;
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
     if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
-      invalid(key, "node file '" + path.string() + "' line " + std::to_string(number) + ": '" +
-                       std::string(text) + "' is not one finite number");
+      invalid(key, "node file " + io::quoted_input(path.string(), 160) + " line " + std::to_string(number) + ": " +
+                       io::quoted_input(text, 60) + " is not one finite number");
     values.push_back(value);
   }
   if (file.bad()) invalid(key, "cannot read node file '" + path.string() + "'");

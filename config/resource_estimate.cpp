@@ -1,6 +1,9 @@
 #include "config/resource_estimate.hpp"
 
 #include <algorithm>
+
+#include "io/messages.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -186,7 +189,7 @@ std::string run_header(const SimulationConfig& c) {
          format_short(slip_per_step) + " m" +
          (c.output.delta_th > 0.0 ? " = " + format_short(slip_per_step / c.output.delta_th) + " delta_th\n"
                                   : std::string(" (no slip sampling: output.delta_th = 0)\n"));
-  for (const std::string& warning : plausibility_warnings(c)) out += "warning: " + warning + "\n";
+  for (const std::string& warning : plausibility_warnings(c)) out += "warning: " + io::one_line(warning) + "\n";
   return out;
 }
 

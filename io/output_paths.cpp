@@ -84,9 +84,12 @@ void check_file(const OutputPath& output, std::span<const std::string> inputs, b
   if (!S_ISDIR(dir_stat.st_mode))
     refuse(output, "cannot be written: " + quoted_input(dir.string(), 160) + " is not a directory");
   // The real test (permissions, read-only file system): open it for writing
-  // as the command will, truncating nothing.
-  const int fd = exists ? ::open(output.path.c_str(), O_WRONLY | O_CLOEXEC)
+  // as the command will, truncating nothing.  Never waiting: a FIFO that no
+  // process reads would block the open for ever (O_NONBLOCK makes it ENXIO).
+  const int fd = exists ? ::open(output.path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC)
                         : ::open(output.path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0 && errno == ENXIO && S_ISFIFO(found.file.st_mode))
+    refuse(output, "is a FIFO that no process reads: expected a file name");
   if (fd < 0) refuse(output, std::string("cannot be written: ") + std::strerror(errno));
   ::close(fd);
   if (!exists) ::unlink(output.path.c_str());
@@ -110,8 +113,15 @@ void check_output_paths(std::span<const OutputPath> outputs, std::span<const std
         !fs::exists(fs::symlink_status(output.path, ec)))
       new_directories.push_back(landing_place(output.path));
   }
+  // Directories first: a directory that cannot be one (it is an input, a
+  // file) is the reason its files cannot be written, and is named as such.
+  std::vector<const OutputPath*> ordered;
+  for (const auto kind : {OutputPath::Kind::directory, OutputPath::Kind::file})
+    for (const auto& output : outputs)
+      if (output.kind == kind) ordered.push_back(&output);
   std::vector<std::pair<fs::path, const OutputPath*>> seen;
-  for (const auto& output : outputs) {
+  for (const OutputPath* next : ordered) {
+    const OutputPath& output = *next;
     if (output.path.empty()) continue;
     const fs::path place = landing_place(output.path);
     for (const auto& [other_place, other] : seen)
@@ -125,6 +135,23 @@ void check_output_paths(std::span<const OutputPath> outputs, std::span<const std
                  std::find(new_directories.begin(), new_directories.end(), place.parent_path()) !=
                      new_directories.end());
   }
+}
+
+std::string not_a_regular_file(const std::string& path) {
+  struct stat link {}, target {};
+  if (::lstat(path.c_str(), &link) != 0) return "does not exist";
+  if (::stat(path.c_str(), &target) != 0) {
+    std::error_code ec;
+    return "is a symbolic link to " + quoted_input(fs::read_symlink(path, ec).string(), 120) +
+           ", which does not exist";
+  }
+  if (S_ISREG(target.st_mode)) return "";
+  if (S_ISDIR(target.st_mode)) return "is not a regular file (a directory)";
+  if (S_ISCHR(target.st_mode)) return "is not a regular file (a character device)";
+  if (S_ISBLK(target.st_mode)) return "is not a regular file (a block device)";
+  if (S_ISFIFO(target.st_mode)) return "is not a regular file (a FIFO)";
+  if (S_ISSOCK(target.st_mode)) return "is not a regular file (a socket)";
+  return "is not a regular file";
 }
 
 void check_output_path(const std::string& option, const std::string& path, std::span<const std::string> inputs,

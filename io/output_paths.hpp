@@ -39,9 +39,18 @@ struct OutputPath {
 //  * a directory output (the command writes files into it) may exist, but
 //    only as a directory; the files it writes there are file outputs of
 //    their own, checked by the command with this rule.
+// Directory outputs are checked before file outputs (a directory that is an
+// input is named as such, not as the reason its files cannot be written).
 // Empty paths are skipped (an option that was not given).
 void check_output_paths(std::span<const OutputPath> outputs, std::span<const std::string> inputs,
                         bool overwrite, std::string_view overwrite_flag = "--overwrite");
+
+// What is at `path` when it is not a regular file an input must be, for a
+// message: "does not exist", "is a symbolic link to 'X', which does not
+// exist", "is not a regular file (a directory)", "... (a character device)",
+// "... (a block device)", "... (a FIFO)", "... (a socket)"; "" for a regular
+// file (symbolic links followed).
+std::string not_a_regular_file(const std::string& path);
 
 // One file output (the common case).
 void check_output_path(const std::string& option, const std::string& path, std::span<const std::string> inputs,

@@ -25,10 +25,24 @@ struct RunCheckpoint {
   // time-series row, snapshot and station row, mean slip [m] of the next
   // slip-triggered snapshot.
   double next_timeseries = 0.0, next_snapshot = 0.0, next_snapshot_slip = 0.0, next_station = 0.0;
+  // read_checkpoint: false if the restart point carries no checksum (written
+  // before restart points had one); it is then resumed with a warning.
+  bool checksum_verified = false;
 };
 
 // RUN.h5 -> RUN.h5.restart
 std::string checkpoint_path(const std::string& run_path);
+
+// RUN.h5 -> RUN.h5.lock: the lock file of "one process per run"
+// (io/file_lock.hpp), held by whoever writes the run file or its restart
+// point (a run, a resume, `slipstrip events` into the run file).
+std::string run_lock_path(const std::string& run_path);
+
+// The checksum of every value a resume reads ("crc64-xz:<16 hex digits>",
+// io/checksum.hpp), in a fixed order (history counters and arrays by name).
+// Stored as the root attribute `checksum`; not covered: the informational
+// attributes code_version and written_at.
+std::string checkpoint_checksum(const RunCheckpoint& checkpoint);
 
 // Syncs the run file, then writes the restart point atomically (temporary
 // file, fsync, rename, fsync of the directory).  Throws OutputError naming
@@ -36,8 +50,20 @@ std::string checkpoint_path(const std::string& run_path);
 void write_checkpoint(const std::string& run_path, const RunCheckpoint& checkpoint);
 
 // Reads RUN.h5.restart.  A missing, damaged or foreign file throws
-// std::invalid_argument naming the path and what is wrong.
+// std::invalid_argument naming the path and what is wrong: what is in its
+// place if it is not a regular file (a directory, a device, a dangling
+// link), and "damaged" if its content does not match its checksum.
 RunCheckpoint read_checkpoint(const std::string& run_path);
+
+// Refuses (std::invalid_argument naming the restart point, the field, its
+// value and what it should be) a restart point whose time, step or next
+// output times are not finite or not consistent with each other, with its
+// record counts and with `config` run at `time_step` for `total_steps`
+// steps.  A checksum finds damage after writing; this finds values that were
+// never a state of this run (an edited restart point, or one without a
+// checksum).
+void validate_checkpoint(const RunCheckpoint& checkpoint, const SimulationConfig& config, double time_step,
+                         long long total_steps, const std::string& run_path);
 
 // What a resume needs to know of the run file itself: its root attributes
 // `status` and `config` (docs/output.md).  A missing or unreadable file, or

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "io/file_lock.hpp"
+#include "io/output_paths.hpp"
 #include "solver/checkpoint.hpp"
 #include "config/config.hpp"
 #include "solver/run_output.hpp"
@@ -57,7 +59,6 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
     }
   }();
   Simulation& sim = *sim_owner;
-  if (resume_from) sim.restore_state(resume_from->simulation);
   // Half a step of slack so rounding never adds or drops a final step.  The
   // count must fit a long long (a huge duration once overflowed to "0 steps").
   const double step_count = std::ceil(config.time.duration / sim.time_step() - 0.5);
@@ -67,6 +68,18 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
                                 std::to_string(sim.time_step()) +
                                 " s: the step count does not fit a 64-bit integer");
   const long long total_steps = static_cast<long long>(step_count);
+  if (resume_from) {
+    validate_checkpoint(*resume_from, config, sim.time_step(), total_steps, output_path);
+    if (!resume_from->checksum_verified && hooks.warning) {
+      hooks.warning("restart point '" + checkpoint_path(output_path) +
+                    "' has no checksum (written before restart points carried one): its fields are checked, "
+                    "but damage to its data cannot be found");
+      // A caller that turns the warning into a stop (Python's -W error)
+      // stops here, before the run file is touched.
+      throw_if_cancelled(hooks.stop_requested, "the checks of the restart point");
+    }
+    sim.restore_state(resume_from->simulation);
+  }
   const auto& out_cfg = config.output;
   const std::string config_toml = to_toml(config);
 
@@ -257,14 +270,21 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
 }  // namespace
 
 RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
-                         const RunHooks& hooks) {
-  // A new run: a restart point left by an earlier run of this name (its file
-  // replaced with --overwrite or overwrite=True) must not be taken for this one's.
-  remove_checkpoint(output_path);
+                         const RunHooks& hooks, bool overwrite) {
+  const io::FileLock lock(run_lock_path(output_path), "run file '" + output_path + "' (or its restart point)");
+  if (overwrite) {
+    remove_checkpoint(output_path);
+  } else {
+    // Again under the lock: the caller's check may be minutes old (the
+    // set-up), and another process may have started this run since.
+    const io::OutputPath outputs[] = {{"output", output_path}, {"restart point", checkpoint_path(output_path)}};
+    io::check_output_paths(outputs, {}, false);
+  }
   return drive(config, output_path, hooks, nullptr);
 }
 
 RunResult resume_simulation(const std::string& output_path, const RunHooks& hooks) {
+  const io::FileLock lock(run_lock_path(output_path), "run file '" + output_path + "' (or its restart point)");
   const RunFileHeader header = read_run_file_header(output_path);
   if (header.status == "completed")
     throw std::invalid_argument("run file '" + output_path + "' is completed: nothing to resume");

@@ -26,6 +26,9 @@ struct RunHooks {
   // t = 0) are done.  A deterministic interruption for tests (`slipstrip run
   // --stop-after-steps`).
   long long stop_after_steps = -1;
+  // Called with a one-line warning that does not stop the run (a restart
+  // point written before restart points carried a checksum).
+  std::function<void(const std::string&)> warning;
 };
 
 struct RunResult {
@@ -54,15 +57,26 @@ double next_slip_trigger(double next, double mean_slip, double increment);
 // seconds of wall time (0: never on a timer) and whenever stop_requested
 // stops the run, the run file is flushed and RUN.h5.restart written.  A run
 // that completes or diverges removes it.
+//
+// One process per run: the lock RUN.h5.lock (run_lock_path, io/file_lock.hpp)
+// is held from before the set-up to the end; if another process holds it,
+// io::LockHeldError (a std::invalid_argument) is thrown and nothing is
+// touched.  Under the lock, RUN.h5 and RUN.h5.restart are checked again
+// (io/output_paths.hpp): without `overwrite` neither may exist; with it, an
+// old restart point is removed, so it is never taken for this run's.
 RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
-                         const RunHooks& hooks = {});
+                         const RunHooks& hooks = {}, bool overwrite = false);
 
 // Continues the run of `output_path` from its restart point, appending to the
 // same file, with the config stored in it; the result is bitwise the file an
 // uninterrupted run writes (docs/reliability.md).  Throws std::invalid_argument
 // if there is no usable restart point, or it does not belong to this file
 // (other config), or the run is not resumable (status "completed" or
-// "diverged: ...").  The set-up polls hooks.stop_requested as run_simulation's.
+// "diverged: ...").  The restart point is checked against its checksum and
+// field by field (validate_checkpoint) before anything is written; one
+// without a checksum is resumed after hooks.warning.  The set-up polls
+// hooks.stop_requested as run_simulation's, and the run's lock is held as
+// there.
 RunResult resume_simulation(const std::string& output_path, const RunHooks& hooks = {});
 
 }  // namespace slipstrip

@@ -14,6 +14,7 @@
 #include <span>
 #include <string>
 
+#include "solver/checkpoint.hpp"
 #include "solver/run.hpp"
 #include "kernels/history_convolution.hpp"
 #include "solver/simulation.hpp"
@@ -156,6 +157,14 @@ RunResult run_with_hooks(const std::function<RunResult(const slipstrip::RunHooks
     }
     return stop;
   };
+  // A warning (a restart point without checksum) as a Python UserWarning.
+  hooks.warning = [&](const std::string& text) {
+    py::gil_scoped_acquire gil;
+    if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 1) != 0 && !pending) {
+      pending.emplace();  // warnings turned into errors (-W error) stop the run
+      stop = true;
+    }
+  };
 
   RunResult result;
   bool setup_cancelled = false;
@@ -187,9 +196,11 @@ RunResult run_with_hooks(const std::function<RunResult(const slipstrip::RunHooks
 }
 
 RunResult run(const slipstrip::SimulationConfig& config, const std::string& output_path,
-              py::object progress, double progress_interval) {
+              py::object progress, double progress_interval, bool overwrite) {
   return run_with_hooks(
-      [&](const slipstrip::RunHooks& hooks) { return slipstrip::run_simulation(config, output_path, hooks); },
+      [&](const slipstrip::RunHooks& hooks) {
+        return slipstrip::run_simulation(config, output_path, hooks, overwrite);
+      },
       progress, progress_interval);
 }
 
@@ -263,7 +274,10 @@ void bind_simulation(py::module_& m) {
       });
 
   m.def("_run", &run, py::arg("config"), py::arg("output_path"), py::arg("progress") = py::none(),
-        py::arg("progress_interval") = 0.5);
+        py::arg("progress_interval") = 0.5, py::arg("overwrite") = false);
+  m.def("checkpoint_path", &slipstrip::checkpoint_path, py::arg("run_path"), "RUN.h5 -> RUN.h5.restart");
+  m.def("run_lock_path", &slipstrip::run_lock_path, py::arg("run_path"),
+        "RUN.h5 -> RUN.h5.lock (one process per run, solver/checkpoint.hpp)");
   m.def("_resume", &resume, py::arg("output_path"), py::arg("progress") = py::none(),
         py::arg("progress_interval") = 0.5);
 }

@@ -24,6 +24,7 @@ from ._slipstrip import (  # noqa: F401  (re-exported)
     ConfigError,
     ElasticMaterial,
     LocalSolveFailure,
+    LockHeldError,
     RunResult,
     SimulationError,
     detect_events,
@@ -41,15 +42,15 @@ from ._slipstrip import (  # noqa: F401  (re-exported)
 )
 from .config import Config, ConfigWarning, load_config, overrides_from, to_toml_text  # noqa: F401
 from .export import SeasFile, read_seas  # noqa: F401
-from .paths import OutputPathError, check_outputs  # noqa: F401
+from .paths import OutputPathError, check_outputs, run_outputs  # noqa: F401
 from .runfile import RunFile, open_run  # noqa: F401
 
 __version__ = _slipstrip.code_version
 git_hash = _slipstrip.git_hash
 
 __all__ = [
-    "Config", "ConfigError", "ConfigWarning", "ElasticMaterial", "LocalSolveFailure", "OutputPathError", "RunFile",
-    "RunResult",
+    "Config", "ConfigError", "ConfigWarning", "ElasticMaterial", "LocalSolveFailure", "LockHeldError",
+    "OutputPathError", "RunFile", "RunResult",
     "Simulation", "SimulationError", "characteristic_roots", "critical_wavelength",
     "critical_wavelength_vs_height", "detect_events", "detect_events_in_file", "detect_events_into_file", "growth_rates",
     "half_space_response", "linearise_friction", "load_config", "most_unstable_root", "open_run",
@@ -100,10 +101,11 @@ def run(config, out_path: str | os.PathLike, progress: Callable[[dict], Any] | N
         overrides=None, progress_interval: float = 0.5, overwrite: bool = False) -> RunResult:
     """Run a whole simulation and write the HDF5 run file (docs/output.md).
 
-    As `slipstrip run --out`, an existing out_path is refused (OutputPathError,
-    a ValueError) unless overwrite=True, and never replaces the config file it
-    was given; a directory that cannot take the file is found before the
-    set-up (slipstrip.paths).
+    The output-path rule of every command (slipstrip.paths.check_outputs):
+    out_path and its restart point out_path + ".restart" must not exist unless
+    overwrite=True (which replaces both), and out_path is never the config
+    file; OutputPathError otherwise, before anything is computed.  One process
+    per run: LockHeldError if another process is writing out_path.
 
     progress(p) is called about every progress_interval seconds of wall time
     and once at the end, with p a dict: time [s], duration [s], step,
@@ -116,10 +118,11 @@ def run(config, out_path: str | os.PathLike, progress: Callable[[dict], Any] | N
     """
     cfg = load_config(config, overrides)
     config_file = [config] if isinstance(config, (str, os.PathLike)) and os.path.isfile(config) else []
-    check_outputs({"out_path": out_path}, inputs=config_file, overwrite=overwrite, overwrite_flag="overwrite=True")
+    check_outputs(run_outputs(out_path, "out_path"), inputs=config_file, overwrite=overwrite,
+                  overwrite_flag="overwrite=True")
     for text in cfg.warnings():  # valid but implausible values (docs/config.md, "Warnings")
         warnings.warn(text, ConfigWarning, stacklevel=2)
-    return _slipstrip._run(cfg, os.fspath(out_path), progress, progress_interval)
+    return _slipstrip._run(cfg, os.fspath(out_path), progress, progress_interval, overwrite=bool(overwrite))
 
 
 def resume(run_path: str | os.PathLike, progress: Callable[[dict], Any] | None = None,

@@ -32,7 +32,7 @@ import h5py
 import numpy as np
 from scipy import optimize, stats
 
-from .paths import OutputPathError, check_outputs, one_line
+from .paths import OutputPathError, check_outputs, lock_run, one_line
 from .runfile import decode_attr, open_h5, read_times, unreadable_reason
 
 DEFAULT_ALPHA = 15.0
@@ -167,11 +167,15 @@ def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
     if stored_alpha is not None and stored_alpha == float(alpha):
         return read_catalog(run_path)
     if stored_alpha is None and write_into_run:
+        # Not while a run or resume writes the file (LockHeldError, a ValueError,
+        # is raised); a read-only directory or file falls back to a separate
+        # catalog file.
         try:
-            run_event_detection(run_path, alpha)
-            return read_catalog(run_path)
+            with lock_run(run_path):
+                run_event_detection(run_path, alpha)
+                return read_catalog(run_path)
         except (RuntimeError, OSError):
-            pass  # e.g. read-only run file: fall back to a separate catalog file
+            pass
     if workdir is not None:
         out = Path(workdir) / f"events_alpha{alpha:g}.h5"
         run_event_detection(run_path, alpha, out)

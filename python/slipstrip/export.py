@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from . import runfile
-from .paths import OutputPathError, check_outputs
+from .paths import OutputPathError, check_outputs, one_line
 
 FMT = "%.15e"
 
@@ -64,11 +64,13 @@ def _header(f, run_attrs: dict, config: dict, title: str, columns: list[tuple[st
     f.write(" ".join(name for name, _ in columns) + "\n")
 
 
-def export_seas(run_path, out_dir, overwrite: bool = False) -> list[Path]:
-    """Writes the SEAS files of `run_path` into `out_dir` (created if missing)
-    and returns their paths.  Files of the same names already in `out_dir`
-    are refused (slipstrip.paths.OutputPathError) unless overwrite=True,
-    before anything is written."""
+def export_seas(run_path, out_dir, overwrite: bool = False,
+                overwrite_flag: str = "overwrite=True") -> list[Path]:
+    """Writes the SEAS files of ``run_path`` into ``out_dir`` (created if
+    missing) and returns their paths.  The output-path rule
+    (slipstrip.paths.check_outputs) is applied before anything is written:
+    ``out_dir`` must not be the run file, and station files already in it
+    are replaced only with ``overwrite``; else OutputPathError."""
     import tomllib
     out_dir = Path(out_dir)
     check_outputs(directories={"--seas": out_dir}, inputs=[run_path])
@@ -89,9 +91,8 @@ def export_seas(run_path, out_dir, overwrite: bool = False) -> list[Path]:
         front_x = h5["rupture_front/x"][:] if front is not None else None
         front_threshold = float(h5["rupture_front"].attrs["slip_rate_threshold"]) if front is not None else None
     names = [f"station_x{xs:+.4f}.txt" for xs in x] + ["global.txt"] + (["rupture.txt"] if front is not None else [])
-    if out_dir.is_dir():  # the files it would replace, before any is written
-        for name in names:
-            check_outputs({"--seas": out_dir / name}, inputs=[run_path], overwrite=overwrite)
+    check_outputs({f"--seas {name}": out_dir / name for name in names}, directories={"--seas": out_dir},
+                  inputs=[run_path], overwrite=overwrite, overwrite_flag=overwrite_flag)
     out_dir.mkdir(parents=True, exist_ok=True)
     columns = [("t", "s"), ("slip", "m"), ("slip_rate", "log10 m/s"), ("shear_stress", "MPa"),
                ("state", "log10 s"), ("normal_stress", "MPa")]
@@ -168,15 +169,14 @@ def main(argv: list[str]) -> int:
                    help="replace files of the same names already in DIR (refused without it)")
     args = p.parse_args(argv)
     try:
-        files = export_seas(args.run, args.seas, overwrite=args.overwrite)
+        files = export_seas(args.run, args.seas, overwrite=args.overwrite, overwrite_flag="--overwrite")
     except (runfile.RunFileError, OutputPathError) as err:  # these name the path themselves
         print(f"export: {err}", file=sys.stderr)
         return 2
     except (OSError, KeyError, ValueError, TypeError, IndexError, UnicodeDecodeError) as err:
         # A missing, damaged or foreign run file (tomllib's TOMLDecodeError is a
         # ValueError): one line naming the file, never a traceback.
-        message = " ".join(str(err).split()) or type(err).__name__
-        print(f"export: {args.run}: {message}", file=sys.stderr)
+        print("export: " + one_line(f"{args.run}: {str(err) or type(err).__name__}"), file=sys.stderr)
         return 2
     print(f"wrote {len(files)} files to {args.seas}")
     return 0

@@ -21,7 +21,8 @@ from typing import Iterable, Mapping, Union
 from . import _slipstrip
 from ._slipstrip import LockHeldError, OutputPathError  # noqa: F401  (re-exported)
 
-__all__ = ["OutputPathError", "LockHeldError", "check_outputs", "one_line", "MAX_MESSAGE_CHARS"]
+__all__ = ["OutputPathError", "LockHeldError", "check_outputs", "run_outputs", "lock_run", "one_line",
+           "MAX_MESSAGE_CHARS"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -43,6 +44,38 @@ def check_outputs(files: Mapping[str, PathLike | None] | None = None, *,
     outputs = [(str(o), os.fspath(p), False) for o, p in (files or {}).items() if p is not None]
     outputs += [(str(o), os.fspath(p), True) for o, p in (directories or {}).items() if p is not None]
     _slipstrip.check_output_paths(outputs, [os.fspath(p) for p in inputs], bool(overwrite), overwrite_flag)
+
+
+def run_outputs(run_path: PathLike, option: str = "--out") -> dict[str, str]:
+    """The files a new run writes, for check_outputs: the run file and its
+    restart point RUN.h5.restart (solver/checkpoint.hpp)."""
+    path = os.fspath(run_path)
+    return {option: path, f"the restart point of {option}": _slipstrip.checkpoint_path(path)}
+
+
+def lock_run(run_path: PathLike, what: str | None = None):
+    """The lock of "one process per run" (RUN.h5.lock, io/file_lock.hpp), as
+    the solver takes it: hold it while writing into a run file.  Raises
+    LockHeldError (a ValueError) if another process holds it.  Use as
+    ``with lock_run(path): ...``."""
+    path = os.fspath(run_path)
+    return _HeldLock(_slipstrip.run_lock_path(path), what or f"run file '{path}'")
+
+
+class _HeldLock:
+    def __init__(self, lock_path: str, what: str):
+        self._lock = _slipstrip._FileLock(lock_path, what)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.release()
+        return False
+
+    def release(self) -> None:
+        """Removes the lock file and releases the lock (also at garbage collection or process end)."""
+        self._lock = None
 
 
 def one_line(text: object, max_chars: int = MAX_MESSAGE_CHARS) -> str:

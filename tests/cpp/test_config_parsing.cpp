@@ -195,7 +195,7 @@ TEST_CASE("wrong types name the key, the value and the expected type") {
                  "geometry.height = \"tall\" is not allowed: expected a number or the string "
                  "\"inf\""));
   CHECK(contains(error_of("[loading]\nnormal_stress = [1, 2]\n"),
-                 "loading.normal_stress = [ 1, 2 ] has the wrong type: expected a number"));
+                 "loading.normal_stress = [1, 2] has the wrong type: expected a number"));
 }
 
 TEST_CASE("out-of-range values name the key, the value and the allowed range") {

@@ -124,3 +124,32 @@ TEST_CASE("files of a directory output that does not exist yet are accepted (the
   CHECK(error_of([&] { io::check_output_paths(outputs, {}, false); }) == "<no error>");
   CHECK_FALSE(std::filesystem::exists(s.path("analysis")));
 }
+
+TEST_CASE("a FIFO that no process reads is refused at once, never waited on") {
+  // An open for writing of a FIFO without a reader blocks until one comes: the
+  // check would hang for ever instead of refusing.
+  Scratch s;
+  const std::string fifo = s.path("fifo");
+  REQUIRE(::mkfifo(fifo.c_str(), 0644) == 0);
+  CHECK(contains(check("--out", fifo, {}, false), "already exists"));
+  const std::string e = check("--out", fifo, {}, true);
+  CHECK(contains(e, "--out '"));
+  CHECK(contains(e, "is a FIFO that no process reads"));
+}
+
+TEST_CASE("what is at a path that is not a regular file is said, not 'does not exist'") {
+  // A restart point or run file that was a directory or a link to /dev/zero
+  // was reported as missing.
+  Scratch s;
+  CHECK(io::not_a_regular_file(s.file("a.h5")) == "");
+  CHECK(io::not_a_regular_file(s.path("missing")) == "does not exist");
+  CHECK(io::not_a_regular_file(s.dir.string()) == "is not a regular file (a directory)");
+  fs::create_symlink("/dev/zero", s.path("zero"));
+  CHECK(io::not_a_regular_file(s.path("zero")) == "is not a regular file (a character device)");
+  REQUIRE(::mkfifo(s.path("fifo").c_str(), 0644) == 0);
+  CHECK(io::not_a_regular_file(s.path("fifo")) == "is not a regular file (a FIFO)");
+  fs::create_symlink(s.path("nowhere/x"), s.path("dangling"));
+  const std::string d = io::not_a_regular_file(s.path("dangling"));
+  CHECK(contains(d, "is a symbolic link to '"));
+  CHECK(contains(d, "nowhere/x', which does not exist"));
+}

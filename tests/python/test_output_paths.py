@@ -101,3 +101,95 @@ def test_scan_plot_durations_never_replaces_the_scan_file(repo, tmp_path):
     _refused(_py(repo, "scan", scan, "--plot-durations", scan, "--overwrite"), "--plot-durations",
              "is the input")
     assert scan.read_text() == before
+
+
+def test_events_csv_or_out_never_replaces_the_run_file(cli, run_file, tmp_path):
+    # Was: `slipstrip events RUN.h5 --csv RUN.h5` replaced the run file with CSV and exited 0.
+    before = run_file.read_bytes()
+    for option in ("--csv", "--out"):
+        for extra in ([], ["--overwrite"]):
+            line = _refused(_cli(cli, "events", run_file, option, run_file, *extra), option, "is the input")
+            assert str(run_file) in line
+    assert run_file.read_bytes() == before
+    existing = tmp_path / "old.csv"
+    existing.write_text("old\n")
+    _refused(_cli(cli, "events", run_file, "--csv", existing), "--csv", "already exists", "--overwrite")
+    assert existing.read_text() == "old\n"
+    _refused(_cli(cli, "events", run_file, "--out", tmp_path / "c", "--csv", tmp_path / "c"), "is also given as")
+    # With --overwrite an existing catalog is replaced (and the run file still untouched).
+    r = _cli(cli, "events", run_file, "--out", tmp_path / "catalog.h5", "--csv", existing, "--overwrite")
+    # (exit 1 when this short run keeps no event: the catalog is written either way)
+    assert r.returncode == 0 or (r.returncode == 1 and "0 events kept" in r.stderr), r.stderr
+    assert existing.read_text() != "old\n"
+    assert run_file.read_bytes() == before
+
+
+def test_stability_out_never_replaces_the_config_or_an_existing_table(cli, repo, tmp_path):
+    config = tmp_path / "c.toml"
+    config.write_text((repo / "configs/quickstart.toml").read_text())
+    before = config.read_text()
+    _refused(_cli(cli, "stability", config, "--out", config, "--overwrite"), "--out", "is the input")
+    table = tmp_path / "lc.csv"
+    table.write_text("old\n")
+    _refused(_cli(cli, "stability", config, "--out", table), "--out", "already exists")
+    # the figure written next to the table is an output too
+    (tmp_path / "new.png").write_bytes(b"old figure")
+    _refused(_cli(cli, "stability", config, "--out", tmp_path / "new.csv"), "the figure of --out", "already exists")
+    assert config.read_text() == before and table.read_text() == "old\n"
+    assert (tmp_path / "new.png").read_bytes() == b"old figure" and not (tmp_path / "new.csv").exists()
+
+
+def test_export_never_replaces_the_run_file_or_earlier_station_files(cli, repo, tmp_path):
+    run = tmp_path / "stations.h5"
+    r = _cli(cli, "run", repo / "configs/quickstart.toml", *QUICK, "--set", "output.stations=[0.1]", "--out", run)
+    assert r.returncode == 0, r.stderr
+    before = run.read_bytes()
+    _refused(_py(repo, "export", run, "--seas", run), "--seas", "is the input")
+    seas = tmp_path / "seas"
+    r = _py(repo, "export", run, "--seas", seas)
+    assert r.returncode == 0, r.stderr
+    first = {p.name: p.read_bytes() for p in seas.iterdir()}
+    assert "global.txt" in first and any(name.startswith("station_x") for name in first)
+    (seas / "global.txt").write_text("edited\n")
+    _refused(_py(repo, "export", run, "--seas", seas), "--seas station_x", "already exists", "--overwrite")
+    assert (seas / "global.txt").read_text() == "edited\n"
+    r = _py(repo, "export", run, "--seas", seas, "--overwrite")
+    assert r.returncode == 0, r.stderr
+    assert run.read_bytes() == before
+
+
+def test_run_out_refusals_are_one_line(cli, repo, tmp_path):
+    config = repo / "configs/quickstart.toml"
+    # Was: "cannot be written: File exists" for a symbolic link to nothing.
+    link = tmp_path / "dangling.h5"
+    link.symlink_to(tmp_path / "missing" / "target.h5")
+    _refused(_cli(cli, "run", config, *QUICK, "--out", link), "--out", "is a symbolic link to", "target.h5",
+             "does not exist")
+    fifo = tmp_path / "fifo.h5"
+    os.mkfifo(fifo)
+    _refused(_cli(cli, "run", config, *QUICK, "--out", fifo, "--overwrite"), "--out", "is a FIFO")
+    for extra in ([], ["--overwrite"]):
+        _refused(_cli(cli, "run", config, *QUICK, "--out", tmp_path, *extra), "--out", "is a directory")
+
+
+def test_python_run_follows_the_rule(slipstrip_module, repo, tmp_path):
+    ss = slipstrip_module
+    config = tmp_path / "c.toml"
+    config.write_text((repo / "configs/quickstart.toml").read_text())
+    small = {"geometry.nodes": 16, "time.duration_transits": 0.05}
+    with pytest.raises(ss.OutputPathError, match=r"out_path .* is the input .*even with overwrite=True"):
+        ss.run(config, config, overrides=small, overwrite=True)
+    out = tmp_path / "run.h5"
+    out.write_bytes(b"earlier")
+    with pytest.raises(ss.OutputPathError, match=r"already exists: .*give overwrite=True"):
+        ss.run(config, out, overrides=small)
+    assert out.read_bytes() == b"earlier"
+    # A restart point it did not write is kept, unless overwrite=True replaces the run.
+    out.unlink()
+    restart = tmp_path / "run.h5.restart"
+    restart.write_bytes(b"someone else's")
+    with pytest.raises(ss.OutputPathError, match=r"the restart point of out_path .*already exists"):
+        ss.run(config, out, overrides=small)
+    assert restart.read_bytes() == b"someone else's" and not out.exists()
+    assert ss.run(config, out, overrides=small, overwrite=True).status == "completed"
+    assert not restart.exists() and config.read_text() == (repo / "configs/quickstart.toml").read_text()

@@ -49,7 +49,7 @@ def test_output_never_replaces_the_config(cli, repo, tmp_path):
     for extra in ([], ["--overwrite"]):
         r = run(cli, "run", config, *QUICK, "--out", config, *extra, timeout=60)
         assert r.returncode == 2, r.stderr
-        assert "config file" in r.stderr and str(config) in r.stderr
+        assert "is the input" in r.stderr and str(config) in r.stderr
     assert config.read_bytes() == before
 
 
@@ -492,3 +492,33 @@ def test_analyze_on_nan_times_names_the_dataset(cli, small_run, tmp_path, row):
     lines = [line for line in r.stderr.splitlines() if line.strip()]
     assert r.returncode == 2 and len(lines) == 1, r.stderr
     assert str(path) in lines[0] and "timeseries/time[" in lines[0] and "= nan" in lines[0]
+
+
+NODE_FILE = 'friction.a={ profile = "node_file", path = "a.txt" }'
+
+
+@pytest.mark.parametrize("content, line_no", [
+    (b"1" * (20 << 20) + b"\n", 1),                       # was: the whole 20 MB line on stderr
+    (bytes(range(256)) * 16, 1),                          # was: raw bytes and control characters
+    ("0.005\n0.005\n".encode("utf-16"), 1),                # was: UTF-16 echoed as raw bytes
+    (b"0.005\n0.0\x0005\n", 2),                           # was: the NUL cut the message before its reason
+    (b"\x1b[2J\x1b[31m0.005\n", 1),                       # terminal escapes
+], ids=["20 MB line", "binary", "UTF-16", "NUL", "escapes"])
+def test_node_file_garbage_gives_one_short_printable_line(cli, repo, tmp_path, content, line_no):
+    (tmp_path / "a.txt").write_bytes(content)
+    r = run(cli, "run", repo / "configs/quickstart.toml", "--set", "geometry.nodes=16", "--set", NODE_FILE,
+            "--out", tmp_path / "x.h5", "--quiet", cwd=tmp_path, timeout=120)
+    assert r.returncode == 2
+    lines = [line for line in r.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1, r.stderr[:2000]
+    line = lines[0]
+    assert len(line.encode()) <= 420 and all(" " <= c != "\x7f" for c in line), line
+    assert "friction.a" in line and f"line {line_no}:" in line and "is not one finite number" in line
+
+
+def test_an_array_value_is_quoted_on_one_line(cli, repo, tmp_path):
+    # Was: "output.stations = [\n    nan\n] is out of range" over three lines.
+    r = quick(cli, repo, tmp_path / "x.h5", "--set", "output.stations=[nan]")
+    assert r.returncode == 2
+    lines = [line for line in r.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and "output.stations = [nan] is out of range" in lines[0], r.stderr
