@@ -15,7 +15,22 @@ is itself bitwise reproducible).  Three families:
 * ``runfile``: damaged copies of a small run file given to `slipstrip events`,
   `python3 -m slipstrip analyze` and `python3 -m slipstrip export`: truncated
   files, missing groups, datasets and attributes, attributes of the wrong
-  shape or dtype, NaN / negative / infinite crossing times.
+  shape or dtype, NaN / negative / infinite crossing times;
+* ``nodefile``: friction node files (`profile = "node_file"`) holding a 20 MB
+  line, binary bytes, UTF-16, NUL bytes, terminal escapes, too few values,
+  non-finite values, or that are not files at all;
+* ``outpath``: output paths that name an input, an existing file, a directory,
+  a dangling symbolic link, a missing directory, or a left-over restart point,
+  for every command that writes (`run`, `events`, `stability`, `transition`,
+  `plot`, `analyze`, `export`);
+* ``restart``: damaged restart points given to `slipstrip run --resume`:
+  edited time, step and next output times (with and without their checksum
+  repaired), flipped bits in every dataset, deleted attributes, truncated or
+  foreign files, a directory, /dev/zero, a dangling link and a FIFO in its
+  place.
+
+Every message, of every family, must be one printable line of at most
+MAX_MESSAGE_BYTES bytes (io/messages.hpp plus the command's prefix).
 
 Every case that reaches a time loop is capped to a few time steps on a tiny
 grid: `--set geometry.nodes=16 --set time.duration_transits=0.05` (about 3
@@ -45,7 +60,7 @@ CLI, CONFIG, WORK, RUNFILE = "{cli}", "{config}", "{work}", "{runfile}"
 @dataclass
 class Case:
     ident: str                 # e.g. "config-0042"
-    family: str                # "config" | "override" | "runfile"
+    family: str                # "config" | "override" | "runfile" | "nodefile" | "outpath" | "restart"
     kind: str                  # the mutation, e.g. "extreme:geometry.height=1e308"
     argv: list                 # command line after the executable, with placeholders
     python: bool = False       # run as /usr/bin/python3 -m slipstrip ... (else the C++ CLI)
@@ -55,6 +70,14 @@ class Case:
     damage: list = field(default_factory=list)  # operations applied to {runfile} (h5py)
     names: tuple = ()          # an exit-2 message must name one of these (key, section, option, attribute)
     path_ok: bool = False      # ... or, for damage without a key (truncation, garbage), the input's path
+    files: dict = field(default_factory=dict)   # {name in {work}: bytes, or "directory", "fifo", "->TARGET"}
+    restart_damage: list = field(default_factory=list)  # operations applied to {runfile}.restart (h5py)
+    restart_special: str | None = None  # the restart point replaced by "directory", "fifo", "->TARGET", bytes
+    # What the case must end in, where that is known: "refused" (exit 2: the
+    # input is damaged or the output forbidden; a resume of a damaged restart
+    # point that exits 0 would be a silently wrong run) or "completed" (exit 0:
+    # valid input).  None: any passing class.
+    expect: str | None = None
 
 
 # ---------------------------------------------------------------------------
@@ -504,14 +527,192 @@ def _path_names(path: str) -> tuple:
 
 # ---------------------------------------------------------------------------
 
+# ---------------------------------------------------------------------------
+# Family 4: friction node files
+# ---------------------------------------------------------------------------
+
+NODE_FILE_OVERRIDE = 'friction.a={ profile = "node_file", path = "a.txt" }'
+NODES = 16   # CAP_NODES
+
+
+def _node_file_cases(rng: random.Random) -> list:
+    cases = []
+    valid = b"".join(b"0.005\n" for _ in range(NODES))
+
+    def add(kind, content, expect="refused"):
+        files = {"a.txt": content} if content is not None else {}
+        cases.append(Case(ident=f"nodefile-{len(cases):04d}", family="nodefile", kind=kind,
+                          argv=run_argv([*CAP_NODES, *CAP_DURATION, "--set", NODE_FILE_OVERRIDE]),
+                          config_bytes=b"", files=files, names=("friction.a",), expect=expect))
+
+    add("valid (16 values)", valid, expect="completed")
+    add("valid with CRLF and comments", b"# a per node\r\n" + valid.replace(b"\n", b"\r\n"), expect=None)
+    add("one 20 MB line of digits", b"1" * (20 << 20) + b"\n")
+    add("a 2 MB line of digits and a letter", b"0." + b"5" * (2 << 20) + b"x\n" + valid)
+    add("20 MB of newlines then garbage", b"\n" * (20 << 20) + b"garbage\n")
+    add("binary garbage", bytes(rng.randrange(256) for _ in range(4096)))
+    add("UTF-16 with BOM", valid.decode().encode("utf-16"))
+    add("UTF-16LE without BOM", valid.decode().encode("utf-16-le"))
+    add("NUL inside a number", b"0.0\x0005\n" + valid)
+    add("NUL bytes only", b"\x00" * 64)
+    add("terminal escapes", b"\x1b[31m0.005\x1b[0m\n" + valid)
+    add("bell and backspace", b"0.005\x07\x08\n" + valid)
+    add("Unicode direction override", "0.005\u202e5\n".encode() + valid)
+    add("a line separator U+2028", "0.005\u20280.005\n".encode() + valid)
+    add("C1 control NEL", "0.005\u0085\n".encode() + valid)
+    add("invalid UTF-8", b"0.\xc3\x28\n" + valid)
+    add("empty file", b"")
+    add("comments only", b"# nothing\n# here\n")
+    add("15 values for 16 nodes", valid[: -len(b"0.005\n")])
+    add("17 values for 16 nodes", valid + b"0.005\n")
+    for bad in (b"nan", b"inf", b"-inf", b"1e400", b"0x10", b"1,5", b"1 2", b"--1", b"+", b"."):
+        add(f"value {bad.decode()}", bad + b"\n" + valid[len(b"0.005\n"):])
+    add("negative a", b"-0.005\n" + valid[len(b"0.005\n"):], expect=None)   # allowed where the law allows it
+    add("a directory", "directory")
+    add("a FIFO", "fifo")
+    add("a symlink to /dev/zero", "->/dev/zero")
+    add("a dangling symlink", "->nowhere/a.txt")
+    add("missing", None)
+    return cases
+
+
+# ---------------------------------------------------------------------------
+# Family 5: output paths
+# ---------------------------------------------------------------------------
+
+def _outpath_cases() -> list:
+    cases = []
+
+    def add(kind, argv, names, python=False, files=None, base_run=None, config=True):
+        cases.append(Case(ident=f"outpath-{len(cases):04d}", family="outpath", kind=kind, argv=argv,
+                          python=python, files=dict(files or {}), base_run=base_run,
+                          config_bytes=None if not config else b"", names=tuple(names), expect="refused"))
+
+    run = ["run", CONFIG, *CAP_NODES, *CAP_DURATION, "--quiet", "--out"]
+    add("run --out the config, --overwrite", [*run, CONFIG, "--overwrite"], ["--out", "is the input"])
+    add("run --out an existing file", [*run, WORK + "/old.h5"], ["--out"], files={"old.h5": b"old"})
+    add("run --out a directory", [*run, WORK + "/d", "--overwrite"], ["--out"], files={"d": "directory"})
+    add("run --out a dangling symlink", [*run, WORK + "/link.h5"], ["--out"],
+        files={"link.h5": "->nowhere/target.h5"})
+    add("run --out in a missing directory", [*run, WORK + "/missing/x.h5"], ["--out"])
+    add("run --out in a file", [*run, WORK + "/old.h5/x.h5"], ["--out"], files={"old.h5": b"old"})
+    add("run --out next to a left-over restart point", [*run, WORK + "/prev.h5"], ["prev.h5.restart"],
+        files={"prev.h5.restart": b"someone else's"})
+    add("run --out a FIFO, --overwrite", [*run, WORK + "/fifo", "--overwrite"], ["--out"], files={"fifo": "fifo"})
+    add("stability --out the config", ["stability", CONFIG, "--out", CONFIG], ["--out", "is the input"])
+    add("stability --out an existing file", ["stability", CONFIG, "--out", WORK + "/old.csv"], ["--out"],
+        files={"old.csv": b"old"})
+    ev = ["events", RUNFILE]
+    add("events --csv the run file", [*ev, "--csv", RUNFILE], ["--csv"], base_run="plain", config=False)
+    add("events --out the run file", [*ev, "--out", RUNFILE], ["--out"], base_run="plain", config=False)
+    add("events --csv an existing file", [*ev, "--csv", WORK + "/old.csv"], ["--csv"], base_run="plain",
+        files={"old.csv": b"old"}, config=False)
+    add("events --out an existing file", [*ev, "--out", WORK + "/old.h5"], ["--out"], base_run="plain",
+        files={"old.h5": b"old"}, config=False)
+    add("events --out and --csv the same file", [*ev, "--out", WORK + "/c", "--csv", WORK + "/c"], ["--csv"],
+        base_run="plain", config=False)
+    add("events into a run file whose restart point is being written (lock held)", ev, ["in use"],
+        base_run="plain", files={"run.h5.lock": "locked"}, config=False)
+    for command, option in (("transition", "--csv"), ("transition", "--plot"), ("plot", "--out")):
+        add(f"{command} {option} the run file, --overwrite", [command, RUNFILE, option, RUNFILE, "--overwrite"],
+            [option], python=True, base_run="plain", config=False)
+    add("transition --csv an existing file", ["transition", RUNFILE, "--csv", WORK + "/old.csv"], ["--csv"],
+        python=True, base_run="plain", files={"old.csv": b"old"}, config=False)
+    add("analyze --out-dir the run file", ["analyze", RUNFILE, "--out-dir", RUNFILE], ["--out-dir"],
+        python=True, base_run="plain", config=False)
+    add("export --seas the run file", ["export", RUNFILE, "--seas", RUNFILE], ["--seas"], python=True,
+        base_run="plain", config=False)
+    return cases
+
+
+# ---------------------------------------------------------------------------
+# Family 6: damaged restart points
+# ---------------------------------------------------------------------------
+
+# The interrupted base run stops after this many steps (of about 3).
+RESTART_STEP = 1
+RESTART_FIELDS = [("simulation", "time"), ("simulation", "step_index"), ("run", "next_timeseries"),
+                  ("run", "next_snapshot"), ("run", "next_snapshot_slip"), ("run", "next_station"),
+                  ("output", "timeseries_rows"), ("output", "snapshots"), ("output", "station_rows"),
+                  ("output", "crossing_rows")]
+RESTART_VALUES = {float: [-1.0, float("nan"), float("inf"), float("-inf"), 1e308, -0.0, 0.0, 1e-300, 1.0],
+                  int: [-1, 0, 2, 2 ** 62]}
+
+
+# Attributes a resume does not read (informational), or may do without (the
+# checksum: a restart point written before checksums, resumed with a warning).
+RESTART_OPTIONAL_ATTRS = {"code_version", "written_at", "checksum"}
+
+
+def _same_bits(a, b) -> bool:
+    import struct
+    if isinstance(a, float) or isinstance(b, float):
+        return struct.pack("<d", float(a)) == struct.pack("<d", float(b))
+    return int(a) == int(b)
+
+
+def _restart_cases(rng: random.Random, restart_layout: dict) -> list:
+    """restart_layout: {"datasets": [...], "attrs": [(path, name)], "values":
+    {"group@attr": value of the base restart point}}."""
+    cases = []
+
+    def add(kind, damage=(), special=None, names=(), expect="refused"):
+        cases.append(Case(ident=f"restart-{len(cases):04d}", family="restart", kind=kind,
+                          argv=["run", "--resume", RUNFILE, "--quiet"], base_run="interrupted",
+                          restart_damage=list(damage), restart_special=special, names=tuple(names),
+                          path_ok=True, expect=expect))
+
+    add("undamaged", expect="completed")
+    add("checksum deleted (an older restart point)", [("del_attr", "/", "checksum")], expect="completed")
+    for group, attr in RESTART_FIELDS:
+        integer = group == "output" or attr == "step_index"
+        original = restart_layout["values"][f"{group}@{attr}"]
+        for value in RESTART_VALUES[int if integer else float]:
+            op = ("set_attr_value", f"/{group}", attr, value)
+            # Kept checksum: any change of the stored bytes is damage.  Repaired
+            # (deleted) checksum: the field validation must refuse every value
+            # that is not the original one (-0.0 for 0.0 is the same run).
+            add(f"{group}@{attr} = {value!r}, checksum kept", [op], names=(attr,),
+                expect="completed" if _same_bits(value, original) else "refused")
+            add(f"{group}@{attr} = {value!r}, checksum repaired", [op, ("del_attr", "/", "checksum")],
+                names=(attr,), expect="completed" if value == original else "refused")
+    for path in restart_layout["datasets"]:
+        bit = rng.randrange(64)
+        add(f"bit {bit} flipped in {path}", [("flip_bit", path, bit)], names=("checksum",))
+    for path, attr in restart_layout["attrs"]:
+        add(f"attribute {path}@{attr} deleted", [("del_attr", path, attr)], names=(attr, "checksum"),
+            expect="completed" if attr in RESTART_OPTIONAL_ATTRS else "refused")
+    add("config of another run", [("set_attr_value", "/", "config", "[geometry]\nnodes = 32\n")])
+    add("format attribute changed", [("set_attr_value", "/", "format", "something else")])
+    for fraction in (0.0, 0.1, 0.5, 0.9):
+        add(f"truncated to {fraction:g} of its size", [("truncate_fraction", fraction)])
+    add("a text file", special=b"not a restart point\n")
+    add("a directory", special="directory", names=("directory",))
+    add("a FIFO", special="fifo", names=("regular file",))
+    add("a symlink to /dev/zero", special="->/dev/zero", names=("regular file",))
+    add("a dangling symlink", special="->nowhere.restart")
+    add("missing", special="missing", names=("no restart point",))
+    return cases
+
+
 def generate(repo: Path, layout: dict, seed: int = SEED, n_config: int = 480, n_override: int = 380,
-             n_runfile: int = 220, n_python: int = 70) -> list:
-    """The whole corpus, in a fixed order (a function of the arguments only)."""
+             n_runfile: int = 220, n_python: int = 70, restart_layout: dict | None = None) -> list:
+    """The whole corpus, in a fixed order (a function of the arguments only).
+    restart_layout ({"datasets": [...], "attrs": [(path, name)]}, of the base
+    restart point) adds the restart family."""
     bases = {Path(b).name: (Path(repo) / b).read_text() for b in BASES}
     rng = random.Random(seed)
     cases = _config_cases(random.Random(rng.random()), bases, n_config)
     cases += _override_cases(random.Random(rng.random()), bases, n_override)
     cases += _runfile_cases(random.Random(rng.random()), layout, n_runfile, n_python)
+    extra_rng = random.Random(rng.random())
+    quickstart = bases["quickstart.toml"].encode()
+    for case in _node_file_cases(extra_rng) + _outpath_cases():
+        if case.config_bytes is not None:   # b"": the case runs configs/quickstart.toml
+            case.config_bytes = quickstart
+        cases.append(case)
+    if restart_layout is not None:
+        cases += _restart_cases(extra_rng, restart_layout)
     return cases
 
 
@@ -528,6 +729,9 @@ CPU_LIMIT = 20            # CPU seconds per case
 TIMEOUT = 120.0           # wall seconds per case (blocked, not computing)
 MEMORY_LIMIT = 4 << 30    # bytes of address space per case (RLIMIT_AS)
 PASSING = ("completed", "input error", "diverged", "output error")
+# The longest stderr line allowed: io::kMaxMessageChars (400) plus a command's
+# prefix ("error: ", "analyze: ", "export: ", "warning: ").
+MAX_MESSAGE_BYTES = 420
 
 
 def _limit_resources():
@@ -594,6 +798,9 @@ def _apply_damage(path: Path, ops):
         if op[0] == "truncate":
             with open(path, "r+b") as f:
                 f.truncate(op[1])
+        elif op[0] == "truncate_fraction":
+            with open(path, "r+b") as f:
+                f.truncate(int(path.stat().st_size * op[1]))
         elif op[0] == "replace_bytes":
             path.write_text("this is not an HDF5 file\n")
         else:
@@ -614,6 +821,16 @@ def _apply_damage(path: Path, ops):
                     f[target] = new
                     for k, v in attrs.items():
                         f[target].attrs[k] = v
+                elif op[0] == "set_attr_value":
+                    obj = f[target]
+                    if op[2] in obj.attrs:
+                        del obj.attrs[op[2]]
+                    obj.attrs[op[2]] = np.int64(op[3]) if isinstance(op[3], int) else op[3]
+                elif op[0] == "flip_bit":
+                    data = f[target][()]
+                    raw = data.view(np.uint64)
+                    raw[raw.size // 2] ^= np.uint64(1) << np.uint64(op[2])
+                    f[target][...] = raw.view(data.dtype)
                 elif op[0] == "swap_kind":
                     kind = isinstance(f[target], h5py.Group)
                     del f[target]
@@ -650,7 +867,36 @@ def _materialise(case: Case, work: Path, base_runs: dict) -> dict:
         shutil.copy(base_runs[case.base_run], runfile)
         _apply_damage(runfile, case.damage)
         subst[RUNFILE] = str(runfile)
+        if case.base_run == "interrupted":
+            restart = work / "run.h5.restart"
+            shutil.copy(base_runs["interrupted"] + ".restart", restart)
+            _apply_damage(restart, case.restart_damage)
+            if case.restart_special is not None:
+                restart.unlink()
+                _make_special(restart, case.restart_special)
+    for name, content in case.files.items():
+        _make_special(work / name, content)
     return subst
+
+
+def _make_special(path: Path, content):
+    """bytes: a file with them; "directory", "fifo", "missing", "locked" (an
+    empty file the runner holds an flock on), "->TARGET" (a symbolic link)."""
+    import os
+    if isinstance(content, bytes):
+        path.write_bytes(content)
+    elif content == "directory":
+        path.mkdir()
+    elif content == "fifo":
+        os.mkfifo(path)
+    elif content in ("missing",):
+        pass
+    elif content == "locked":
+        path.write_bytes(b"")
+    elif content.startswith("->"):
+        path.symlink_to(content[2:])
+    else:
+        raise ValueError(content)
 
 
 def execute(case: Case, cli: str, python_dir: str, base_runs: dict, tmp: str) -> dict:
@@ -665,6 +911,12 @@ def execute(case: Case, cli: str, python_dir: str, base_runs: dict, tmp: str) ->
     argv = [subst.get(a, a).replace(WORK, str(work)) for a in case.argv]
     exe = [sys.executable, "-m", "slipstrip"] if case.python else [cli]
     env = dict(os.environ, PYTHONPATH=python_dir, SLIPSTRIP_BIN=cli, OMP_NUM_THREADS="1")
+    # A "locked" file stands for a run another process is writing: this worker
+    # holds its flock while the case runs (another open file description).
+    import fcntl
+    held = [os.open(work / name, os.O_RDWR) for name, c in case.files.items() if c == "locked"]
+    for fd in held:
+        fcntl.flock(fd, fcntl.LOCK_EX)
     t0 = time.monotonic()
     proc = subprocess.Popen(exe + argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             env=env, cwd=work, start_new_session=True, preexec_fn=_limit_resources)
@@ -676,6 +928,8 @@ def execute(case: Case, cli: str, python_dir: str, base_runs: dict, tmp: str) ->
         out, err = proc.communicate()
         timed_out = True
     seconds = time.monotonic() - t0
+    for fd in held:
+        os.close(fd)
     stderr = err.decode(errors="replace")
     cls, ok = classify(case, proc.returncode, stderr, timed_out, subst)
     if ok:
@@ -699,12 +953,22 @@ def classify(case: Case, rc: int, stderr: str, timed_out: bool, subst: dict):
         return f"signal {-rc}", False
     if "Traceback (most recent call last)" in stderr:
         return "traceback", False
+    # Every line, warnings included: one printable line each, bounded (io/messages.hpp).
+    for line in stderr.splitlines():
+        if len(line.encode()) > MAX_MESSAGE_BYTES:
+            return f"message line of {len(line.encode())} bytes", False
+        if any(c < " " or c == "\x7f" or c == "\ufffd" for c in line):
+            return "unprintable message", False
     # The message lines: without warnings, the run's banner ("slipstrip 0.1.0 (hash): CONFIG -> OUT") and
     # the run header `slipstrip run` prints before its set-up ("run: N steps of dt = ...", "  H = ...",
     # "  output up to ~...", config/resource_estimate.cpp), which state the cost, not an outcome.
     lines = [l for l in stderr.splitlines() if l.strip() and not l.lstrip().lower().startswith("warning")
              and not re.match(r"slipstrip \S+ \(([0-9a-f]+(-dirty)?|unknown)\): ", l)
              and not re.match(r"run: \S+ steps of dt = |  H = \S+ m, H/L = |  output up to ~", l)]
+    if case.expect == "refused" and rc != 2:
+        return f"not refused (exit {rc})", False
+    if case.expect == "completed" and rc != 0:
+        return f"valid input not completed (exit {rc})", False
     if rc == 0:
         return "completed", True
     if rc == 1 and len(lines) == 1 and "0 events kept" in lines[0]:

@@ -1,8 +1,9 @@
-"""The fuzz corpus as a test (issue 15, item 5; docs/reliability.md, "Fuzz corpus").
+"""The fuzz corpus as a test (docs/reliability.md, "Fuzz corpus").
 
 A seeded corpus (tests/python/fuzz_corpus.py) of > 1,000 mutated config files,
-`--set` overrides and damaged run files, each run by the CLI with a time and
-memory limit.  Every case must end in one of
+`--set` overrides, damaged run files, friction node files, output paths and
+damaged restart points, each run by the CLI with a time and memory limit.
+Every case must end in one of
 
 * exit 0 (ran to its end),
 * exit 1 of `events` or `analyze` with one line "0 events kept ..." saying why
@@ -12,13 +13,17 @@ memory limit.  Every case must end in one of
 * exit 3 with a divergence diagnostic (node, time, values),
 * exit 4 (the output could not be written),
 
-and never in a signal, a timeout, another exit code or a Python traceback.
+and never in a signal, a timeout, another exit code or a Python traceback;
+every stderr line is printable and at most 420 bytes.  A case that must be
+refused (a damaged restart point, a forbidden output path) fails if it exits
+0, and a valid one (an undamaged restart point) fails unless it exits 0.
 
     SLIPSTRIP_BIN=$PWD/build/slipstrip SLIPSTRIP_BUILD_DIR=$PWD/build PYTHONPATH=$PWD/python \\
         OMP_NUM_THREADS=1 /usr/bin/python3 -m pytest -q tests/python/test_fuzz.py
 
-SLIPSTRIP_FUZZ_SEED changes the seed (to explore; CI uses the fixed one) and
-SLIPSTRIP_FUZZ_WORKERS the number of worker processes (default 2).
+SLIPSTRIP_FUZZ_SEED changes the seed (to explore; CI uses the fixed one),
+SLIPSTRIP_FUZZ_WORKERS the number of worker processes (default 2) and
+SLIPSTRIP_FUZZ_FAMILIES=restart,outpath runs only those families.
 """
 import collections
 import concurrent.futures
@@ -39,6 +44,8 @@ pytestmark = pytest.mark.slow
 
 SEED = int(os.environ.get("SLIPSTRIP_FUZZ_SEED", fuzz_corpus.SEED))
 WORKERS = int(os.environ.get("SLIPSTRIP_FUZZ_WORKERS", "2"))
+# Comma-separated families to run (e.g. "restart,outpath"), to study a change; CI runs all.
+FAMILIES = set(filter(None, os.environ.get("SLIPSTRIP_FUZZ_FAMILIES", "").split(",")))
 
 
 def _layout(path):
@@ -70,30 +77,60 @@ def base_runs(cli, repo, tmp_path_factory):
     shutil.copy(plain, events)
     r = subprocess.run([str(cli), "events", str(events)], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
-    return {"plain": str(plain), "events": str(events)}
+    # An interrupted run and its restart point, for the restart family: the
+    # corpus's usual 16 nodes and ~3 steps, stopped after the first.
+    interrupted = d / "interrupted.h5"
+    r = subprocess.run([str(cli), "run", str(repo / "configs/quickstart.toml"), *fuzz_corpus.CAP_NODES,
+                        *fuzz_corpus.CAP_DURATION, "--set", "output.snapshot_interval=1e-7",
+                        "--set", "output.stations=[0.1]", "--set", "output.station_interval=1e-7",
+                        "--out", str(interrupted), "--quiet", "--stop-after-steps", str(fuzz_corpus.RESTART_STEP)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 143, r.stderr
+    return {"plain": str(plain), "events": str(events), "interrupted": str(interrupted)}
+
+
+def _restart_layout(path):
+    """Datasets (non-empty) and attributes of a restart point, sorted, and the
+    values of the fields the corpus edits (to know which edits change them)."""
+    datasets, attrs = [], []
+    with h5py.File(path, "r") as f:
+        attrs += [("/", a) for a in sorted(f.attrs)]
+
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset) and obj.size > 0:
+                datasets.append("/" + name)
+            attrs.extend(("/" + name, a) for a in sorted(obj.attrs))
+        f.visititems(visit)
+        values = {f"{group}@{attr}": f[group].attrs[attr].item() for group, attr in fuzz_corpus.RESTART_FIELDS}
+    return {"datasets": sorted(datasets), "attrs": sorted(attrs), "values": values}
 
 
 @pytest.fixture(scope="module")
 def corpus(repo, base_runs):
-    return fuzz_corpus.generate(repo, _layout(Path(base_runs["plain"])), seed=SEED)
+    return fuzz_corpus.generate(repo, _layout(Path(base_runs["plain"])), seed=SEED,
+                                restart_layout=_restart_layout(base_runs["interrupted"] + ".restart"))
 
 
 def test_corpus_is_large_seeded_and_deterministic(repo, base_runs, corpus):
     assert len(corpus) >= 1000
-    again = fuzz_corpus.generate(repo, _layout(Path(base_runs["plain"])), seed=SEED)
+    again = fuzz_corpus.generate(repo, _layout(Path(base_runs["plain"])), seed=SEED,
+                                 restart_layout=_restart_layout(base_runs["interrupted"] + ".restart"))
     assert [(c.kind, c.argv, c.config_bytes, c.damage) for c in again] == \
            [(c.kind, c.argv, c.config_bytes, c.damage) for c in corpus]
     families = collections.Counter(c.family for c in corpus)
     assert families["config"] >= 300 and families["override"] >= 300 and families["runfile"] >= 200
+    assert families["nodefile"] >= 30 and families["outpath"] >= 20 and families["restart"] >= 150
     # Every case that reaches a time loop is capped (or draws only invalid/small values for the cap's key).
     for c in corpus:
-        if c.argv[0] == "run":
+        if c.argv[0] == "run" and "--resume" not in c.argv:   # a resumed run is the capped base run
             joined = " ".join(c.argv)
             assert "geometry.nodes=16" in joined or "nodes" in c.kind or "dx" in c.kind, c.kind
             assert "duration_transits=0.05" in joined or "duration" in c.kind, c.kind
 
 
 def test_fuzz_corpus(cli, repo, base_runs, corpus, tmp_path, capsys):
+    if FAMILIES:
+        corpus = [c for c in corpus if c.family in FAMILIES]
     t0 = time.monotonic()
     python_dir = str(repo / "python")
     ctx = multiprocessing.get_context("fork")
