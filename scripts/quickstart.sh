@@ -8,5 +8,5 @@ bash scripts/setup.sh
 # --overwrite: rerunning the demo replaces its own output file.
 build/slipstrip run configs/quickstart.toml --out quickstart.h5 --overwrite
 build/slipstrip events quickstart.h5
-PYTHONPATH=python /usr/bin/python3 -m slipstrip plot quickstart.h5 --out quickstart_spacetime.png
+PYTHONPATH=python /usr/bin/python3 -m slipstrip plot quickstart.h5 --out quickstart_spacetime.png --overwrite
 echo "wrote quickstart.h5 and quickstart_spacetime.png"
