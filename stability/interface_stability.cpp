@@ -110,12 +110,7 @@ std::vector<complex> pair_characteristic_roots(const PairSliding& p, const Linea
   // g_phi and -1/T on the negative real axis, none inside the box.
   const AnalyticFunction g = [&](complex z) { return pair_characteristic_function(p, lin, k, z); };
   const Rectangle r{box.min_re, box.max_re, -box.max_im, box.max_im};
-  const int n = count_zeros(g, r);
-  auto roots = locate_zeros(g, r, n, 1e-9 * std::max(box.max_re - box.min_re, 2.0 * box.max_im));
-  std::sort(roots.begin(), roots.end(), [](complex x, complex y) {
-    return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag();
-  });
-  return roots;
+  return sorted_zeros_in(g, r);
 }
 
 }  // namespace slipstrip

@@ -33,12 +33,7 @@ std::vector<complex> oblique_characteristic_roots(const SteadySliding& sliding, 
                                                   const SearchBox& box) {
   const AnalyticFunction D = [&](complex z) { return oblique_characteristic_function(sliding, kx, kz, z); };
   const Rectangle rectangle{box.min_re, box.max_re, -box.max_im, box.max_im};
-  const int n = count_zeros(D, rectangle);
-  auto roots = locate_zeros(D, rectangle, n, 1e-9 * std::max(box.max_re - box.min_re, 2.0 * box.max_im));
-  std::sort(roots.begin(), roots.end(), [](complex x, complex y) {
-    return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag();
-  });
-  return roots;
+  return sorted_zeros_in(D, rectangle);
 }
 
 }  // namespace slipstrip

@@ -120,4 +120,13 @@ std::vector<complex> locate_zeros(const AnalyticFunction& g, const Rectangle& bo
   return roots;
 }
 
+std::vector<complex> sorted_zeros_in(const AnalyticFunction& g, const Rectangle& box) {
+  const int n = count_zeros(g, box);
+  auto roots = locate_zeros(g, box, n, 1e-9 * std::max(box.re1 - box.re0, box.im1 - box.im0));
+  std::sort(roots.begin(), roots.end(), [](complex x, complex y) {
+    return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag();
+  });
+  return roots;
+}
+
 }  // namespace slipstrip

@@ -34,4 +34,9 @@ int count_zeros(const AnalyticFunction& g, const Rectangle& box);
 std::vector<std::complex<double>> locate_zeros(const AnalyticFunction& g, const Rectangle& box,
                                                int count, double min_size);
 
+// All zeros inside the rectangle, located down to 1e-9 of its larger side and
+// sorted by decreasing real part (the fastest-growing first), then by
+// decreasing imaginary part.
+std::vector<std::complex<double>> sorted_zeros_in(const AnalyticFunction& g, const Rectangle& box);
+
 }  // namespace slipstrip
