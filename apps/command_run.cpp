@@ -13,6 +13,7 @@
 #include "apps/cli.hpp"
 #include "config/config.hpp"
 #include "config/resource_estimate.hpp"
+#include "io/file_lock.hpp"
 #include "io/messages.hpp"
 #include "io/output_paths.hpp"
 #include "slipstrip/version.hpp"
@@ -76,6 +77,9 @@ int report_result(const RunResult& result, const std::string& out_path, bool qui
 int resume(const RunOptions& o) {
   catch_interrupts();
   const std::string& run_path = o.resume_path;
+  // The lock before the first read: a run that another process writes is
+  // refused as "in use", not as an HDF5 read error.
+  const io::FileLock lock = lock_run_file(run_path);
   const auto header = read_run_file_header(run_path);
   if (header.status == "completed") {
     std::fprintf(stderr, "%s: the run is already completed; nothing to resume\n", run_path.c_str());
@@ -101,7 +105,7 @@ int resume(const RunOptions& o) {
   std::fprintf(stderr, "slipstrip %s (%s): resuming %s\n", code_version, git_hash, io::one_line(run_path).c_str());
   RunResult result;
   try {
-    result = resume_simulation(run_path, hooks);
+    result = resume_simulation(run_path, hooks, lock);
   } catch (const SetupCancelled& e) {
     std::fprintf(stderr, "interrupted by %s during the set-up (%s); %s and its restart point are unchanged\n",
                  interrupt_name(), e.what(), run_path.c_str());

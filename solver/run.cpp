@@ -271,7 +271,7 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
 
 RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
                          const RunHooks& hooks, bool overwrite) {
-  const io::FileLock lock(run_lock_path(output_path), "run file '" + output_path + "' (or its restart point)");
+  const io::FileLock lock = lock_run_file(output_path);
   if (overwrite) {
     remove_checkpoint(output_path);
   } else {
@@ -283,8 +283,19 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
   return drive(config, output_path, hooks, nullptr);
 }
 
+io::FileLock lock_run_file(const std::string& output_path) {
+  return io::FileLock(run_lock_path(output_path), "run file '" + output_path + "' (or its restart point)");
+}
+
 RunResult resume_simulation(const std::string& output_path, const RunHooks& hooks) {
-  const io::FileLock lock(run_lock_path(output_path), "run file '" + output_path + "' (or its restart point)");
+  const io::FileLock lock = lock_run_file(output_path);
+  return resume_simulation(output_path, hooks, lock);
+}
+
+RunResult resume_simulation(const std::string& output_path, const RunHooks& hooks, const io::FileLock& held) {
+  if (held.path() != run_lock_path(output_path))
+    throw std::logic_error("resume_simulation: the lock held is '" + held.path() + "', not the lock of run file '" +
+                           output_path + "'");
   const RunFileHeader header = read_run_file_header(output_path);
   if (header.status == "completed")
     throw std::invalid_argument("run file '" + output_path + "' is completed: nothing to resume");

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "config/simulation_config.hpp"
+#include "io/file_lock.hpp"
 
 namespace slipstrip {
 
@@ -78,5 +79,16 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
 // hooks.stop_requested as run_simulation's, and the run's lock is held as
 // there.
 RunResult resume_simulation(const std::string& output_path, const RunHooks& hooks = {});
+
+// The run's lock (one process per run, as above), for a caller that must read
+// the run file before resuming it: the CLI compares a given config with the
+// stored one.  Reading first and locking after would race a writer that holds
+// the file open (HDF5 refuses the read with "Resource temporarily
+// unavailable" instead of the lock's clear "in use by another process").
+io::FileLock lock_run_file(const std::string& output_path);
+
+// resume_simulation under a lock the caller already holds (lock_run_file of
+// the same `output_path`; another lock is a std::logic_error).
+RunResult resume_simulation(const std::string& output_path, const RunHooks& hooks, const io::FileLock& held);
 
 }  // namespace slipstrip

@@ -266,6 +266,25 @@ def _resume_in_background(cli, tmp_path):
     return out, restart, lock, first, args
 
 
+def test_resume_of_a_run_another_process_writes_is_refused_by_the_lock_not_by_hdf5(cli, tmp_path, slipstrip_module):
+    # Was (a race, seen once in CI): the resume read the run file before it took
+    # the lock, so while the holder had RUN.h5 open for writing, HDF5's own file
+    # locking refused the read ("H5Fopen ... Resource temporarily unavailable")
+    # instead of the lock's "in use by another process".  Made deterministic:
+    # this process holds the run's lock and has the file open for writing.
+    out, restart = _interrupted(cli, tmp_path)
+    lock_path = Path(str(out) + ".lock")
+    with slipstrip_module.paths.lock_run(out), h5py.File(out, "a"):
+        r = run_cli(cli, "run", "--resume", out, "--quiet")
+    assert r.returncode == 2, r.stderr
+    line = _one_line(r)
+    assert "is in use by another process" in line and f"pid {os.getpid()}" in line and str(lock_path) in line
+    assert "HDF5" not in line
+    # Released: the resume goes ahead.
+    r = run_cli(cli, "run", "--resume", out, "--quiet", "--stop-after-steps", 400)
+    assert r.returncode == 143, r.stderr
+
+
 def test_one_process_per_run_and_sigkill_leaves_no_stale_lock(cli, tmp_path):
     # Was: two `run --resume RUN.h5` at once both exited 4 ("addr overflow") and
     # left snapshots/slip unreadable ("inflate() failed"): the run was lost.
