@@ -2,7 +2,7 @@
 
 The paper is the LaTeX source in shared/seed/ (main text, captions and the
 supplement).  `CLAIMS` is the one list the reproduction report
-(python/slipstrip/report.py, docs/reproduction.md) walks: each entry becomes a
+(python/slipstrip/report/, docs/reproduction.md) walks: each entry becomes a
 row with a verdict under each material reading, and a test
 (tests/python/test_report.py) checks that the report's table holds every id,
 so none is dropped.  `MEASUREMENTS` are numbers the report shows that the

@@ -1,6 +1,6 @@
 """Measurements behind the paper's event-hierarchy and procedure claims
 (Figs. 1c, 2, S4-S7, S9 and the mesh section of the supplement), used by the
-reproduction report (python/slipstrip/report.py).
+reproduction report (python/slipstrip/report/).
 
 * Slip and slip rate of any time from the slip sampling (`slip_at`,
   `velocity_from_sampling`): the crossing times of the levels j delta_th give

@@ -1,4 +1,4 @@
-"""Tests of python/slipstrip/analysis.py (slip-event statistics and figures).
+"""Tests of python/slipstrip/analysis/ (slip-event statistics and figures).
 
 The module is imported from the package (it reads run files through
 slipstrip.runfile and detects events through the bindings).  The end-to-end

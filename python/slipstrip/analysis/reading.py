@@ -1,0 +1,143 @@
+"""Reading a run file for the analysis: its scales (RunInfo), its event
+catalog (/events, made by the C++ detector through the bindings when
+missing), its space-time field (/snapshots) and its slip sampling."""
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import tempfile
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from ..paths import lock_run
+from ..runfile import decode_attr, open_h5, read_times
+
+
+DEFAULT_ALPHA = 15.0
+CATALOG_FIELDS = ("t_start", "T", "x_start", "L_s", "u_mean", "M0", "max_slip_rate", "n_clusters")
+
+
+@dataclasses.dataclass(frozen=True)
+class RunInfo:
+    """Scales of one run [SI]."""
+    D: float            # characteristic slip [m]
+    L: float            # interface length [m]
+    H: float            # strip height [m] (inf for a half-space)
+    v0: float           # driving velocity [m/s]
+    mu: float           # shear modulus [Pa]
+    c_s: float          # shear wave speed [m/s]
+    sigma0: float       # normal stress [Pa]
+    delta_th: float     # slip-sampling threshold [m]
+    n_nodes: int
+    duration: float     # simulated time covered by the file [s]
+
+
+def read_run_info(path: str | os.PathLike) -> RunInfo:
+    with open_h5(path) as f:
+        config = tomllib.loads(decode_attr(f.attrs["config"])) if "config" in f.attrs else {}
+        ss = f["slip_sampling"].attrs if "slip_sampling" in f else {}
+        geometry = config.get("geometry", {})
+        material = config.get("material", {})
+        friction = config.get("friction", {})
+        L = float(ss.get("L", geometry.get("length", math.nan)))
+        D = float(ss.get("D", friction.get("characteristic_slip", math.nan)))
+        v0 = float(ss.get("v0", config.get("loading", {}).get("driving_velocity", math.nan)))
+        mu = float(ss.get("mu", material.get("shear_modulus", math.nan)))
+        rho = float(material.get("density", math.nan))
+        H = geometry.get("height", math.nan)
+        H = math.inf if isinstance(H, str) and H.strip().lower() == "inf" else float(H)
+        if "snapshots" in f and "x" in f["snapshots"]:
+            n = int(f["snapshots/x"].shape[0])
+        elif "slip_sampling" in f:
+            n = int(f["slip_sampling/crossing_time"].shape[1])
+        else:
+            n = int(geometry.get("nodes", 0))
+        duration = math.nan
+        if "timeseries" in f and f["timeseries/time"].shape[0] > 0:
+            duration = float(read_times(f, "timeseries/time")[-1])
+        elif "snapshots" in f and f["snapshots/time"].shape[0] > 0:
+            duration = float(read_times(f, "snapshots/time")[-1])
+        return RunInfo(D=D, L=L, H=H, v0=v0, mu=mu, c_s=math.sqrt(mu / rho) if rho > 0 else math.nan,
+                       sigma0=float(config.get("loading", {}).get("normal_stress", math.nan)),
+                       delta_th=float(ss.get("delta_th", math.nan)), n_nodes=n, duration=duration)
+
+
+def read_catalog(path: str | os.PathLike) -> dict:
+    """/events of `path` as {field: ndarray} plus 'attrs' (dict)."""
+    with open_h5(path) as f:
+        if "events" not in f:
+            raise KeyError(f"{path}: no group /events (run `slipstrip events {path}` first)")
+        g = f["events"]
+        catalog = {k: np.asarray(g[k][:]) for k in CATALOG_FIELDS if k in g}
+        catalog["attrs"] = {k: decode_attr(v) for k, v in g.attrs.items()}
+    return catalog
+
+
+def run_event_detection(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
+                        out: str | os.PathLike | None = None) -> str:
+    """Detects slip events in /slip_sampling of `run_path` and writes the
+    catalog as /events of `out` (default: the run file itself, replacing its
+    /events); returns the file holding /events.  The same C++ calls as
+    `slipstrip events RUN --alpha A [--out OUT]` (bindings, in-process), so
+    the file is the CLI's byte for byte.  RuntimeError if the run file cannot
+    be read or the target cannot be written."""
+    from .. import _slipstrip
+    target = os.fspath(out if out is not None else run_path)
+    _slipstrip.detect_events_into_file(os.fspath(run_path), target, alpha=float(alpha))
+    return target
+
+
+def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
+                workdir: str | os.PathLike | None = None, write_into_run: bool = False) -> dict:
+    """The catalog of `run_path` for `alpha`: /events of the run file if it was
+    made with this alpha; else detection is run into a catalog file in
+    `workdir` (or a temporary one).  Only with write_into_run=True, and when
+    the run file has no /events yet, is the catalog added to the run file."""
+    with open_h5(run_path) as f:
+        stored_alpha = float(f["events"].attrs["alpha"]) if "events" in f else None
+    if stored_alpha is not None and stored_alpha == float(alpha):
+        return read_catalog(run_path)
+    if stored_alpha is None and write_into_run:
+        # Not while a run or resume writes the file (LockHeldError, a ValueError,
+        # is raised); a read-only directory or file falls back to a separate
+        # catalog file.
+        try:
+            with lock_run(run_path):
+                run_event_detection(run_path, alpha)
+                return read_catalog(run_path)
+        except (RuntimeError, OSError):
+            pass
+    if workdir is not None:
+        out = Path(workdir) / f"events_alpha{alpha:g}.h5"
+        run_event_detection(run_path, alpha, out)
+        return read_catalog(out)
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / f"events_alpha{alpha:g}.h5"
+        run_event_detection(run_path, alpha, out)
+        return read_catalog(out)
+
+
+def read_spacetime(path, max_rows: int | None = None):
+    """(time, x, slip_rate) of /snapshots; None without enough snapshots.
+    max_rows > 0 strides the rows evenly."""
+    with open_h5(path) as f:
+        if "snapshots" not in f or f["snapshots/time"].shape[0] < 2:
+            return None
+        t = read_times(f, "snapshots/time")
+        step = 1 if not max_rows else _stride(t.size, max_rows)
+        return t[::step], f["snapshots/x"][:], f["snapshots/slip_rate"][::step]
+
+
+def _stride(n: int, target: int) -> int:
+    return max(1, int(math.ceil(n / target)))
+
+
+def _read_crossing_time(path):
+    with open_h5(path) as f:
+        g = f["slip_sampling"]
+        ct = g["crossing_time"][:]
+        x = g["x"][:] if "x" in g else np.arange(ct.shape[1]) * float(g.attrs["dx"])
+    return ct, x
