@@ -10,7 +10,8 @@ namespace slipstrip::cli {
 
 std::vector<Command> add_python_commands(CLI::App& app) {
   std::vector<Command> commands;
-  for (const char* name : {"analyze", "scan", "plot", "export", "report", "transition"}) {
+  for (const char* name : {"analyze", "scan", "plot", "export", "report", "transition", "pulse-episodes",
+                           "trajectory-divergence"}) {
     auto* py = app.add_subcommand(name, std::string("Python: python3 -m slipstrip ") + name +
                                             " (see docs/analysis.md, docs/scans.md); arguments are forwarded");
     py->allow_extras();

@@ -7,6 +7,8 @@
   report   RUNDIR --printed PRINTED [--out docs/reproduction.md] [--figures DIR] [--allow-missing]  (slipstrip.report.main)
   transition  RUNS... [--csv F] [--plot PNG]  (slipstrip.transition.main: long-time state of each run)
   export   RUN.h5 --seas DIR [--overwrite]  (slipstrip.export.main: SEAS-style station files)
+  pulse-episodes  RUN.h5 [--json F] [--plot PNG]  (slipstrip.episodes.main: the pulse criterion window by window)
+  trajectory-divergence  A.h5 B.h5 [...] [--json F] [--plot PNG]  (slipstrip.divergence.main: when two runs part)
 
 Each command parses its own arguments (`python3 -m slipstrip <command> -h`).
 """
@@ -100,6 +102,8 @@ COMMANDS = {
     "report": lambda argv: _delegate("report", argv),
     "transition": lambda argv: _delegate("transition", argv),
     "export": lambda argv: _delegate("export", argv),
+    "pulse-episodes": lambda argv: _delegate("episodes", argv),
+    "trajectory-divergence": lambda argv: _delegate("divergence", argv),
 }
 
 

@@ -1,5 +1,9 @@
 """Figures from run files (matplotlib, Agg backend: no display needed).
 
+draw_log_rate(ax, x, y, slip_rate, v0): the one map of log10(|v|/v0) the
+package draws -- the space-time fields of `plot`, `analyze`, `report` and
+`pulse-episodes`, and the space-slip maps v(x, delta) -- with one colour map
+(SPACETIME_CMAP) and one convention for the colour scale.
 spacetime(run, out_png): log10(v / v0) over x / L (horizontal) and t c_s / L
 (vertical) from /snapshots -- the paper's space-time representation.
 timeseries(run, out_png): max slip rate and mean shear stress against time.
@@ -8,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 
 import matplotlib
 
@@ -17,14 +22,71 @@ import numpy as np  # noqa: E402
 
 from .runfile import RunFile, open_run  # noqa: E402
 
-__all__ = ["SPACETIME_CMAP", "spacetime", "spacetime_axes", "timeseries"]
+__all__ = ["SPACETIME_CMAP", "draw_log_rate", "spacetime", "spacetime_axes", "timeseries"]
 
 # Upper bound of cells drawn per axis: a longer run is subsampled (every k-th
 # snapshot / node) so memory and drawing time stay bounded whatever the run size.
 MAX_CELLS = 2000
-# The colour map of the space-time field log10(v/v0), in `plot` and in the
-# space_time figure of `analyze` alike (both draw it with spacetime_axes).
+# The colour map of every map of log10(v/v0): space-time fields and space-slip
+# maps, in `plot`, `analyze`, `report` and `pulse-episodes` alike (all draw
+# them with draw_log_rate).
 SPACETIME_CMAP = "inferno"
+
+
+def block_max(z: np.ndarray, max_rows: int, max_cols: int) -> np.ndarray:
+    """Block maximum (NaN-aware) of a 2D array to at most max_rows x max_cols:
+    unlike a stride it keeps narrow pulses visible.  Trailing rows and columns
+    that do not fill a block are dropped; an all-NaN block stays NaN."""
+    z = np.asarray(z, float)
+    r = max(1, int(math.ceil(z.shape[0] / max_rows)))
+    c = max(1, int(math.ceil(z.shape[1] / max_cols)))
+    if r == 1 and c == 1:
+        return z
+    nr, nc = z.shape[0] // r, z.shape[1] // c
+    b = z[: nr * r, : nc * c].reshape(nr, r, nc, c)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN blocks
+        return np.nanmax(np.nanmax(b, axis=3), axis=1)
+
+
+def _block_mean(c: np.ndarray, n: int, size: int) -> np.ndarray:
+    """Coordinates of the blocks of block_max along one axis (size -> n blocks)."""
+    c = np.asarray(c, float)
+    step = size // n
+    return c[: n * step].reshape(n, step).mean(axis=1)
+
+
+def draw_log_rate(ax, x, y, slip_rate, v0: float, vmin: float | None = None, vmax: float | None = None,
+                  floor: float | None = None, max_cells: int = MAX_CELLS):
+    """Draws log10(|slip_rate| / v0) on `ax` and returns the QuadMesh.
+
+    slip_rate is [len(y), len(x)]: rows along the vertical axis (time, or slip
+    for a space-slip map), columns along x.  More than max_cells rows or
+    columns are reduced by block maxima (narrow pulses stay visible).  The
+    colour scale runs from vmin to vmax; by default from the smallest to the
+    largest finite value, the minimum not below `floor` when given.  A zero
+    slip rate (a stuck node) is drawn at the bottom of the scale, an infinite
+    one at the top; NaN (no data) is left blank.  The colour map is
+    SPACETIME_CMAP."""
+    v = np.abs(np.asarray(slip_rate, float))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = np.log10(v / v0)
+    rows, cols = z.shape
+    z = block_max(z, max_cells, max_cells)
+    x = _block_mean(x, z.shape[1], cols) if z.shape[1] != cols else np.asarray(x, float)
+    y = _block_mean(y, z.shape[0], rows) if z.shape[0] != rows else np.asarray(y, float)
+    finite = np.isfinite(z)
+    if not finite.any():
+        raise ValueError("no finite positive slip rate to draw")
+    lo = float(np.min(z[finite])) if vmin is None else vmin
+    if vmin is None and floor is not None:
+        lo = max(lo, floor)
+    hi = float(np.max(z[finite])) if vmax is None else vmax
+    if hi <= lo:  # uniform sliding: give the colour scale a visible width
+        lo, hi = lo - 0.5, hi + 0.5
+    z = np.where(z == -np.inf, lo, np.where(z == np.inf, hi, z))
+    return ax.pcolormesh(x, y, np.ma.masked_invalid(z), shading="nearest", cmap=SPACETIME_CMAP,
+                         vmin=lo, vmax=hi, rasterized=True)
 
 
 def _as_run(run) -> RunFile:
@@ -52,24 +114,12 @@ def spacetime_axes(run, ax, vmin: float | None = None, vmax: float | None = None
     x = snaps.x[::col_step]
     v = snaps["slip_rate"][::row_step, ::col_step]
 
-    v0 = run.driving_velocity
     L = run.length
-    with np.errstate(divide="ignore", invalid="ignore"):
-        logv = np.log10(np.abs(v) / v0)
-    finite = np.isfinite(logv)
+    finite = np.isfinite(v) & (v != 0)
     if not finite.any():
         raise ValueError(f"run file '{run.path}': no finite positive slip rate in /snapshots/slip_rate")
-    lo = float(np.min(logv[finite])) if vmin is None else vmin
-    if vmin is None and floor is not None:
-        lo = max(lo, floor)
-    hi = float(np.max(logv[finite])) if vmax is None else vmax
-    if hi <= lo:  # uniform sliding: give the colour scale a visible width
-        lo, hi = lo - 0.5, hi + 0.5
-    # Stuck nodes (v = 0) are shown at the bottom of the scale, not left blank.
-    logv = np.where(finite, logv, lo)
-
-    mesh = ax.pcolormesh(x / L, t * run.shear_wave_speed / L, logv, shading="nearest",
-                         cmap=SPACETIME_CMAP, vmin=lo, vmax=hi, rasterized=True)
+    mesh = draw_log_rate(ax, x / L, t * run.shear_wave_speed / L, v, run.driving_velocity, vmin=vmin, vmax=vmax,
+                         floor=floor, max_cells=max_cells)
     ax.set_xlabel("x / L")
     ax.set_ylabel(r"t $c_s$ / L")
     ax.set_xlim(0.0, 1.0)

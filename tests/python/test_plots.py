@@ -132,3 +132,103 @@ def test_module_cli_plot(tiny_run, tmp_path):
     p = subprocess.run([sys.executable, "-m", "slipstrip", "frobnicate"], capture_output=True, text=True,
                        env=env, timeout=60)
     assert p.returncode == 2 and "unknown command 'frobnicate'" in p.stderr
+
+
+def test_draw_log_rate_draws_the_data_range(tmp_path):
+    """The one plotter of log10(v/v0) maps: a field of two levels, a stuck node
+    and a block without data, saved without axes so that every pixel is a cell.
+    The picture has the size asked for, is not blank, shows the low level in
+    the colour map's first colour and the high level in its last (the data
+    range is the colour range), the stuck node at the bottom of the scale and
+    the missing data as background."""
+    import matplotlib.pyplot as plt
+    from matplotlib import colormaps
+    from slipstrip import plots
+
+    v0 = 1e-3
+    rows, cols = 40, 64
+    v = np.full((rows, cols), 1e-2 * v0)
+    v[:, cols // 2:] = 10.0 * v0            # log10(v/v0) = -2 on the left, 1 on the right
+    v[:, 5] = 0.0                           # a stuck node
+    v[30:, 40:50] = np.nan                  # no data
+    x, y = (np.arange(cols) + 0.5) / cols, np.arange(rows) + 0.5
+    fig = plt.figure(figsize=(3.2, 2.0), dpi=100)
+    ax = fig.add_axes([0, 0, 1, 1])
+    ax.set_axis_off()
+    mesh = plots.draw_log_rate(ax, x, y, v, v0)
+    assert mesh.get_cmap().name == plots.SPACETIME_CMAP
+    assert mesh.get_clim() == pytest.approx((-2.0, 1.0), rel=1e-12)
+    drawn = np.ma.asarray(mesh.get_array()).reshape(rows, cols)
+    assert drawn[0, 5] == pytest.approx(-2.0, rel=1e-12)        # stuck: bottom of the scale
+    assert drawn.mask[35, 45] and not drawn.mask[35, 35]
+    ax.set_xlim(0, 1)
+    ax.set_ylim(0, rows)
+    out = tmp_path / "levels.png"
+    fig.savefig(out)
+    plt.close(fig)
+    image = assert_figure(out, min_drawn=0.5)
+    assert image.shape[:2] == (200, 320)
+    cmap = colormaps[plots.SPACETIME_CMAP]
+    low, high = np.asarray(cmap(0.0)[:3]), np.asarray(cmap(1.0)[:3])
+    # 8-bit PNG: a colour is read back within 1/255 per channel (2/255 allowed).
+    tol = 2.0 / 255.0
+    rgb = image[..., :3]
+    # 5 px per column and per row; image row 0 is the top (y = 40).
+    assert np.all(np.abs(rgb[20:180, 40:150] - low) <= tol)      # left half
+    assert np.all(np.abs(rgb[100:180, 260:310] - high) <= tol)   # right half
+    assert np.all(np.abs(rgb[5:45, 205:245] - 1.0) <= tol)       # the NaN block (rows 30-39, columns 40-49): background
+    assert np.all(np.abs(rgb[100, 26:29] - low) <= tol)          # the stuck node (column 5: 25-30 px)
+
+
+def test_draw_log_rate_keeps_a_one_node_pulse_when_reducing():
+    """Above max_cells the field is reduced by block maxima, so a pulse one
+    node wide and one row long still sets the top of the colour scale."""
+    import matplotlib.pyplot as plt
+    from slipstrip import plots
+
+    v = np.ones((3000, 2048))
+    v[1234, 777] = 1e3
+    fig, ax = plt.subplots()
+    mesh = plots.draw_log_rate(ax, np.arange(2048) / 2048, np.arange(3000), v, 1.0, max_cells=500)
+    plt.close(fig)
+    drawn = np.asarray(mesh.get_array())
+    assert drawn.size <= 500 * 500
+    assert mesh.get_clim() == pytest.approx((0.0, 3.0), abs=1e-12)
+    assert np.count_nonzero(np.abs(drawn - 3.0) <= 1e-12) == 1
+
+
+def test_every_log_rate_map_uses_the_one_plotter():
+    """No module draws a colour map of its own: imshow/pcolormesh are called
+    only by plots.draw_log_rate and by the event-coloured map of analyze
+    (categorical colours of events, not a slip rate)."""
+    import ast
+    allowed = {("plots.py", "draw_log_rate"), ("analysis/figures.py", "plot_event_map")}
+    found = set()
+    package = PYTHON_DIR / "slipstrip"
+    for path in package.rglob("*.py"):
+        tree = ast.parse(path.read_text())
+        for func in (n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)):
+            for call in (n for n in ast.walk(func) if isinstance(n, ast.Call)):
+                if isinstance(call.func, ast.Attribute) and call.func.attr in ("imshow", "pcolormesh"):
+                    found.add((path.relative_to(package).as_posix(), func.name))
+    assert found == allowed
+
+
+def test_analysis_and_pulse_episodes_draw_with_the_one_plotter(ss, tiny_run, tmp_path, monkeypatch):
+    from slipstrip import analysis, episodes, plots
+    calls = []
+    original = plots.draw_log_rate
+
+    def spy(*args, **kwargs):
+        calls.append(kwargs)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(plots, "draw_log_rate", spy)
+    info = analysis.read_run_info(tiny_run)
+    assert_figure(analysis.plot_space_time(tiny_run, info, tmp_path)[0])
+    ct, x = analysis.reading._read_crossing_time(tiny_run)
+    assert_figure(analysis.plot_space_slip(ct, x, info, tmp_path)[0])
+    summary = episodes.pulse_summary(str(tiny_run), window_transits=1.0)
+    episodes.plot(str(tiny_run), summary, tmp_path / "episodes.png")
+    assert_figure(tmp_path / "episodes.png")
+    assert len(calls) == 3

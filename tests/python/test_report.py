@@ -1,5 +1,5 @@
-"""Tests of the reproduction report (python/slipstrip/report.py) and of the two
-rules it relies on in analysis.py: the automatic transient cut and the
+"""Tests of the reproduction report (python/slipstrip/report/) and of the two
+rules it relies on in slipstrip.analysis: the automatic transient cut and the
 space-time periodic-pulse criterion.
 
 Synthetic catalogs and space-time fields test the rules; tiny real runs
@@ -26,6 +26,8 @@ from figure_checks import assert_figure
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "python"))
 from slipstrip import analysis  # noqa: E402
+from slipstrip import divergence  # noqa: E402
+from slipstrip import episodes as episodes_command  # noqa: E402
 from slipstrip import report  # noqa: E402
 from slipstrip.runfile import read_config  # noqa: E402
 
@@ -538,16 +540,15 @@ def test_local_peaks_of_pT_show_both_modes_of_a_bimodal_sample():
     assert found[1] == pytest.approx(1.5 * math.exp(-0.25**2), rel=0.1)
 
 
-def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_rundir, tmp_path, monkeypatch):
-    """scripts/pulse_episodes.py (the Fig. 5 resolution check, docs/fig5_resolution.md)
-    is the report's criterion applied to one file: the same late-half flag and
-    the same window flags, plus each window's parts, JSON and plot written."""
-    script = _load_script("pulse_episodes")
+def test_pulse_episodes_reports_what_the_report_functions_compute(tiny_rundir, tmp_path, monkeypatch):
+    """`python3 -m slipstrip pulse-episodes` (the Fig. 5 resolution check,
+    docs/fig5_resolution.md) is the report's criterion applied to one file: the
+    same late-half flag and the same window flags, plus each window's parts,
+    JSON and plot written."""
     # The tiny run covers 3 L/c_s: windows of 1 L/c_s give three of them.
-    monkeypatch.setattr(analysis, "PULSE_EPISODE_WINDOW_TRANSITS", 1.0)
     path = str(tiny_rundir / "fig5.h5")
     out_json, out_png = tmp_path / "p.json", tmp_path / "p.png"
-    assert script.main([path, "--json", str(out_json), "--plot", str(out_png)]) == 0
+    assert episodes_command.main([path, "--json", str(out_json), "--plot", str(out_png), "--window-transits", "1"]) == 0
     summary = json.loads(out_json.read_text())
     info = analysis.read_run_info(path)
     t, _, v = analysis.read_spacetime(path, max_rows=6000)
@@ -567,7 +568,7 @@ def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_ru
     config = read_config(path)
     assert summary["initial"]["noise_seed"] == config["initial"]["noise_seed"]
     assert summary["initial"]["noise_modes"] == config["initial"]["noise_modes"]
-    table = script.markdown_table([summary, summary])
+    table = episodes_command.markdown_table([summary, summary])
     lines = table.strip().splitlines()
     assert len(lines) == 5 and lines[2] == lines[3]
     assert f"| {summary['pulse_windows']} of 3 |" in lines[2]
@@ -578,7 +579,7 @@ def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_ru
     assert f"| {pulses} / {one_way} / 2," in lines[2]
     assert lines[4].startswith("| **all 2** |")
     assert f"| {2 * summary['pulse_windows']} of 6 | {2 * pulses} / {2 * one_way} / 4 |" in lines[4]
-    assert len(script.markdown_table([summary]).strip().splitlines()) == 3  # no total row for one run
+    assert len(episodes_command.markdown_table([summary]).strip().splitlines()) == 3  # no total row for one run
     with h5py.File(path, "r") as f:
         ts_t, ts_v = f["timeseries/time"][:], f["timeseries/max_slip_rate"][:] / info.v0
     late_rows = ts_t >= ts_t[0] + 0.5 * (ts_t[-1] - ts_t[0])
@@ -587,49 +588,68 @@ def test_pulse_episodes_script_reports_what_the_report_functions_compute(tiny_ru
     assert f"{np.median(ts_v[late_rows]):.2f} / " in lines[2]
     capsys_out = io.StringIO()
     monkeypatch.setattr(sys, "stdout", capsys_out)
-    assert script.main(["table", str(out_json)]) == 0
+    assert episodes_command.main(["--table", str(out_json)]) == 0
     assert capsys_out.getvalue().strip().splitlines()[2] == lines[2]
 
 
-def _load_script(name: str):
-    import importlib.util
-    spec = importlib.util.spec_from_file_location(name, REPO / "scripts" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+def _module_cli(*args):
+    env = dict(os.environ, PYTHONPATH=str(REPO / "python"))
+    return subprocess.run([sys.executable, "-m", "slipstrip", *map(str, args)], capture_output=True, text=True,
+                          env=env, timeout=300)
+
+
+def test_pulse_episodes_and_trajectory_divergence_are_subcommands(tiny_rundir, tmp_path):
+    """Both are `python3 -m slipstrip` subcommands with their own help, and
+    follow the output-path rule: an existing --json is refused (exit 2, one
+    line, the file untouched) unless --overwrite."""
+    for command, option in (("pulse-episodes", "--window-transits"), ("trajectory-divergence", "pairs of run files")):
+        r = _module_cli(command, "--help")
+        assert r.returncode == 0, r.stderr
+        assert r.stdout.startswith(f"usage: python3 -m slipstrip {command}") and option in r.stdout
+        assert command in _module_cli("--help").stdout
+    path = tiny_rundir / "fig5.h5"
+    old = tmp_path / "old.json"
+    for args in (("pulse-episodes", path), ("trajectory-divergence", path, path)):
+        old.write_text("an earlier result\n")
+        r = _module_cli(*args, "--json", old)
+        assert r.returncode == 2 and "already exists" in r.stderr and len(r.stderr.strip().splitlines()) == 1, r
+        assert old.read_text() == "an earlier result\n"
+        r = _module_cli(*args, "--json", old, "--overwrite")
+        assert r.returncode == 0, r.stderr
+        assert json.loads(old.read_text())
+    r = _module_cli("trajectory-divergence", path)
+    assert r.returncode == 2 and "pairs" in r.stderr
 
 
 def test_trajectory_divergence_finds_when_two_records_part():
-    """scripts/trajectory_divergence.py (docs/fig5_resolution.md): a record
+    """`python3 -m slipstrip trajectory-divergence` (docs/fig5_resolution.md): a record
     compared with itself on a twice finer mesh (every other node the same) never
     departs; a copy whose slip rates double after t = 0.6 departs exactly there,
     at the 0.3 threshold (log10 2 = 0.301) but not before; the snapshot times of
     the finer record are shifted by 1e-9 of the spacing and still match."""
-    script = _load_script("trajectory_divergence")
     rng = np.random.default_rng(5)
     t = np.linspace(0.0, 1.0, 101)
     coarse = 10.0 ** rng.uniform(-3, 1, size=(t.size, 16))
     fine = np.repeat(coarse, 2, axis=1)  # node 2i of the fine record = node i of the coarse one
     fine[:, 1::2] = 123.0                 # the in-between nodes are never compared
-    times, rms = script.log_rate_divergence(t, coarse, t + 1e-11, fine, v0=1.0)
+    times, rms = divergence.log_rate_divergence(t, coarse, t + 1e-11, fine, v0=1.0)
     assert times.size == t.size and np.all(rms == 0.0)
-    assert script.first_exceedance(times, rms, 0.01) is None
+    assert divergence.first_exceedance(times, rms, 0.01) is None
     later = fine.copy()
     later[t >= 0.6] *= 2.0
-    times, rms = script.log_rate_divergence(t, coarse, t, later, v0=1.0)
-    assert script.first_exceedance(times, rms, 0.3) == pytest.approx(0.6)
+    times, rms = divergence.log_rate_divergence(t, coarse, t, later, v0=1.0)
+    assert divergence.first_exceedance(times, rms, 0.3) == pytest.approx(0.6)
     assert np.all(rms[t < 0.6] == 0.0)
     with pytest.raises(ValueError, match="multiple"):
-        script.log_rate_divergence(t, coarse, t, coarse[:, :12], v0=1.0)
+        divergence.log_rate_divergence(t, coarse, t, coarse[:, :12], v0=1.0)
 
 
 def test_trajectory_divergence_of_a_run_with_itself(tiny_rundir, tmp_path):
     """On a real run file: the same run twice gives zero at every snapshot and
     writes the JSON and the plot."""
-    script = _load_script("trajectory_divergence")
     path = str(tiny_rundir / "fig5.h5")
     out_json, out_png = tmp_path / "d.json", tmp_path / "d.png"
-    assert script.main([path, path, "--json", str(out_json), "--plot", str(out_png)]) == 0
+    assert divergence.main([path, path, "--json", str(out_json), "--plot", str(out_png)]) == 0
     (summary,) = json.loads(out_json.read_text())
     assert summary["common_snapshots"] == h5py.File(path, "r")["snapshots/time"].shape[0]
     assert max(summary["rms_log10_ratio"]) == 0.0

@@ -144,10 +144,8 @@ def test_run_file_snapshots_match_slipstrip(exe, bim, measured, tmp_path):
     and its snapshots at the station nodes are slipstrip's station series at the
     same times within the tolerance of test_volume_solver_converges_to_slipstrip
     (2 x the measured max difference over all times at nx = 320)."""
-    from slipstrip import analysis, runfile
+    from slipstrip import analysis, episodes, runfile
     from volume import run_to_file
-    sys.path.insert(0, str(REPO / "scripts"))
-    import pulse_episodes
 
     cfg = read_config(CONFIG)
     nx = 320
@@ -183,8 +181,8 @@ def test_run_file_snapshots_match_slipstrip(exe, bim, measured, tmp_path):
     assert np.array_equal(ts["max_slip_rate"][i_ts], np.abs(snaps["slip_rate"][i_sn]).max(axis=1))
     assert np.allclose(ts["mean_slip"][i_ts], snaps["slip"][i_sn].mean(axis=1), rtol=1e-12, atol=0)
     assert np.allclose(ts["mean_shear_stress"][i_ts], snaps["shear_stress"][i_sn].mean(axis=1), rtol=1e-12, atol=0)
-    # The pulse criterion's script reads it unchanged.
-    s = pulse_episodes.pulse_summary(str(out))
+    # The pulse criterion (`python3 -m slipstrip pulse-episodes`) reads it unchanged.
+    s = episodes.pulse_summary(str(out))
     assert s["nodes"] == nx and np.isclose(s["duration_transits"], 6.0, atol=0.01)
 
 

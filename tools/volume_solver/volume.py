@@ -12,8 +12,8 @@ returns the station time series as NumPy arrays.
     r["time"], r["slip_rate"][:, 0]          # [s], [m/s] at x = 0.5 m
 
 For long runs it writes a run file in slipstrip's layout (docs/output.md:
-/timeseries, /snapshots, the root attribute `config`), so scripts/pulse_episodes.py,
-scripts/trajectory_divergence.py and the analysis read it unchanged:
+/timeseries, /snapshots, the root attribute `config`), so `python3 -m slipstrip
+pulse-episodes` and `trajectory-divergence` and the analysis read it unchanged:
 
     /usr/bin/python3 tools/volume_solver/volume.py run configs/fig5.toml --nx 1600 --out RUN.h5
     /usr/bin/python3 tools/volume_solver/volume.py convert RUN.h5     # after an interrupted run

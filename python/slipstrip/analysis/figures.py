@@ -54,15 +54,13 @@ def slip_rate_space_slip(crossing_time: np.ndarray, delta_th: float) -> np.ndarr
 
 def plot_space_slip(ct, x, info: RunInfo, out_dir: Path, pdf: bool = False, max_rows: int = 3000) -> list[str]:
     """v(x, delta)/v0 in the x/L -- delta/D plane (Figs. 1b, S3b)."""
+    from .. import plots
     plt = _plt()
     v = slip_rate_space_slip(ct, info.delta_th)
-    step = _stride(v.shape[0], max_rows)
-    v = v[::step]
-    delta = (np.arange(0, ct.shape[0], step) + 1) * info.delta_th / info.D
+    delta = (np.arange(ct.shape[0]) + 1) * info.delta_th / info.D
     fig, ax = plt.subplots(figsize=(6, 5))
-    z = np.log10(np.clip(v / info.v0, 1e-4, 1e4))
-    im = ax.pcolormesh(x / info.L, delta, np.ma.masked_invalid(z), shading="auto", cmap="viridis_r",
-                       rasterized=True)
+    # The colour scale starts at most 4 decades below v0.
+    im = plots.draw_log_rate(ax, x / info.L, delta, v, info.v0, floor=-4.0, max_cells=max_rows)
     fig.colorbar(im, ax=ax, label=r"$\log_{10}(v(x,\delta)/v_0)$")
     ax.set_xlabel("$x/L$")
     ax.set_ylabel(r"$\delta/D$")

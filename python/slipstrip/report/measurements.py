@@ -521,19 +521,3 @@ def fit_peak_scaling(tau, tpeak, err) -> dict:
             "k_err": float(math.exp(lnk) * lnk_err), "chi2": chi2, "dof": dof,
             "k1": k1, "k1_err": float(math.sqrt(1 / np.sum(w1 * tau ** 2)) * math.sqrt(max(1.0, chi2_1 / max(1, dof1)))),
             "chi2_1": chi2_1, "dof_1": dof1, "p_1": float(stats.chi2.sf(chi2_1, dof1)) if dof1 > 0 else math.nan}
-
-
-def _downsample(z: np.ndarray, max_rows: int, max_cols: int) -> np.ndarray:
-    """Block maximum (NaN-aware) to at most max_rows x max_cols: keeps narrow pulses visible."""
-    z = np.asarray(z, float)
-    r = max(1, int(math.ceil(z.shape[0] / max_rows)))
-    c = max(1, int(math.ceil(z.shape[1] / max_cols)))
-    nr, nc = z.shape[0] // r, z.shape[1] // c
-    if r == 1 and c == 1:
-        return z
-    b = z[: nr * r, : nc * c].reshape(nr, r, nc, c)
-    with np.errstate(all="ignore"):
-        import warnings
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            return np.nanmax(np.nanmax(b, axis=3), axis=1)

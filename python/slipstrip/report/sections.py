@@ -14,9 +14,10 @@ import numpy as np
 
 from .. import analysis as an
 from .. import hierarchy as hi
+from .. import plots
 from .. import runfile
 from ..claims import BY_ID, CLAIMS, MEASUREMENTS
-from .measurements import (EDGE_TOLERANCE, FIG2_T_BEGIN, N_BOOTSTRAP, _downsample, _finite, bootstrap,
+from .measurements import (EDGE_TOLERANCE, FIG2_T_BEGIN, N_BOOTSTRAP, _finite, bootstrap,
                            combined_error, example_event, fig2_hierarchy, fit_peak_scaling,
                            friction_steady_state, nucleation_event, statistics_of, tip_zones_of_run,
                            wave_speeds, burst_onset)
@@ -244,12 +245,10 @@ class Report:
             prev = ct[(rows - 1).tolist()]
         with np.errstate(divide="ignore", invalid="ignore"):
             v = run.info.delta_th / (cur - prev) / run.info.v0
-        z = np.log10(np.clip(v, 1e-4, 1e4))
         plt = an._plt()
         fig, ax = plt.subplots(figsize=(4.6, 3.8))
-        im = ax.imshow(_downsample(np.ma.filled(np.ma.masked_invalid(z), np.nan), 500, 400), origin="lower",
-                       aspect="auto", cmap="viridis_r",
-                       extent=(0, 1, rows[0] * run.info.delta_th / run.info.D, rows[-1] * run.info.delta_th / run.info.D))
+        im = plots.draw_log_rate(ax, np.arange(v.shape[1]) / v.shape[1], rows * run.info.delta_th / run.info.D, v,
+                                 1.0, floor=-4.0, max_cells=500)
         fig.colorbar(im, ax=ax, label=r"$\log_{10}(v(x,\delta)/v_0)$")
         ax.set_xlabel("$x/L$")
         ax.set_ylabel(r"$\delta/D$")
@@ -342,9 +341,7 @@ class Report:
         info = run.info
         fig, axes = plt.subplots(1, 4, figsize=(16, 3.4), gridspec_kw={"wspace": 0.45})
         x = ex["x"] / info.L  # unwrapped: may pass 1 when the window crosses the periodic boundary
-        im = axes[0].imshow(np.log10(np.clip(ex["v"] / info.v0, 1e-2, 1e3)), origin="lower", aspect="auto",
-                            cmap="viridis", extent=(x[0], x[-1], ex["t"][0] * info.c_s / info.L,
-                                                    ex["t"][-1] * info.c_s / info.L))
+        im = plots.draw_log_rate(axes[0], x, ex["t"] * info.c_s / info.L, ex["v"], info.v0, floor=-2.0)
         fig.colorbar(im, ax=axes[0], label=r"$\log_{10}(v/v_0)$")
         axes[0].set(xlabel="$x/L$", ylabel="$t c_s/L$", title="slip rate (from slip sampling)")
         axes[1].plot(x, ex["slip"] / info.D, "g")
@@ -442,10 +439,8 @@ class Report:
     def _spacetime_figure(self, name, t, x, v, run, ws, ev, tau):
         plt = an._plt()
         L, cs = run.info.L, run.info.c_s
-        z = _downsample(np.log10(np.maximum(np.abs(v), 1e-6 * run.info.v0) / run.info.v0), 500, 400)
         fig, ax = plt.subplots(figsize=(4.6, 3.8))
-        im = ax.imshow(z, origin="lower", aspect="auto", cmap="viridis", vmin=-2,
-                       extent=(0, 1, t[0] * cs / L, t[-1] * cs / L))
+        im = plots.draw_log_rate(ax, np.asarray(x) / L, t * cs / L, v, run.info.v0, floor=-2.0, max_cells=500)
         fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
         if ev.get("found"):
             x0 = float(run.config.get("initial", {}).get("local_center", L / 2)) / L
@@ -790,10 +785,9 @@ class Report:
         t, x, v = st
         run = s["run"]
         plt = an._plt()
-        z = _downsample(np.log10(np.maximum(np.abs(v), 1e-6 * run.info.v0) / run.info.v0), 500, 400)
         fig, ax = plt.subplots(figsize=(4.6, 3.8))
-        im = ax.imshow(z, origin="lower", aspect="auto", cmap="viridis", vmin=-2,
-                       extent=(0, 1, t[0] / run.length_transit_time, t[-1] / run.length_transit_time))
+        im = plots.draw_log_rate(ax, np.asarray(x) / run.info.L, t / run.length_transit_time, v, run.info.v0,
+                                 floor=-2.0, max_cells=500)
         fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
         episodes = self._pulse_episodes(s)
         for (t0, t1), flag in zip(episodes["windows"] if episodes else [], episodes["flags"] if episodes else []):
@@ -820,10 +814,9 @@ class Report:
             rows = (t >= t0) & (t <= t1)
             if not rows.any():
                 continue
-            zz = np.log10(np.maximum(np.abs(v[rows]), 1e-6 * run.info.v0) / run.info.v0)
-            im = ax.imshow(_downsample(zz, 400, 400), origin="lower", aspect="auto", cmap="viridis", vmin=-2,
-                           vmax=1.5, extent=(0, 1, t[rows][0] / run.length_transit_time,
-                                             t[rows][-1] / run.length_transit_time))
+            # One colour scale for both panels.
+            im = plots.draw_log_rate(ax, np.asarray(x) / run.info.L, t[rows] / run.length_transit_time, v[rows],
+                                     run.info.v0, vmin=-2.0, vmax=1.5, max_cells=400)
             ax.set(xlabel="$x/L$", ylabel="$t c_s/L$", title=label)
         if im is not None:
             fig.colorbar(im, ax=axes[0, -1], label=r"$\log_{10}(v/v_0)$")

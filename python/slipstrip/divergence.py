@@ -1,6 +1,7 @@
-"""How long two runs of the same case stay on the same trajectory.
+"""`python3 -m slipstrip trajectory-divergence`: how long two runs of the same
+case stay on the same trajectory.
 
-    /usr/bin/python3 scripts/trajectory_divergence.py A.h5 B.h5 [--json OUT.json] [--plot OUT.png]
+    python3 -m slipstrip trajectory-divergence A.h5 B.h5 [A2.h5 B2.h5 ...] [--json OUT.json] [--plot OUT.png]
 
 For a refinement study (docs/fig5_resolution.md): A and B differ in mesh (N_B a
 multiple of N_A, or the other way round) or time step, and start from the same
@@ -21,7 +22,8 @@ import sys
 
 import numpy as np
 
-from slipstrip import analysis as an
+from . import analysis as an
+from .paths import OutputPathError, check_outputs, one_line
 
 THRESHOLDS = (0.01, 0.1, 0.3)
 SAMPLE_TRANSITS = (10.0, 20.0, 30.0, 40.0)  # times [L/c_s] at which the rms is also reported
@@ -65,7 +67,7 @@ def divergence_summary(path_a: str, path_b: str) -> dict:
     records = [an.read_spacetime(p) for p in (path_a, path_b)]
     for p, r in zip((path_a, path_b), records):
         if r is None:
-            raise SystemExit(f"{p}: no snapshots, nothing to compare")
+            raise ValueError(f"{p}: no snapshots, nothing to compare")
     (t_a, _, v_a), (t_b, _, v_b) = records
     times, rms = log_rate_divergence(t_a, v_a, t_b, v_b, info.v0)
     transit = info.L / info.c_s
@@ -84,29 +86,45 @@ def divergence_summary(path_a: str, path_b: str) -> dict:
 
 
 def plot(summaries: list[dict], out: str) -> None:
-    plt = an._plt()
+    from .plots import plt
     fig, ax = plt.subplots(figsize=(5.2, 3.4))
-    for s in summaries:
-        ax.semilogy(s["time_transits"], np.maximum(s["rms_log10_ratio"], 1e-17),
-                    label=f"{s['runs'][0]} vs {s['runs'][1]}", lw=1)
-    for thr in THRESHOLDS:
-        ax.axhline(thr, color="0.6", lw=0.6, ls=":")
-    ax.set_xlabel(r"$t c_s / L$")
-    ax.set_ylabel(r"rms $\log_{10}(v_A / v_B)$")
-    ax.legend(fontsize=6)
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
+    try:
+        for s in summaries:
+            ax.semilogy(s["time_transits"], np.maximum(s["rms_log10_ratio"], 1e-17),
+                        label=f"{s['runs'][0]} vs {s['runs'][1]}", lw=1)
+        for thr in THRESHOLDS:
+            ax.axhline(thr, color="0.6", lw=0.6, ls=":")
+        ax.set_xlabel(r"$t c_s / L$")
+        ax.set_ylabel(r"rms $\log_{10}(v_A / v_B)$")
+        ax.legend(fontsize=6)
+        fig.tight_layout()
+        fig.savefig(out, dpi=110)
+    finally:
+        plt.close(fig)
 
 
 def main(argv: list[str]) -> int:
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(prog="python3 -m slipstrip trajectory-divergence",
+                                description=__doc__.split("\n\n", 2)[2].strip(),
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("runs", nargs="+", help="pairs of run files: A1 B1 [A2 B2 ...]")
     p.add_argument("--json", help="one JSON file (a list, one entry per pair)")
-    p.add_argument("--plot")
+    p.add_argument("--plot", help="rms log10(v_A/v_B) against time, one line per pair (PNG)")
+    p.add_argument("--overwrite", action="store_true", help="replace existing --json / --plot files")
     a = p.parse_args(argv)
     if len(a.runs) % 2:
-        raise SystemExit("give the run files in pairs: A1 B1 [A2 B2 ...]")
-    summaries = [divergence_summary(x, y) for x, y in zip(a.runs[::2], a.runs[1::2])]
+        p.error("give the run files in pairs: A1 B1 [A2 B2 ...]")
+    outputs = {k: v for k, v in (("--json", a.json), ("--plot", a.plot)) if v}
+    try:
+        check_outputs(outputs, inputs=list(a.runs), overwrite=a.overwrite)
+    except OutputPathError as err:
+        print(f"trajectory-divergence: {err}", file=sys.stderr)
+        return 2
+    try:
+        summaries = [divergence_summary(x, y) for x, y in zip(a.runs[::2], a.runs[1::2])]
+    except (ValueError, OSError, KeyError) as err:
+        print(f"trajectory-divergence: {one_line(err)}", file=sys.stderr)
+        return 2
     for s in summaries:
         f = s["first_exceedance_transits"]
         print(f"{s['runs'][0]} (N = {s['nodes'][0]}) vs {s['runs'][1]} (N = {s['nodes'][1]}): "
@@ -129,6 +147,3 @@ def main(argv: list[str]) -> int:
         plot(summaries, a.plot)
     return 0
 
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))

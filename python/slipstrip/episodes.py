@@ -1,12 +1,13 @@
-"""The periodic-pulse criterion of one run file, in the late half and window by window.
+"""`python3 -m slipstrip pulse-episodes`: the periodic-pulse criterion of one
+run file, in the late half and window by window.
 
-    /usr/bin/python3 scripts/pulse_episodes.py RUN.h5 [--json OUT.json] [--plot OUT.png [--zoom T0,T1]]
-    /usr/bin/python3 scripts/pulse_episodes.py table OUT1.json OUT2.json ...   (Markdown, one row per run)
+    python3 -m slipstrip pulse-episodes RUN.h5 [--json OUT.json] [--plot OUT.png [--zoom T0,T1]]
+    python3 -m slipstrip pulse-episodes --table OUT1.json OUT2.json ...   (Markdown, one row per run)
 
-The same functions as the report's Fig. 5 rows (python/slipstrip/analysis.py:
+The same functions as the report's Fig. 5 rows (slipstrip.analysis.criteria:
 periodic_pulse_from_spacetime on the late half, pulse_episodes in windows of
 PULSE_EPISODE_WINDOW_TRANSITS L/c_s), for a single run outside a full report
-directory, e.g. a resolution check of the Fig. 5 case (docs/reproduction.md).
+directory, e.g. a resolution check of the Fig. 5 case (docs/fig5_resolution.md).
 Needs the run's snapshots, not its event catalog.
 """
 from __future__ import annotations
@@ -19,20 +20,25 @@ import sys
 
 import numpy as np
 
-from slipstrip import analysis as an
-from slipstrip.runfile import open_h5, read_config
+from . import analysis as an
+from .paths import OutputPathError, check_outputs, one_line
+from .runfile import open_h5, read_config
 
 
-def pulse_summary(path: str, max_rows: int = 6000) -> dict:
+def pulse_summary(path: str, max_rows: int = 6000,
+                  window_transits: float = an.PULSE_EPISODE_WINDOW_TRANSITS) -> dict:
+    """The criterion on the late half and in windows of `window_transits` L/c_s,
+    with each window's parts and the late half's largest slip rates, as a
+    JSON-ready dict.  ValueError if the run has no snapshots."""
     info = an.read_run_info(path)
     st = an.read_spacetime(path, max_rows=max_rows)
     if st is None:
-        raise SystemExit(f"{path}: no snapshots, the space-time criterion needs them")
+        raise ValueError(f"{path}: no snapshots, the space-time criterion needs them")
     t, x, v = st
     dx = info.L / v.shape[1]
     transit = info.L / info.c_s
     late = an.periodic_pulse_from_spacetime(t, v, info.v0, dx)
-    episodes = an.pulse_episodes(t, v, info.v0, dx, window=an.PULSE_EPISODE_WINDOW_TRANSITS * transit)
+    episodes = an.pulse_episodes(t, v, info.v0, dx, window=window_transits * transit)
     windows = []
     for (t0, t1), f, d, r in zip(episodes["windows"], episodes["flags"], episodes["determined"],
                                  episodes["results"]):
@@ -60,7 +66,7 @@ def pulse_summary(path: str, max_rows: int = 6000) -> dict:
         "late_half": {k: (None if isinstance(val, float) and not math.isfinite(val) else val)
                       for k, val in late.items()},
         "late_half_max_slip_rate_v0": peak,
-        "window_transits": an.PULSE_EPISODE_WINDOW_TRANSITS,
+        "window_transits": float(window_transits),
         "windows": windows,
         "pulse_windows": int(sum(w["pulse"] for w in windows)),
         "longest_stretch_transits": [episodes["longest_start"] / transit, episodes["longest_end"] / transit]
@@ -69,28 +75,34 @@ def pulse_summary(path: str, max_rows: int = 6000) -> dict:
 
 
 def plot(path: str, summary: dict, out: str, zoom: tuple[float, float] | None = None) -> None:
+    """The space-time map of log10(v/v0) over t c_s/L, pulse windows marked by
+    a red bar at the right edge; with zoom (T0, T1 in L/c_s), every snapshot
+    of that stretch only."""
+    from . import plots
     info = an.read_run_info(path)
     t, x, v = an.read_spacetime(path, max_rows=None if zoom else 2000)
+    transit = info.L / info.c_s
     if zoom:  # every snapshot inside the window [zoom] (in L/c_s)
-        transit = info.L / info.c_s
         keep = (t >= zoom[0] * transit) & (t <= zoom[1] * transit)
         t, v = t[keep], v[keep]
-    plt = an._plt()
-    z = np.log10(np.maximum(np.abs(v), 1e-6 * info.v0) / info.v0)
-    fig, ax = plt.subplots(figsize=(4.6, 3.8))
-    transit = info.L / info.c_s
-    im = ax.imshow(z, origin="lower", aspect="auto", cmap="viridis", vmin=-2,
-                   extent=(0, 1, t[0] / transit, t[-1] / transit))
-    fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
-    for w in summary["windows"] if not zoom else []:
-        if w["pulse"]:
-            ax.axhspan(w["t0_transits"], w["t1_transits"], xmin=0.97, xmax=1.0, color="red")
-    ax.set_xlabel("x / L")
-    ax.set_ylabel(r"$t c_s / L$")
-    ax.set_title(f"N = {summary['nodes']}: pulse in {summary['pulse_windows']} of {len(summary['windows'])} windows"
-                 if not zoom else f"N = {summary['nodes']}, t = {zoom[0]:g}-{zoom[1]:g} L/c_s", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
+        if t.size < 2:
+            raise ValueError(f"--zoom {zoom[0]:g},{zoom[1]:g}: fewer than two snapshots in that stretch")
+    fig, ax = plots.plt.subplots(figsize=(4.6, 3.8))
+    try:
+        im = plots.draw_log_rate(ax, x / info.L, t / transit, v, info.v0, floor=-2.0)
+        fig.colorbar(im, ax=ax, label=r"$\log_{10}(v/v_0)$")
+        for w in summary["windows"] if not zoom else []:
+            if w["pulse"]:
+                ax.axhspan(w["t0_transits"], w["t1_transits"], xmin=0.97, xmax=1.0, color="red")
+        ax.set_xlabel("x / L")
+        ax.set_ylabel(r"$t c_s / L$")
+        ax.set_title(f"N = {summary['nodes']}: pulse in {summary['pulse_windows']} of {len(summary['windows'])} "
+                     "windows" if not zoom else f"N = {summary['nodes']}, t = {zoom[0]:g}-{zoom[1]:g} L/c_s",
+                     fontsize=9)
+        fig.tight_layout()
+        fig.savefig(out, dpi=110)
+    finally:
+        plots.plt.close(fig)
 
 
 def _initial_condition(initial: dict) -> str:
@@ -145,28 +157,62 @@ def markdown_table(summaries: list[dict]) -> str:
 
 
 def main(argv: list[str]) -> int:
-    if argv[:1] == ["table"]:
+    p = argparse.ArgumentParser(
+        prog="python3 -m slipstrip pulse-episodes",
+        description="The periodic-pulse criterion of one run file (docs/analysis.md): on the late half of the "
+                    "record and in consecutive windows, with each window's parts; or, with --table, a Markdown "
+                    "table of the JSON files written by --json (one row per run).")
+    p.add_argument("inputs", nargs="+", metavar="RUN.h5 | JSON",
+                   help="one run file (HDF5, with snapshots); with --table: the JSON files of --json")
+    p.add_argument("--table", action="store_true", help="print a Markdown table of the given JSON files")
+    p.add_argument("--json", help="write the summary (late half, every window) as JSON")
+    p.add_argument("--plot", help="write the space-time map with the pulse windows marked (PNG)")
+    p.add_argument("--zoom", help="T0,T1: plot only t in [T0, T1] L/c_s, every snapshot")
+    p.add_argument("--window-transits", type=float, default=an.PULSE_EPISODE_WINDOW_TRANSITS,
+                   help=f"window length in L/c_s (default {an.PULSE_EPISODE_WINDOW_TRANSITS:g}, as the report)")
+    p.add_argument("--overwrite", action="store_true", help="replace existing --json / --plot files")
+    a = p.parse_args(argv)
+    if a.table:
         summaries = []
-        for name in argv[1:]:
-            with open(name) as fh:
-                summaries.append(json.load(fh))
-        if not summaries:
-            raise SystemExit("table: give the JSON files written by --json")
+        for name in a.inputs:
+            try:
+                with open(name) as fh:
+                    summaries.append(json.load(fh))
+            except (OSError, ValueError) as err:
+                print(f"pulse-episodes: {one_line(f'{name}: {err}')}", file=sys.stderr)
+                return 2
         sys.stdout.write(markdown_table(summaries))
         return 0
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("run")
-    p.add_argument("--json")
-    p.add_argument("--plot")
-    p.add_argument("--zoom", help="T0,T1: plot only t in [T0, T1] L/c_s, every snapshot")
-    a = p.parse_args(argv)
-    s = pulse_summary(a.run)
+    if len(a.inputs) != 1:
+        p.error("give one run file (or --table with JSON files)")
+    if not a.window_transits > 0:
+        p.error(f"--window-transits {a.window_transits:g}: must be > 0")
+    zoom = None
+    if a.zoom:
+        try:
+            zoom = tuple(float(z) for z in a.zoom.split(","))
+        except ValueError:
+            zoom = ()
+        if len(zoom) != 2 or not zoom[0] < zoom[1]:
+            p.error(f"--zoom {a.zoom}: give T0,T1 with T0 < T1 (in L/c_s)")
+    (run,) = a.inputs
+    outputs = {k: v for k, v in (("--json", a.json), ("--plot", a.plot)) if v}
+    try:
+        check_outputs(outputs, inputs=[run], overwrite=a.overwrite)
+    except OutputPathError as err:
+        print(f"pulse-episodes: {err}", file=sys.stderr)
+        return 2
+    try:
+        s = pulse_summary(run, window_transits=a.window_transits)
+    except (ValueError, OSError, KeyError) as err:
+        print(f"pulse-episodes: {one_line(err)}", file=sys.stderr)
+        return 2
     text = json.dumps(s, indent=1, default=float)
     if a.json:
         with open(a.json, "w") as fh:
             fh.write(text + "\n")
     lh = s["late_half"]
-    print(f"{a.run}: N = {s['nodes']}, {s['duration_transits']:.1f} L/c_s; late half: pulse = {lh['flag']} "
+    print(f"{run}: N = {s['nodes']}, {s['duration_transits']:.1f} L/c_s; late half: pulse = {lh['flag']} "
           f"(min max v {lh['min_max_slip_rate_v0']:.3g} v0, width {lh['median_width_fraction']:.3g} L, "
           f"correlation {lh['median_correlation']:.3g}, moving one way {lh['moving_fraction']:.3g}, "
           f"travelled {lh['travelled_periods']:.3g} L); pulse in {s['pulse_windows']} of {len(s['windows'])} "
@@ -179,9 +225,10 @@ def main(argv: list[str]) -> int:
               f"one way {w['moving_fraction']:.3g} (>= {an.PULSE_MIN_MOVING_FRACTION:g}), "
               f"travelled {w['travelled_periods']:.3g} L (>= {an.PULSE_MIN_TRAVEL:g}), speed {w['speed_median']:.3g} m/s")
     if a.plot:
-        plot(a.run, s, a.plot, tuple(float(z) for z in a.zoom.split(",")) if a.zoom else None)
+        try:
+            plot(run, s, a.plot, zoom)
+        except ValueError as err:
+            print(f"pulse-episodes: {one_line(err)}", file=sys.stderr)
+            return 2
     return 0
 
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
