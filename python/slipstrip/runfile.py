@@ -27,8 +27,6 @@ import numpy as np
 __all__ = ["RunFile", "RunFileError", "LazyDataset", "open_run", "open_h5", "unreadable_reason", "decode_attr", "read_attrs",
            "read_config_text", "read_config", "read_status", "wall_seconds", "has_group", "read_event_count", "read_times"]
 
-TIMESERIES = ("time", "max_slip_rate", "mean_slip", "mean_shear_stress")
-SNAPSHOT_FIELDS = ("slip", "slip_rate", "state", "shear_stress")
 # Root attributes start_time / end_time (docs/output.md): UTC, 1 s resolution.
 DATE_FORMAT = "%Y-%m-%dT%H:%M:%SZ"
 
