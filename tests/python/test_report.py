@@ -390,6 +390,12 @@ def test_report_rows_come_from_the_run_files(tiny_rundir, tiny_printed, tmp_path
     assert "Fig. 1c caption" in text and "paper-as-run (E = 9 GPa)" in text and "Table S1 as printed (mu = 9 GPa)" in text
     assert str(tmp_path) not in text and str(REPO) not in text  # no machine paths in the doc
     assert "| RUNDIR/reference.h5 |" in text and "| PRINTED/reference.h5 |" in text and "nproc" in text
+    # Every figure the document shows exists and has something drawn in it.
+    import re
+    shown = re.findall(r"^!\[[^\]]*\]\(([^)]+)\)$", text, flags=re.M)
+    assert any(p.endswith("fig5_spacetime.png") for p in shown), shown
+    for rel in shown:
+        assert_figure(out.parent / rel)
 
     # Change one file: the run list reflects it (wall time from its own attributes).
     with h5py.File(d / "fig3a.h5", "r+") as f:

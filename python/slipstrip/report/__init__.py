@@ -26,6 +26,7 @@ One module per concept, every name re-exported here (`slipstrip.report.X`):
                 fronts, the Fig. 2 event hierarchy, fits)
   verdicts      the verdict rules and the formatting of values
   sections      Report: one method per section of the paper, one row per claim
+  figures       the report's figures (drawn from measured data, returned to Report)
   document      the Markdown document of both readings
   command       `python3 -m slipstrip report`
 """
