@@ -85,6 +85,18 @@ def divergence_summary(path_a: str, path_b: str) -> dict:
     }
 
 
+def _rms_samples(summary: dict) -> str:
+    """The rms at the sample times the pair reaches; a pair shorter than the
+    first sample time reports its last common snapshot instead of nothing."""
+    at = summary["rms_at_transits"]
+    if at:
+        return f"; rms at t = {', '.join(at)} L/c_s: " + ", ".join(f"{v:.1e}" for v in at.values())
+    if not summary["time_transits"]:
+        return ""
+    return (f"; rms at the last common snapshot, t = {summary['time_transits'][-1]:.2f} L/c_s: "
+            f"{summary['rms_log10_ratio'][-1]:.1e}")
+
+
 def plot(summaries: list[dict], out: str) -> None:
     from .plots import plt
     fig, ax = plt.subplots(figsize=(5.2, 3.4))
@@ -130,8 +142,7 @@ def main(argv: list[str]) -> int:
         print(f"{s['runs'][0]} (N = {s['nodes'][0]}) vs {s['runs'][1]} (N = {s['nodes'][1]}): "
               f"{s['common_snapshots']} common snapshots; rms log10 ratio first above "
               + ", ".join(f"{k} at {'never' if v is None else f'{v:.1f} L/c_s'}" for k, v in f.items())
-              + f"; rms at t = {', '.join(s['rms_at_transits'])} L/c_s: "
-              + ", ".join(f"{v:.1e}" for v in s["rms_at_transits"].values()))
+              + _rms_samples(s))
     if a.json:
         # The series are thinned to <= JSON_SERIES_POINTS points (evenly strided): the
         # JSON is a record for the docs; the plot uses every common snapshot.

@@ -675,3 +675,12 @@ def test_fig5_volume_solver_sentence_comes_from_the_committed_summary(tmp_path):
     committed = json.loads(report.FIG5_VOLUME_SOLVER_JSON.read_text())
     assert f"of {len(committed['windows'])} windows" in report.fig5_volume_solver_text()
     assert report.fig5_volume_solver_text(tmp_path / "absent.json") == ""
+
+
+def test_trajectory_divergence_reports_a_pair_shorter_than_the_first_sample_time():
+    # Was: "rms at t =  L/c_s: " with nothing after it for a pair of 4 L/c_s
+    # (the sample times start at 10 L/c_s).
+    short = {"rms_at_transits": {}, "time_transits": [0.0, 2.0, 4.03], "rms_log10_ratio": [1e-4, 4e-7, 7.2e-7]}
+    assert divergence._rms_samples(short) == "; rms at the last common snapshot, t = 4.03 L/c_s: 7.2e-07"
+    long = {"rms_at_transits": {"10": 5.4e-3, "20": 2.7e-2}, "time_transits": [0.0, 25.0], "rms_log10_ratio": [0, 0]}
+    assert divergence._rms_samples(long) == "; rms at t = 10, 20 L/c_s: 5.4e-03, 2.7e-02"
