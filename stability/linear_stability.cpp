@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "stability/root_search.hpp"
+
 namespace slipstrip {
 namespace {
 
@@ -147,107 +149,20 @@ Characteristic make_characteristic(const SteadySliding& sliding, double waveleng
   return Characteristic{sliding, linearise_friction(sliding), k, std::move(poles)};
 }
 
-// Sum of arg changes of G along the segment, refined until each step turns by less
-// than max_turn (a zero passing at distance d from the contour is resolved once the
-// step is ~d).  Throws rather than return an unresolved count.
-double segment_turn(const Characteristic& c, complex z1, complex g1, complex z2, complex g2,
-                    int depth) {
-  constexpr double max_turn = 0.25 * pi;
-  const double turn = std::arg(g2 / g1);
-  if (std::abs(turn) < max_turn) return turn;
-  if (depth > 64)
-    throw std::runtime_error("linear stability: argument principle did not resolve near Lambda = " +
-                             std::to_string(z1.real()) + " + " + std::to_string(z1.imag()) +
-                             " i (zero on the contour?)");
-  const complex zm = 0.5 * (z1 + z2);
-  const complex gm = c.regular(zm);
-  if (!std::isfinite(gm.real()) || !std::isfinite(gm.imag()) || gm == 0.0)
-    throw std::runtime_error("linear stability: F not finite or zero on the contour at Lambda = " +
-                             std::to_string(zm.real()) + " + " + std::to_string(zm.imag()) + " i");
-  return segment_turn(c, z1, g1, zm, gm, depth + 1) + segment_turn(c, zm, gm, z2, g2, depth + 1);
+// A half-space body anywhere: branch cuts of S on the imaginary axis.
+bool has_half_space(const SteadySliding& sliding) {
+  return is_half_space(sliding.strip_height) ||
+         (sliding.two_bodies && !sliding.bottom_rigid && is_half_space(sliding.bottom_height));
 }
 
-int winding_number(const Characteristic& c, double re0, double re1, double im0, double im1) {
-  constexpr int samples_per_edge = 256;  // dense enough that two nearby zeros do not alias
-  const complex corners[5] = {{re0, im0}, {re1, im0}, {re1, im1}, {re0, im1}, {re0, im0}};
-  double total = 0.0;
-  complex z_prev = corners[0];
-  complex g_prev = c.regular(z_prev);
-  for (int e = 0; e < 4; ++e) {
-    for (int j = 1; j <= samples_per_edge; ++j) {
-      const complex z = corners[e] + (corners[e + 1] - corners[e]) * (double(j) / samples_per_edge);
-      const complex g = c.regular(z);
-      if (!std::isfinite(g.real()) || !std::isfinite(g.imag()) || g == 0.0)
-        throw std::runtime_error("linear stability: F not finite or zero on the contour");
-      total += segment_turn(c, z_prev, g_prev, z, g, 0);
-      z_prev = z;
-      g_prev = g;
-    }
-  }
-  const double w = total / (2.0 * pi);
-  const double n = std::round(w);
-  if (std::abs(w - n) > 0.05)
-    throw std::runtime_error("linear stability: winding number " + std::to_string(w) +
-                             " is not an integer");
-  return static_cast<int>(n);
-}
-
-// Newton on G with a central-difference derivative; returns nullopt if it leaves
-// the (slightly enlarged) rectangle or does not converge.
-std::optional<complex> newton_in_box(const Characteristic& c, double re0, double re1, double im0,
-                                     double im1) {
-  const double size = std::max(re1 - re0, im1 - im0);
-  complex z(0.5 * (re0 + re1), 0.5 * (im0 + im1));
-  const double slack = 1e-6 * size;
-  for (int it = 0; it < 100; ++it) {
-    const double h = 1e-7 * (size + 1e-3 * std::abs(z));
-    const complex g = c.regular(z);
-    const complex dg = (c.regular(z + h) - c.regular(z - h)) / (2.0 * h);
-    if (dg == 0.0) return std::nullopt;
-    const complex step = g / dg;
-    z -= step;
-    if (z.real() < re0 - slack || z.real() > re1 + slack || z.imag() < im0 - slack ||
-        z.imag() > im1 + slack)
-      return std::nullopt;
-    if (std::abs(step) <= 1e-14 * (std::abs(z) + size)) return z;
-  }
-  return std::nullopt;
-}
-
-void locate(const Characteristic& c, double re0, double re1, double im0, double im1, int count,
-            double min_size, std::vector<complex>& roots) {
-  if (count <= 0) return;
-  const double size = std::max(re1 - re0, im1 - im0);
-  if (count == 1 || size < min_size) {
-    if (const auto z = newton_in_box(c, re0, re1, im0, im1)) {
-      for (int j = 0; j < count; ++j) roots.push_back(*z);  // count > 1 only for a multiple root
-      return;
-    }
-    if (size < min_size)
-      throw std::runtime_error("linear stability: Newton failed in a tiny rectangle near Lambda = " +
-                               std::to_string(0.5 * (re0 + re1)) + " + " +
-                               std::to_string(0.5 * (im0 + im1)) + " i");
-  }
-  // Split off-centre so that symmetric features (real roots, conjugate pairs) never
-  // sit on a cut.
-  constexpr double cut = 0.4861;
-  if (re1 - re0 >= im1 - im0) {
-    const double rm = re0 + cut * (re1 - re0);
-    const int left = winding_number(c, re0, rm, im0, im1);
-    const int right = winding_number(c, rm, re1, im0, im1);
-    if (left + right != count)
-      throw std::runtime_error("linear stability: subdivision counts do not add up");
-    locate(c, re0, rm, im0, im1, left, min_size, roots);
-    locate(c, rm, re1, im0, im1, right, min_size, roots);
-  } else {
-    const double im = im0 + cut * (im1 - im0);
-    const int lower = winding_number(c, re0, re1, im0, im);
-    const int upper = winding_number(c, re0, re1, im, im1);
-    if (lower + upper != count)
-      throw std::runtime_error("linear stability: subdivision counts do not add up");
-    locate(c, re0, re1, im0, im, lower, min_size, roots);
-    locate(c, re0, re1, im, im1, upper, min_size, roots);
-  }
+// The search box as a rectangle of the complex plane, checked.
+Rectangle checked_rectangle(const SteadySliding& sliding, const SearchBox& box) {
+  if (!(box.max_re > box.min_re) || !(box.max_im > 0.0))
+    throw std::invalid_argument("count_roots: box must have max_re > min_re and max_im > 0");
+  if (has_half_space(sliding) && !(box.min_re > 0.0))
+    throw std::invalid_argument("count_roots: box.min_re = " + std::to_string(box.min_re) +
+                                " with a half-space; it must be > 0 (branch cuts on Re = 0)");
+  return Rectangle{box.min_re, box.max_re, -box.max_im, box.max_im};
 }
 
 bool has_unstable_root(const SteadySliding& sliding, double wavelength) {
@@ -286,12 +201,6 @@ SearchBox unstable_search_box(const SteadySliding& sliding) {
   return SearchBox{min_re, max_re, 1.0137 * radius};
 }
 
-// A half-space body anywhere: branch cuts of S on the imaginary axis.
-bool has_half_space(const SteadySliding& sliding) {
-  return is_half_space(sliding.strip_height) ||
-         (sliding.two_bodies && !sliding.bottom_rigid && is_half_space(sliding.bottom_height));
-}
-
 SearchBox damped_search_box(const SteadySliding& sliding) {
   if (has_half_space(sliding))
     throw std::invalid_argument("damped_search_box: strip_height = inf; the half-space response has "
@@ -302,28 +211,22 @@ SearchBox damped_search_box(const SteadySliding& sliding) {
 }
 
 int count_roots(const SteadySliding& sliding, double wavelength, const SearchBox& box) {
-  if (!(box.max_re > box.min_re) || !(box.max_im > 0.0))
-    throw std::invalid_argument("count_roots: box must have max_re > min_re and max_im > 0");
-  if (has_half_space(sliding) && !(box.min_re > 0.0))
-    throw std::invalid_argument("count_roots: box.min_re = " + std::to_string(box.min_re) +
-                                " with a half-space; it must be > 0 (branch cuts on Re = 0)");
+  const Rectangle r = checked_rectangle(sliding, box);
   const Characteristic c = make_characteristic(sliding, wavelength, box);
-  return winding_number(c, box.min_re, box.max_re, -box.max_im, box.max_im);
+  return count_zeros([&c](complex z) { return c.regular(z); }, r);
 }
 
 std::vector<complex> characteristic_roots(const SteadySliding& sliding, double wavelength,
                                           const SearchBox& box) {
-  const int n = count_roots(sliding, wavelength, box);
+  const Rectangle r = checked_rectangle(sliding, box);
   const Characteristic c = make_characteristic(sliding, wavelength, box);
-  std::vector<complex> roots;
-  const double min_size = 1e-9 * std::max(box.max_re - box.min_re, 2.0 * box.max_im);
-  locate(c, box.min_re, box.max_re, -box.max_im, box.max_im, n, min_size, roots);
+  const AnalyticFunction g = [&c](complex z) { return c.regular(z); };
+  const double resolution = location_resolution(r);
+  auto roots = locate_zeros(g, r, count_zeros(g, r), resolution);
   // Zeros of G sitting exactly on a removed pole frequency would be artefacts of the
   // pole removal (only possible if a listed frequency is not a true pole).
   std::erase_if(roots, [&](complex z) { return c.near_removed_pole(z); });
-  std::sort(roots.begin(), roots.end(), [](complex x, complex y) {
-    return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag();
-  });
+  sort_fastest_first(roots, resolution);
   return roots;
 }
 

@@ -8,7 +8,7 @@
 // so the characteristic function is
 //   F(Lambda) = S(k, Lambda; H) + Lambda [ tau_v + tau_phi g_v / (Lambda - g_phi) ].
 // Roots are located with the argument principle on rectangles (recursive
-// subdivision) and polished with Newton.  See docs/stability.md for the bounds
+// subdivision) and polished with Newton (stability/root_search.hpp).  See docs/stability.md for the bounds
 // that make the unstable search region provably complete.
 #include <complex>
 #include <optional>
@@ -72,7 +72,8 @@ SearchBox damped_search_box(const SteadySliding& sliding);
 // the winding number is not resolved to an integer.
 int count_roots(const SteadySliding& sliding, double wavelength, const SearchBox& box);
 
-// All roots in the box, sorted by decreasing Re Lambda (conjugate pairs adjacent).
+// All roots in the box, sorted by decreasing Re Lambda; the two roots of a
+// conjugate pair adjacent, +i first (sort_fastest_first, stability/root_search.hpp).
 std::vector<complex> characteristic_roots(const SteadySliding& sliding, double wavelength,
                                           const SearchBox& box);
 // All roots with Re Lambda > unstable_search_box().min_re (complete set).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -120,12 +121,28 @@ std::vector<complex> locate_zeros(const AnalyticFunction& g, const Rectangle& bo
   return roots;
 }
 
-std::vector<complex> sorted_zeros_in(const AnalyticFunction& g, const Rectangle& box) {
-  const int n = count_zeros(g, box);
-  auto roots = locate_zeros(g, box, n, 1e-9 * std::max(box.re1 - box.re0, box.im1 - box.im0));
+double location_resolution(const Rectangle& box) {
+  return 1e-9 * std::max(box.re1 - box.re0, box.im1 - box.im0);
+}
+
+void sort_fastest_first(std::vector<complex>& roots, double tie) {
   std::sort(roots.begin(), roots.end(), [](complex x, complex y) {
     return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag();
   });
+  // The exact order of real parts that agree to rounding depends on the build
+  // (FMA contraction, inlining); within such a run only the imaginary part counts.
+  for (auto first = roots.begin(); first != roots.end();) {
+    auto last = std::next(first);
+    while (last != roots.end() && std::prev(last)->real() - last->real() <= tie) ++last;
+    std::sort(first, last, [](complex x, complex y) { return x.imag() > y.imag(); });
+    first = last;
+  }
+}
+
+std::vector<complex> sorted_zeros_in(const AnalyticFunction& g, const Rectangle& box) {
+  const double resolution = location_resolution(box);
+  auto roots = locate_zeros(g, box, count_zeros(g, box), resolution);
+  sort_fastest_first(roots, resolution);
   return roots;
 }
 

@@ -2,12 +2,10 @@
 // Zeros of an analytic function in a rectangle of the complex plane: the
 // argument principle on rectangles (recursive subdivision until each holds one
 // zero) and Newton polishing, for the stability of any pair of bodies
-// (stability/interface_stability.*).  The same algorithm as the identical-strip
-// search in stability/linear_stability.cpp, which keeps its own copy: moving it
-// onto this one changes the rounding (inlining, FMA contraction) and reorders a
-// conjugate pair in an existing test that compares two root lists by index.  The function must have no poles inside
-// the rectangle (callers remove them analytically or keep them outside), so
-// that the winding number counts zeros only.
+// (stability/linear_stability.*, stability/interface_stability.*,
+// stability/oblique_stability.*).  The function must have no poles inside the
+// rectangle (callers remove them analytically or keep them outside), so that
+// the winding number counts zeros only.
 #include <complex>
 #include <functional>
 #include <vector>
@@ -34,9 +32,19 @@ int count_zeros(const AnalyticFunction& g, const Rectangle& box);
 std::vector<std::complex<double>> locate_zeros(const AnalyticFunction& g, const Rectangle& box,
                                                int count, double min_size);
 
-// All zeros inside the rectangle, located down to 1e-9 of its larger side and
-// sorted by decreasing real part (the fastest-growing first), then by
-// decreasing imaginary part.
+// The size down to which the searches below locate zeros: 1e-9 of the
+// rectangle's larger side.
+double location_resolution(const Rectangle& box);
+
+// Orders roots the fastest-growing first: by decreasing real part, and roots
+// whose real parts differ by at most `tie` by decreasing imaginary part.  The
+// tie makes the order of a complex-conjugate pair (equal real parts, which
+// Newton returns equal only to rounding) the same in every build: +i first.
+// Runs of roots whose successive real parts lie within `tie` count as ties.
+void sort_fastest_first(std::vector<std::complex<double>>& roots, double tie);
+
+// All zeros inside the rectangle, located down to location_resolution(box) and
+// ordered by sort_fastest_first with that resolution as the tie.
 std::vector<std::complex<double>> sorted_zeros_in(const AnalyticFunction& g, const Rectangle& box);
 
 }  // namespace slipstrip
