@@ -63,12 +63,41 @@ Discrete discretise(const ElasticMaterial& material, const Case& c) {
           history.stats().echo_steps};
 }
 
+// sin and cos of one angle from one argument reduction (glibc's sincos): the
+// reductions are most of the cost of these checks, in long double above all.
+void sin_cos(double x, double* s, double* c) { ::sincos(x, s, c); }
+void sin_cos(long double x, long double* s, long double* c) { ::sincosl(x, s, c); }
+
 // r e^{i theta} - 1 without the cancellation of cos(theta) - 1 near theta = 0
-// (which would otherwise swamp the O(r - 1) real parts we are testing).
+// (which would otherwise swamp the O(r - 1) real parts we are testing):
+// cos(theta) - 1 = -2 sin^2(theta/2) and sin(theta) = 2 sin(theta/2) cos(theta/2),
+// both from the sine and cosine of theta/2, so each part is correct to a few ulps.
 template <class Real>
 std::complex<Real> exp_minus_one(Real r, Real theta) {
-  const Real s = std::sin(Real(0.5) * theta);
-  return {(r - 1) - 2 * r * s * s, r * std::sin(theta)};
+  Real s, c;
+  sin_cos(Real(0.5) * theta, &s, &c);
+  return {(r - 1) - 2 * r * s * s, 2 * r * s * c};
+}
+
+// What Z_d needs of one mode that does not depend on z: built once per mode
+// list, not once per sample angle.
+template <class Real>
+struct ModeTerm {
+  Real phase, weight;
+  Real cos_phase;      // cos(phi)
+  Real two_sin2_half;  // 2 sin^2(phi/2) = 1 - cos(phi), without its cancellation
+};
+
+template <class Real = double>
+std::vector<ModeTerm<Real>> mode_terms(const std::vector<DiscreteMode>& modes) {
+  std::vector<ModeTerm<Real>> terms;
+  terms.reserve(modes.size());
+  for (const auto& m : modes) {
+    const Real phi = m.phase;
+    const Real half = std::sin(Real(0.5) * phi);
+    terms.push_back({phi, Real(m.weight), std::cos(phi), 2 * half * half});
+  }
+  return terms;
 }
 
 struct ZValue {
@@ -84,7 +113,7 @@ struct ZValue {
 // (~4e-16 absolute) is a relative error 4e-16/|2 pi - theta - phi| in
 // z - e^{-i phi}; in long double the sum of two doubles is exact.
 template <class Real = double>
-ZValue z_operator(const Discrete& d, const std::vector<DiscreteMode>& modes, double r_in,
+ZValue z_operator(const Discrete& d, const std::vector<ModeTerm<Real>>& modes, double r_in,
                   double theta_in) {
   using C = std::complex<Real>;
   const Real r = r_in, theta = theta_in, dt = d.dt;
@@ -93,17 +122,14 @@ ZValue z_operator(const Discrete& d, const std::vector<DiscreteMode>& modes, dou
   C total = Real(d.eta) + Real(d.echo_weight) * inv_zm1;
   Real scale = Real(d.eta) + Real(d.echo_weight) * std::abs(inv_zm1);
   for (const auto& m : modes) {
-    const Real phi = m.phase, w = m.weight;
-    const Real c = std::cos(phi);
-    const Real half = std::sin(Real(0.5) * phi);
     // z cos(phi) - 1 = cos(phi) (z - 1) - 2 sin^2(phi/2)
-    const C numerator = c * zm1 - 2 * half * half;
+    const C numerator = m.cos_phase * zm1 - m.two_sin2_half;
     // z^2 - 2 z cos(phi) + 1 = (z - e^{i phi})(z - e^{-i phi})
     //                        = (r e^{i(theta-phi)} - 1)(r e^{i(theta+phi)} - 1)
-    const C denominator = exp_minus_one(r, theta - phi) * exp_minus_one(r, theta + phi);
+    const C denominator = exp_minus_one(r, theta - m.phase) * exp_minus_one(r, theta + m.phase);
     const C ratio = numerator / denominator;
-    total += dt * w * (inv_zm1 - ratio);
-    scale += dt * std::abs(w) * (std::abs(inv_zm1) + std::abs(ratio));
+    total += dt * m.weight * (inv_zm1 - ratio);
+    scale += dt * std::abs(m.weight) * (std::abs(inv_zm1) + std::abs(ratio));
   }
   return {cplx(static_cast<double>(total.real()), static_cast<double>(total.imag())),
           static_cast<double>(scale)};
@@ -150,8 +176,9 @@ struct PositivityResult {
 
 PositivityResult positivity(const Discrete& d, const std::vector<DiscreteMode>& modes, double r) {
   PositivityResult out;
+  const auto terms = mode_terms(modes);
   for (double theta : sample_angles(modes, d.echo_steps)) {
-    const auto zv = z_operator(d, modes, r, theta);
+    const auto zv = z_operator(d, terms, r, theta);
     const double ratio = zv.value.real() / zv.scale;
     if (ratio < out.min_re_over_scale) {
       out.min_re_over_scale = ratio;
@@ -243,11 +270,12 @@ TEST_CASE("discrete operator is lossless: Re Z_d = 0 on |z| = 1 away from its po
     for (int q : wavenumber_indices(c.nodes)) {
       const double k = 2 * pi * q / c.length;
       const auto modes = discrete_modes(material, c.height, k, d.dt, d.echo_steps);
+      const auto terms = mode_terms<long double>(modes);
       for (double theta : sample_angles(modes, d.echo_steps)) {
         bool at_pole = theta < 1e-5;
         for (const auto& m : modes) at_pole = at_pole || std::abs(theta - m.phase) < 1e-9;
         if (at_pole) continue;
-        const auto zv = z_operator<long double>(d, modes, 1.0, theta);
+        const auto zv = z_operator<long double>(d, terms, 1.0, theta);
         worst_scale = std::max(worst_scale, std::abs(zv.value.real()) / zv.scale);
         // |Z_d| itself vanishes at the resonances (that is what they are), so
         // the ratio to |Z_d| is reported only where |Z_d| is not itself at the
@@ -307,7 +335,7 @@ TEST_CASE("static limit of the discrete operator equals strip_static_stiffness")
         const auto modes = discrete_modes(material, c.height, k, d.dt, d.echo_steps);
         const double r = 1.0 + 1e-9;
         const double e = r - 1.0;  // exact (Sterbenz)
-        const auto zv = z_operator(d, modes, r, 0.0);
+        const auto zv = z_operator(d, mode_terms(modes), r, 0.0);
         const double coefficient = (e * zv.value).real();
         if (d.eta * e / (d.dt * exact) < 1e-7)
           CHECK(std::abs(coefficient / (d.dt * exact) - 1.0) < 1e-6);
