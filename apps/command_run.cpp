@@ -19,7 +19,6 @@
 #include "slipstrip/version.hpp"
 #include "solver/checkpoint.hpp"
 #include "solver/run.hpp"
-#include "solver/run_3d.hpp"
 
 namespace slipstrip::cli {
 namespace {
@@ -155,11 +154,9 @@ int run(const RunOptions& o) {
                io::one_line(out_path).c_str());
   RunResult result;
   try {
-    // geometry.nodes_z > 1: a 2D interface between 3D bodies (docs/3d.md; no
-    // restart points there).  With --overwrite, an old restart point of this
-    // name goes (under the run's lock), so it is never taken for this run's.
-    result = config.geometry.nodes_z > 1 ? run_simulation_3d(config, out_path, hooks)
-                                         : run_simulation(config, out_path, hooks, o.overwrite);
+    // With --overwrite, an old restart point of this name goes (under the
+    // run's lock), so it is never taken for this run's.
+    result = run_simulation(config, out_path, hooks, o.overwrite);
   } catch (const SetupCancelled& e) {
     std::fprintf(stderr, "interrupted by %s during the set-up (%s); no output written\n", interrupt_name(),
                  e.what());

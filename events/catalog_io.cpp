@@ -93,6 +93,12 @@ SlipSamplingInfo read_slip_sampling_info(const std::string& path) {
     info.x.resize(static_cast<std::size_t>(dims[1]));
     for (std::size_t i = 0; i < info.x.size(); ++i) info.x[i] = static_cast<double>(i) * info.dx;
   }
+  if (io::has_attribute(group, "nodes_z")) {
+    info.nodes_z = static_cast<int>(io::read_attribute<std::int64_t>(group, "nodes_z"));
+    info.dz = io::read_attribute<double>(group, "dz");
+    info.W = io::read_attribute<double>(group, "W");
+    info.z = io::read_vector<double>(group, "z");
+  }
   return info;
 }
 
@@ -109,6 +115,12 @@ void write_slip_sampling_attributes(hid_t group, const SlipSamplingInfo& info) {
   io::write_attribute(group, "mu", info.mu);
   io::write_attribute(group, "D", info.D);
   io::write_attribute(group, "L", info.L);
+  // A 2D interface only: one-dimensional files are unchanged.
+  if (info.nodes_z > 1) {
+    io::write_attribute(group, "nodes_z", static_cast<std::int64_t>(info.nodes_z));
+    io::write_attribute(group, "dz", info.dz);
+    io::write_attribute(group, "W", info.W);
+  }
 }
 
 void write_slip_sampling(const std::string& path, const SlipSamplingInfo& info,
@@ -123,6 +135,7 @@ void write_slip_sampling(const std::string& path, const SlipSamplingInfo& info,
     const io::Handle group = io::create_group(file, kSlipGroup);
     write_slip_sampling_attributes(group, info);
     write_field(group, "x", info.x, "m");
+    if (info.nodes_z > 1) write_field(group, "z", info.z, "m");
 
     // Chunked by whole rows, like the solver appends them, so row-block reads
     // touch contiguous chunks.

@@ -78,6 +78,13 @@ struct SlipSamplingInfo {
   double D = std::numeric_limits<double>::quiet_NaN();  // characteristic slip [m] (informative)
   double L = std::numeric_limits<double>::quiet_NaN();  // interface length [m] (informative)
   std::vector<double> x;   // node positions [m], size N
+  // A 2D interface (docs/3d.md): nodes_z > 1 rows of N / nodes_z nodes, node
+  // i at (i % nodes_x, i / nodes_x) and at (x[i], z[i]); dz the spacing
+  // across and W the width (period along z) [m].  nodes_z = 1: a line.
+  int nodes_z = 1;
+  double dz = 0.0;
+  double W = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> z;   // node positions across [m], size N when nodes_z > 1
 };
 
 // ---------------------------------------------------------------------------

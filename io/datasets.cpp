@@ -94,10 +94,11 @@ void read_all(hid_t dataset, hid_t memory_type, void* values) {
 // --- Incremental datasets ---------------------------------------------------------
 
 Handle create_extendible(hid_t group, const std::string& name, const ExtendibleLayout& layout) {
-  const int rank = layout.columns == 0 ? 1 : 2;
-  const hsize_t dims[2] = {0, layout.columns};
-  const hsize_t max_dims[2] = {H5S_UNLIMITED, layout.columns};
-  const hsize_t chunk[2] = {layout.chunk_rows, layout.chunk_columns == 0 ? layout.columns : layout.chunk_columns};
+  const int rank = layout.columns == 0 ? 1 : layout.planes == 0 ? 2 : 3;
+  const hsize_t dims[3] = {0, rank == 3 ? layout.planes : layout.columns, layout.columns};
+  const hsize_t max_dims[3] = {H5S_UNLIMITED, dims[1], dims[2]};
+  const hsize_t chunk[3] = {layout.chunk_rows,
+                            rank == 3 || layout.chunk_columns == 0 ? dims[1] : layout.chunk_columns, dims[2]};
   if (layout.deflate < 0 || layout.deflate > 9)
     throw std::invalid_argument("dataset '" + name + "': deflate level " + std::to_string(layout.deflate) +
                                 " is invalid: allowed 0..9");
@@ -148,18 +149,20 @@ struct RowSelection {
 RowSelection select_rows(hid_t dataset, hsize_t first_row, hsize_t count) {
   RowSelection selection{adopt(H5Dget_space(dataset), "H5Dget_space", dataset), 0};
   const int rank = H5Sget_simple_extent_ndims(selection.file_space);
-  if (rank != 1 && rank != 2)
+  if (rank < 1 || rank > 3)
     throw std::invalid_argument(object_path(dataset) + " is invalid: rank " + std::to_string(rank) +
-                                ", rows need a 1-D or 2-D dataset");
-  hsize_t dims[2] = {0, 0};
+                                ", rows need a 1-D, 2-D or 3-D dataset");
+  hsize_t dims[3] = {0, 1, 1};
   check(H5Sget_simple_extent_dims(selection.file_space, dims, nullptr), "H5Sget_simple_extent_dims", dataset);
   if (first_row + count > dims[0])
     throw std::out_of_range(object_path(dataset) + ": rows [" + std::to_string(first_row) + ", " +
                             std::to_string(first_row + count) + ") are beyond its " + std::to_string(dims[0]) +
                             " rows");
-  selection.columns = rank == 2 ? dims[1] : 0;
-  const hsize_t start[2] = {first_row, 0};
-  const hsize_t block[2] = {count, selection.columns};
+  // A row of a 3-D dataset is written and read as one flat row of
+  // planes * columns values (the memory space has the same number of elements).
+  selection.columns = rank == 1 ? 0 : dims[1] * dims[2];
+  const hsize_t start[3] = {first_row, 0, 0};
+  const hsize_t block[3] = {count, dims[1], dims[2]};
   check(H5Sselect_hyperslab(selection.file_space, H5S_SELECT_SET, start, nullptr, block, nullptr),
         "H5Sselect_hyperslab", dataset);
   return selection;

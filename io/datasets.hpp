@@ -67,6 +67,10 @@ std::vector<T> read_vector(hid_t group, const std::string& name);
 // starting with 0 rows; rows are unlimited.
 struct ExtendibleLayout {
   hsize_t columns = 0;        // 0 = 1-D
+  // > 0: a 3-D dataset [rows, planes, columns] (e.g. one [nodes_z, nodes_x]
+  // field per row); each row is planes * columns values, chunk [chunk_rows,
+  // planes, columns].
+  hsize_t planes = 0;
   hsize_t chunk_rows = 1024;  // chunk shape [chunk_rows] or [chunk_rows, chunk_columns]
   hsize_t chunk_columns = 0;  // 2-D only; 0 = all columns
   // Deflate level 0..9 (with shuffle); 0 = uncompressed.  Uncompressed chunks
@@ -88,8 +92,8 @@ void grow_rows(hid_t dataset, hsize_t rows);
 
 // Writes `count` rows starting at `first_row` (the dataset must already hold
 // them: grow_rows).  1-D: `count` values spaced by `stride` in memory
-// (stride > 1 picks one column of an interleaved row buffer); 2-D: `count`
-// contiguous rows of `columns` values (stride ignored).
+// (stride > 1 picks one column of an interleaved row buffer); 2-D and 3-D:
+// `count` contiguous rows of all the values of a row (stride ignored).
 void write_rows(hid_t dataset, hsize_t first_row, hsize_t count, const double* values, hsize_t stride = 1);
 // Grows by `count` rows and writes them at the end; returns the new row count.
 hsize_t append_rows(hid_t dataset, hsize_t count, const double* values, hsize_t stride = 1);

@@ -17,10 +17,17 @@ struct XdmfSpaceTime {
   std::string time_dataset = "/snapshots/time";  // [snapshot_count] times [s]
   std::string snapshot_group = "/snapshots";     // fields are <group>/<name>, [snapshot_count, N]
   std::vector<std::string> fields;   // e.g. slip, slip_rate, state, shear_stress
+  // > 1: a 2D interface (docs/3d.md) of nodes_z rows of node_count / nodes_z
+  // nodes; fields are <group>/<name> [snapshot_count, nodes_z, nodes_x] and
+  // the axes /grid/x and /grid/z.
+  std::size_t nodes_z = 1;
 };
 
 // The XDMF 3 text: a 2DRectMesh whose first coordinate is x and second is time
-// (ParaView shows it as an x-t image; its axes are in m and s).
+// (ParaView shows it as an x-t image; its axes are in m and s).  A 2D
+// interface (nodes_z > 1): a temporal collection of one 2DRectMesh (x, z) per
+// snapshot, whose times are /snapshots/time and whose fields are hyperslabs
+// (one snapshot) of the [snapshots, nodes_z, nodes_x] datasets.
 std::string xdmf_space_time_text(const XdmfSpaceTime& description);
 
 // "RUN.h5" -> "RUN.xdmf" (any other name gets ".xdmf" appended).

@@ -262,6 +262,21 @@ void HistoryOperatorState::require_kind(const std::string& expected) const {
                                 expected + "' (a restart point of another config?)");
 }
 
+void HistoryOperatorState::add_part(const std::string& prefix, const HistoryOperatorState& part) {
+  for (const auto& [name, values] : part.arrays) arrays.emplace_back(prefix + name, values);
+  for (const auto& [name, value] : part.counters) counters.emplace_back(prefix + name, value);
+}
+
+HistoryOperatorState HistoryOperatorState::part(const std::string& prefix, const std::string& part_kind) const {
+  HistoryOperatorState part;
+  part.kind = part_kind;
+  for (const auto& [name, values] : arrays)
+    if (name.rfind(prefix, 0) == 0) part.arrays.emplace_back(name.substr(prefix.size()), values);
+  for (const auto& [name, value] : counters)
+    if (name.rfind(prefix, 0) == 0) part.counters.emplace_back(name.substr(prefix.size()), value);
+  return part;
+}
+
 HistoryOperatorState StripHistory::save_state() const {
   HistoryOperatorState state;
   state.kind = "modal strip";

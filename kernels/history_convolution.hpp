@@ -112,6 +112,12 @@ struct HistoryOperatorState {
   void copy_to(const std::string& name, std::span<std::complex<double>> target) const;
   long long counter(const std::string& name) const;
   void require_kind(const std::string& expected) const;
+  // An operator made of parts (two bodies, the in-plane and antiplane parts
+  // of a 2D interface): each part's arrays and counters under `prefix`, and
+  // the part back out of them, with the kind of the part that restores it
+  // (which then checks every array it needs by name and size).
+  void add_part(const std::string& prefix, const HistoryOperatorState& part);
+  HistoryOperatorState part(const std::string& prefix, const std::string& part_kind) const;
 };
 
 // The history part of the traction per Fourier mode, as the time loop sees it:

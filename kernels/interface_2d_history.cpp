@@ -106,6 +106,25 @@ InterfaceHistory2d InterfaceHistory2d::build(const ElasticMaterial& material, do
           cancelled));
 }
 
+namespace {
+constexpr const char* kInterface2dKind = "interface 2d";
+}  // namespace
+
+HistoryOperatorState InterfaceHistory2d::save_state() const {
+  HistoryOperatorState state;
+  state.kind = kInterface2dKind;
+  state.add_part("inplane.", inplane_->save_state());
+  state.add_part("antiplane.", antiplane_->save_state());
+  return state;
+}
+
+void InterfaceHistory2d::restore_state(const HistoryOperatorState& state) {
+  state.require_kind(kInterface2dKind);
+  // The parts carry the kinds of this run's operators; each part checks its arrays.
+  inplane_->restore_state(state.part("inplane.", inplane_->save_state().kind));
+  antiplane_->restore_state(state.part("antiplane.", antiplane_->save_state().kind));
+}
+
 ModeOperatorStats InterfaceHistory2d::stats() const {
   ModeOperatorStats s = inplane_->stats();
   const ModeOperatorStats a = antiplane_->stats();

@@ -96,6 +96,13 @@ class InterfaceHistory2d {
   std::span<const std::complex<double>> history_x() const { return history_x_; }
   std::span<const std::complex<double>> history_z() const { return history_z_; }
 
+  // The state after the last push (the in-plane and antiplane operators'
+  // states, kind "interface 2d"; allocates: restart points only) and its
+  // restoration into an operator built from the same config: afterwards push()
+  // continues exactly as the saved operator would.
+  HistoryOperatorState save_state() const;
+  void restore_state(const HistoryOperatorState& state);
+
  private:
   InterfaceGrid2d grid_;
   std::unique_ptr<HistoryOperator> inplane_, antiplane_;

@@ -68,29 +68,14 @@ void TwoBodyHistory::push(std::span<const std::complex<double>> slip_rate_spectr
 namespace {
 constexpr const char* kKind = "two bodies";
 
-void append_prefixed(HistoryOperatorState& into, const HistoryOperatorState& part, const std::string& prefix) {
-  for (const auto& [name, values] : part.arrays) into.arrays.emplace_back(prefix + name, values);
-  for (const auto& [name, value] : part.counters) into.counters.emplace_back(prefix + name, value);
-}
-
-HistoryOperatorState extract_prefixed(const HistoryOperatorState& from, const std::string& prefix,
-                                      const std::string& kind) {
-  HistoryOperatorState part;
-  part.kind = kind;
-  for (const auto& [name, values] : from.arrays)
-    if (name.rfind(prefix, 0) == 0) part.arrays.emplace_back(name.substr(prefix.size()), values);
-  for (const auto& [name, value] : from.counters)
-    if (name.rfind(prefix, 0) == 0) part.counters.emplace_back(name.substr(prefix.size()), value);
-  return part;
-}
 }  // namespace
 
 HistoryOperatorState TwoBodyHistory::save_state() const {
   HistoryOperatorState state;
   state.kind = kKind;
   state.counters.emplace_back("rigid_bottom", bottom_ ? 0 : 1);
-  append_prefixed(state, top_->save_state(), "top.");
-  if (bottom_) append_prefixed(state, bottom_->save_state(), "bottom.");
+  state.add_part("top.", top_->save_state());
+  if (bottom_) state.add_part("bottom.", bottom_->save_state());
   state.add("history", history_);
   return state;
 }
@@ -101,8 +86,8 @@ void TwoBodyHistory::restore_state(const HistoryOperatorState& state) {
     throw std::invalid_argument("history operator state: the restart point's bottom body is " +
                                 std::string(bottom_ ? "rigid" : "elastic") + ", this run's is not");
   // The parts carry the kinds of this run's operators; each part checks its arrays.
-  top_->restore_state(extract_prefixed(state, "top.", top_->save_state().kind));
-  if (bottom_) bottom_->restore_state(extract_prefixed(state, "bottom.", bottom_->save_state().kind));
+  top_->restore_state(state.part("top.", top_->save_state().kind));
+  if (bottom_) bottom_->restore_state(state.part("bottom.", bottom_->save_state().kind));
   state.copy_to("history", std::span<std::complex<double>>(history_));
 }
 

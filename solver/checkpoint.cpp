@@ -50,11 +50,24 @@ std::size_t state_bytes(const RunCheckpoint& c) {
   const auto& s = c.simulation;
   std::size_t doubles = s.slip.size() + s.slip_rate.size() + s.state.size() + s.shear_stress.size() +
                         s.history_stress.size() + s.normal_stress.size() + s.effective_normal_stress.size() +
+                        s.slip_z.size() + s.slip_rate_z.size() + s.shear_stress_z.size() + s.speed.size() +
                         c.output.levels_reached.size() +
                         c.output.next_threshold.size() + c.output.rupture_front.size();
   for (const auto& [name, values] : s.history.arrays) doubles += values.size();
   return 8 * doubles;
 }
+
+// The z components and the speed of a 2D interface (SimulationState), by
+// name; absent (empty) for a one-dimensional interface, whose restart points
+// (and their checksums) are unchanged by them.
+struct NamedField {
+  const char* name;
+  std::vector<double> SimulationState::*field;
+};
+constexpr NamedField kInterface2dFields[] = {{"slip_z", &SimulationState::slip_z},
+                                             {"slip_rate_z", &SimulationState::slip_rate_z},
+                                             {"shear_stress_z", &SimulationState::shear_stress_z},
+                                             {"speed", &SimulationState::speed}};
 
 // A damaged restart point (checksum mismatch): told apart from one HDF5
 // cannot read, for the message.
@@ -86,6 +99,8 @@ void write_file(const std::string& path, const RunCheckpoint& c) {
       io::write_vector(group, "normal_stress", s.normal_stress);
       io::write_vector(group, "effective_normal_stress", s.effective_normal_stress);
     }
+    for (const auto& [name, field] : kInterface2dFields)
+      if (!(s.*field).empty()) io::write_vector(group, name, s.*field);
   }
   {
     const auto& h = c.simulation.history;
@@ -143,6 +158,8 @@ RunCheckpoint read_file(const std::string& path) {
       s.normal_stress = io::read_vector<double>(group, "normal_stress");
       s.effective_normal_stress = io::read_vector<double>(group, "effective_normal_stress");
     }
+    for (const auto& [name, field] : kInterface2dFields)
+      if (io::has_member(group, name)) s.*field = io::read_vector<double>(group, name);
   }
   {
     auto& h = c.simulation.history;
@@ -231,6 +248,8 @@ std::string checkpoint_checksum(const RunCheckpoint& c) {
   sum.add<double>("simulation/state", s.state);
   sum.add<double>("simulation/shear_stress", s.shear_stress);
   sum.add<double>("simulation/history_stress", s.history_stress);
+  for (const auto& [name, field] : kInterface2dFields)
+    if (!(s.*field).empty()) sum.add<double>(std::string("simulation/") + name, s.*field);
   const auto& h = s.history;
   sum.add("history/kind", std::string_view(h.kind));
   // By name: HDF5 lists attributes and members by name, not in the order written.

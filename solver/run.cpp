@@ -12,6 +12,7 @@
 #include "solver/checkpoint.hpp"
 #include "config/config.hpp"
 #include "solver/run_output.hpp"
+#include "solver/simulation_3d.hpp"
 #include "solver/simulation.hpp"
 #include "solver/stations.hpp"
 #include "slipstrip/version.hpp"
@@ -39,7 +40,144 @@ double next_slip_trigger(double next, double mean_slip, double increment) {
 
 namespace {
 
+// What the time loop (drive, below) needs of a simulation beyond stepping and
+// saving it: its output records.  One interface line (Simulation) or a 2D
+// interface (Simulation3d, docs/3d.md).
+class LineRun {
+ public:
+  using Sim = Simulation;
+  LineRun(const SimulationConfig& config, const Simulation& sim)
+      : config_(config), sim_(sim),
+        station_slip_(config.output.stations, sim.dx(), sim.x().size()),
+        station_rate_(config.output.stations, sim.dx(), sim.x().size()),
+        station_stress_(config.output.stations, sim.dx(), sim.x().size()),
+        station_state_(config.output.stations, sim.dx(), sim.x().size()),
+        station_normal_(config.output.stations, sim.dx(), sim.x().size()) {}
+
+  SlipSamplingSetup sampling() const {
+    SlipSamplingSetup sampling = common_sampling(config_, sim_.dx());
+    sampling.x.assign(sim_.x().begin(), sim_.x().end());
+    return sampling;
+  }
+  RunOutputOptions options() const {
+    RunOutputOptions options = common_options(config_);
+    options.station_x = config_.output.stations;
+    options.normal_stress_snapshots = sim_.variable_normal_stress();
+    if (config_.interface.law == InterfaceLawName::rate_and_state) {
+      // The parameters every node ran with (profiles resolved), so the file is
+      // interpretable without the profile files the config may name.
+      const auto nodes = resolve_friction_nodes(config_.friction, config_.friction_along_x,
+                                                sim_.x().size(), sim_.dx());
+      options.node_parameters = {{"f0", "1", nodes.f0},
+                                 {"a", "1", nodes.a},
+                                 {"b", "1", nodes.b},
+                                 {"characteristic_slip", "m", nodes.characteristic_slip}};
+    }
+    return options;
+  }
+  // The slip the slip sampling records, and the slip rate whose magnitude
+  // dates the rupture front.
+  std::span<const double> sampled_slip() const { return sim_.slip(); }
+  std::span<const double> front_slip_rate() const { return sim_.slip_rate(); }
+  double mean_slip() const { return sim_.mean_slip(); }
+  void append_timeseries(RunOutput& output) const {
+    output.append_timeseries(sim_.time(), sim_.max_slip_rate(), sim_.mean_slip(), sim_.mean_shear_stress());
+  }
+  void write_snapshot(RunOutput& output) const {
+    output.write_snapshot(sim_.time(), sim_.slip(), sim_.slip_rate(), sim_.state(), sim_.shear_stress(),
+                          sim_.normal_stress());
+  }
+  bool has_stations() const { return !station_slip_.empty(); }
+  void record_stations(RunOutput& output) {
+    if (station_slip_.empty()) return;
+    double sum_rate = 0.0;
+    for (double v : sim_.slip_rate()) sum_rate += v;
+    const double mu_dx = config_.material.shear_modulus * sim_.dx();
+    if (sim_.variable_normal_stress())
+      output.append_stations(sim_.time(), station_slip_.sample(sim_.slip()), station_rate_.sample(sim_.slip_rate()),
+                             station_stress_.sample(sim_.shear_stress()), station_state_.sample(sim_.state()),
+                             station_normal_.sample(sim_.normal_stress()), sim_.max_slip_rate(), mu_dx * sum_rate);
+    else
+      output.append_stations(sim_.time(), station_slip_.sample(sim_.slip()), station_rate_.sample(sim_.slip_rate()),
+                             station_stress_.sample(sim_.shear_stress()), station_state_.sample(sim_.state()),
+                             config_.loading.normal_stress, sim_.max_slip_rate(), mu_dx * sum_rate);
+  }
+
+  // Shared with InterfaceRun: the records' scalars from the config.
+  static SlipSamplingSetup common_sampling(const SimulationConfig& config, double dx) {
+    SlipSamplingSetup sampling;
+    sampling.delta_th = config.output.delta_th;
+    sampling.dx = dx;
+    sampling.v0 = config.loading.driving_velocity;
+    sampling.mu = config.material.shear_modulus;
+    sampling.D = config.friction.characteristic_slip;
+    sampling.L = config.geometry.length;
+    return sampling;
+  }
+  static RunOutputOptions common_options(const SimulationConfig& config) {
+    RunOutputOptions options;
+    options.snapshots_by_slip = config.output.snapshot_slip_increment > 0.0;
+    options.front_slip_rate = config.output.front_slip_rate;
+    return options;
+  }
+
+ private:
+  const SimulationConfig& config_;
+  const Simulation& sim_;
+  // Stations (one buffer per field, sampled in turn).
+  StationSampler station_slip_, station_rate_, station_stress_, station_state_, station_normal_;
+};
+
+// A 2D interface (docs/3d.md): the x component of the slip is sampled (the
+// loading direction), the front is dated by |v|, the time series holds
+// max |v|, the mean slip and shear stress along x; snapshots are the seven
+// fields below as [nodes_z, nodes_x] maps.  No stations (refused by the config check).
+class InterfaceRun {
+ public:
+  using Sim = Simulation3d;
+  InterfaceRun(const SimulationConfig& config, const Simulation3d& sim) : config_(config), sim_(sim) {}
+
+  SlipSamplingSetup sampling() const {
+    SlipSamplingSetup sampling = LineRun::common_sampling(config_, sim_.dx());
+    sampling.nodes_z = sim_.nodes_z();
+    sampling.dz = sim_.dz();
+    sampling.W = config_.geometry.width;
+    sampling.x.resize(sim_.nodes());
+    sampling.z.resize(sim_.nodes());
+    for (std::size_t i = 0; i < sim_.nodes(); ++i) {
+      sampling.x[i] = static_cast<double>(i % static_cast<std::size_t>(sim_.nodes_x())) * sim_.dx();
+      sampling.z[i] = static_cast<double>(i / static_cast<std::size_t>(sim_.nodes_x())) * sim_.dz();
+    }
+    return sampling;
+  }
+  RunOutputOptions options() const {
+    RunOutputOptions options = LineRun::common_options(config_);
+    options.interface_2d_fields = {{"slip_x", "m"},        {"slip_z", "m"},          {"slip_rate_x", "m/s"},
+                                   {"slip_rate_z", "m/s"}, {"state", "s"},           {"shear_stress_x", "Pa"},
+                                   {"shear_stress_z", "Pa"}};
+    return options;
+  }
+  std::span<const double> sampled_slip() const { return sim_.slip_x(); }
+  std::span<const double> front_slip_rate() const { return sim_.speed(); }
+  double mean_slip() const { return sim_.mean_slip_x(); }
+  void append_timeseries(RunOutput& output) const {
+    output.append_timeseries(sim_.time(), sim_.max_slip_rate(), sim_.mean_slip_x(), sim_.mean_shear_stress_x());
+  }
+  void write_snapshot(RunOutput& output) const {
+    const std::span<const double> fields[] = {sim_.slip_x(), sim_.slip_z(), sim_.slip_rate_x(), sim_.slip_rate_z(),
+                                              sim_.state(),  sim_.shear_stress_x(), sim_.shear_stress_z()};
+    output.write_snapshot(sim_.time(), fields);
+  }
+  bool has_stations() const { return false; }
+  void record_stations(RunOutput&) {}
+
+ private:
+  const SimulationConfig& config_;
+  const Simulation3d& sim_;
+};
+
 // The time loop of a new run (resume_from == nullptr) or of a resumed one.
+template <class Run>
 RunResult drive(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
                 const RunCheckpoint* resume_from) {
   using clock = std::chrono::steady_clock;
@@ -51,14 +189,14 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   // without a steady state to start from: an input error (exit code 2).
   const auto sim_owner = [&] {
     try {
-      return std::make_unique<Simulation>(config, hooks.stop_requested);
+      return std::make_unique<typename Run::Sim>(config, hooks.stop_requested);
     } catch (const SimulationError& e) {
       throw std::invalid_argument(
           std::string("the initial state (t = 0) cannot be solved for this combination of "
                       "[friction], [loading] and [initial] values: ") + e.what());
     }
   }();
-  Simulation& sim = *sim_owner;
+  auto& sim = *sim_owner;
   // Half a step of slack so rounding never adds or drops a final step.  The
   // count must fit a long long (a huge duration once overflowed to "0 steps").
   const double step_count = std::ceil(config.time.duration / sim.time_step() - 0.5);
@@ -82,63 +220,23 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   }
   const auto& out_cfg = config.output;
   const std::string config_toml = to_toml(config);
+  Run run(config, sim);
 
-  SlipSamplingSetup sampling;
-  sampling.delta_th = out_cfg.delta_th;
-  sampling.dx = sim.dx();
-  sampling.v0 = config.loading.driving_velocity;
-  sampling.mu = config.material.shear_modulus;
-  sampling.D = config.friction.characteristic_slip;
-  sampling.L = config.geometry.length;
-  sampling.x.assign(sim.x().begin(), sim.x().end());
-  RunOutputOptions options;
-  options.snapshots_by_slip = out_cfg.snapshot_slip_increment > 0.0;
-  options.station_x = out_cfg.stations;
-  options.front_slip_rate = out_cfg.front_slip_rate;
-  options.normal_stress_snapshots = sim.variable_normal_stress();
-  if (config.interface.law == InterfaceLawName::rate_and_state) {
-    // The parameters every node ran with (profiles resolved), so the file is
-    // interpretable without the profile files the config may name.
-    const auto nodes = resolve_friction_nodes(config.friction, config.friction_along_x,
-                                              sim.x().size(), sim.dx());
-    options.node_parameters = {{"f0", "1", nodes.f0},
-                               {"a", "1", nodes.a},
-                               {"b", "1", nodes.b},
-                               {"characteristic_slip", "m", nodes.characteristic_slip}};
-  }
   // A resumed run cuts every record of the file back to the restart point:
   // whatever was written after it (before the kill) is written again, the same.
   std::unique_ptr<RunOutput> output_owner =
-      resume_from ? std::make_unique<RunOutput>(output_path, resume_from->output, sampling, options)
-                  : std::make_unique<RunOutput>(output_path, config_toml, sampling, options);
+      resume_from ? std::make_unique<RunOutput>(output_path, resume_from->output, run.sampling(), run.options())
+                  : std::make_unique<RunOutput>(output_path, config_toml, run.sampling(), run.options());
   RunOutput& output = *output_owner;
 
-  // Stations (one buffer per field, sampled in turn) and rupture-front arrival times.
-  StationSampler station_slip(out_cfg.stations, sim.dx(), sim.x().size()),
-      station_rate(out_cfg.stations, sim.dx(), sim.x().size()),
-      station_stress(out_cfg.stations, sim.dx(), sim.x().size()),
-      station_state(out_cfg.stations, sim.dx(), sim.x().size()),
-      station_normal(out_cfg.stations, sim.dx(), sim.x().size());
-  const double mu_dx = config.material.shear_modulus * sim.dx();
-  auto record_stations = [&] {
-    if (station_slip.empty()) return;
-    double sum_rate = 0.0;
-    for (double v : sim.slip_rate()) sum_rate += v;
-    if (sim.variable_normal_stress())
-      output.append_stations(sim.time(), station_slip.sample(sim.slip()), station_rate.sample(sim.slip_rate()),
-                             station_stress.sample(sim.shear_stress()), station_state.sample(sim.state()),
-                             station_normal.sample(sim.normal_stress()), sim.max_slip_rate(), mu_dx * sum_rate);
-    else
-      output.append_stations(sim.time(), station_slip.sample(sim.slip()), station_rate.sample(sim.slip_rate()),
-                             station_stress.sample(sim.shear_stress()), station_state.sample(sim.state()),
-                             config.loading.normal_stress, sim.max_slip_rate(), mu_dx * sum_rate);
-  };
-  std::vector<double> front_arrival(out_cfg.front_slip_rate > 0.0 ? sim.x().size() : 0,
+  // Rupture-front arrival times.
+  const std::size_t nodes = run.sampled_slip().size();
+  std::vector<double> front_arrival(out_cfg.front_slip_rate > 0.0 ? nodes : 0,
                                     std::numeric_limits<double>::quiet_NaN());
   if (resume_from) front_arrival = resume_from->output.rupture_front;  // sizes checked by RunOutput
   auto record_front = [&] {
     bool changed = false;
-    const auto v = sim.slip_rate();
+    const auto v = run.front_slip_rate();
     for (std::size_t i = 0; i < front_arrival.size(); ++i)
       if (std::isnan(front_arrival[i]) && std::abs(v[i]) > out_cfg.front_slip_rate) {
         front_arrival[i] = sim.time();
@@ -150,12 +248,8 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   RunResult result;
   result.time_step = sim.time_step();
   const double duration = config.time.duration;
-  std::vector<double> previous_slip(sim.slip().begin(), sim.slip().end());
-
-  auto write_snapshot = [&] {
-    output.write_snapshot(sim.time(), sim.slip(), sim.slip_rate(), sim.state(), sim.shear_stress(),
-                          sim.normal_stress());
-  };
+  std::vector<double> previous_slip(run.sampled_slip().begin(), run.sampled_slip().end());
+  auto write_snapshot = [&] { run.write_snapshot(output); };
   double next_station = out_cfg.station_interval;
   double next_timeseries = out_cfg.timeseries_interval;
   double next_snapshot = out_cfg.snapshot_interval;
@@ -168,9 +262,9 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
     next_snapshot_slip = resume_from->next_snapshot_slip;
     result.resumed_from_step = sim.step_index();
   } else {
-    record_stations();
+    run.record_stations(output);
     record_front();
-    output.append_timeseries(sim.time(), sim.max_slip_rate(), sim.mean_slip(), sim.mean_shear_stress());
+    run.append_timeseries(output);
     const bool snapshots_on = out_cfg.snapshot_interval > 0.0 || out_cfg.snapshot_slip_increment > 0.0;
     if (snapshots_on) write_snapshot();
   }
@@ -204,25 +298,25 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   };
   try {
     while (sim.step_index() < total_steps) {
-      std::copy(sim.slip().begin(), sim.slip().end(), previous_slip.begin());
+      std::copy(run.sampled_slip().begin(), run.sampled_slip().end(), previous_slip.begin());
       const double t_old = sim.time();
       sim.step();
-      output.record_slip(t_old, sim.time(), previous_slip, sim.slip());
-      if (!station_slip.empty() && sim.time() >= next_station * (1 - 1e-12)) {
-        record_stations();
+      output.record_slip(t_old, sim.time(), previous_slip, run.sampled_slip());
+      if (run.has_stations() && sim.time() >= next_station * (1 - 1e-12)) {
+        run.record_stations(output);
         next_station += out_cfg.station_interval;
       }
       if (!front_arrival.empty()) record_front();
       if (sim.time() >= next_timeseries * (1 - 1e-12)) {
-        output.append_timeseries(sim.time(), sim.max_slip_rate(), sim.mean_slip(), sim.mean_shear_stress());
+        run.append_timeseries(output);
         next_timeseries += out_cfg.timeseries_interval;
       }
       if (out_cfg.snapshot_interval > 0.0 && sim.time() >= next_snapshot * (1 - 1e-12)) {
         write_snapshot();
         next_snapshot += out_cfg.snapshot_interval;
-      } else if (out_cfg.snapshot_slip_increment > 0.0 && sim.mean_slip() >= next_snapshot_slip) {
+      } else if (out_cfg.snapshot_slip_increment > 0.0 && run.mean_slip() >= next_snapshot_slip) {
         write_snapshot();
-        next_snapshot_slip = next_slip_trigger(next_snapshot_slip, sim.mean_slip(),
+        next_snapshot_slip = next_slip_trigger(next_snapshot_slip, run.mean_slip(),
                                                out_cfg.snapshot_slip_increment);
       }
       // Wall-clock checks are cheap but not free: every 16 steps is plenty.
@@ -267,6 +361,13 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   return result;
 }
 
+// A 2D interface (geometry.nodes_z > 1) or a line.
+RunResult drive_any(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
+                    const RunCheckpoint* resume_from) {
+  return config.geometry.nodes_z > 1 ? drive<InterfaceRun>(config, output_path, hooks, resume_from)
+                                     : drive<LineRun>(config, output_path, hooks, resume_from);
+}
+
 }  // namespace
 
 RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
@@ -280,7 +381,7 @@ RunResult run_simulation(const SimulationConfig& config, const std::string& outp
     const io::OutputPath outputs[] = {{"output", output_path}, {"restart point", checkpoint_path(output_path)}};
     io::check_output_paths(outputs, {}, false);
   }
-  return drive(config, output_path, hooks, nullptr);
+  return drive_any(config, output_path, hooks, nullptr);
 }
 
 io::FileLock lock_run_file(const std::string& output_path) {
@@ -308,7 +409,7 @@ RunResult resume_simulation(const std::string& output_path, const RunHooks& hook
                                 "' was written for another config than the run file '" + output_path +
                                 "' holds (not its restart point)");
   const SimulationConfig config = load_config_string(header.config_toml);
-  return drive(config, output_path, hooks, &checkpoint);
+  return drive_any(config, output_path, hooks, &checkpoint);
 }
 
 }  // namespace slipstrip

@@ -65,10 +65,13 @@ double next_slip_trigger(double next, double mean_slip, double increment);
 // touched.  Under the lock, RUN.h5 and RUN.h5.restart are checked again
 // (io/output_paths.hpp): without `overwrite` neither may exist; with it, an
 // old restart point is removed, so it is never taken for this run's.
+// geometry.nodes_z > 1 (a 2D interface, solver/simulation_3d.hpp, docs/3d.md)
+// runs in the same loop, with the same lock, restart points and records
+// (except stations); its file layout is in docs/3d.md.
 RunResult run_simulation(const SimulationConfig& config, const std::string& output_path,
                          const RunHooks& hooks = {}, bool overwrite = false);
 
-// Continues the run of `output_path` from its restart point, appending to the
+// Continues the run of `output_path` (a line or a 2D interface) from its restart point, appending to the
 // same file, with the config stored in it; the result is bitwise the file an
 // uninterrupted run writes (docs/reliability.md).  Throws std::invalid_argument
 // if there is no usable restart point, or it does not belong to this file

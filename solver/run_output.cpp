@@ -172,7 +172,28 @@ void RunOutput::initialise_buffers(const SlipSamplingSetup& slip_sampling) {
 
   timeseries_buffer_.reserve(4 * static_cast<std::size_t>(options_.timeseries_buffer_rows));
   snapshot_time_buffer_.reserve(static_cast<std::size_t>(options_.snapshot_chunk));
-  snapshot_fields_ = options_.normal_stress_snapshots ? 5 : 4;
+  nodes_z_ = slip_sampling.nodes_z;
+  if (nodes_z_ < 1 || node_count_ % static_cast<std::size_t>(nodes_z_) != 0)
+    throw std::invalid_argument("SlipSamplingSetup.nodes_z = " + std::to_string(nodes_z_) + ": must be >= 1 and divide N = " +
+                                std::to_string(node_count_));
+  nodes_x_ = static_cast<int>(node_count_ / static_cast<std::size_t>(nodes_z_));
+  if ((nodes_z_ > 1) != !options_.interface_2d_fields.empty() || (nodes_z_ > 1 && slip_sampling.z.size() != node_count_))
+    throw std::invalid_argument("RunOutputOptions.interface_2d_fields and SlipSamplingSetup.z are given exactly "
+                                "for a 2D interface (nodes_z > 1), z with one value per node");
+  if (nodes_z_ > 1) {
+    for (const auto& [name, units] : options_.interface_2d_fields) {
+      snapshot_names_.push_back(name);
+      snapshot_units_.push_back(units);
+    }
+  } else {
+    snapshot_names_.assign(std::begin(snapshot_names), std::end(snapshot_names));
+    snapshot_units_.assign(std::begin(snapshot_units), std::end(snapshot_units));
+    if (!options_.normal_stress_snapshots) {
+      snapshot_names_.pop_back();
+      snapshot_units_.pop_back();
+    }
+  }
+  snapshot_fields_ = snapshot_names_.size();
   snapshot_field_buffer_.reserve(snapshot_fields_ * node_count_ * static_cast<std::size_t>(options_.snapshot_chunk));
   station_count_ = options_.station_x.size();
   if (station_count_ > 0) station_buffer_.reserve(station_buffer_rows * (3 + 5 * station_count_));
@@ -192,6 +213,12 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
   io::write_attribute(file, "start_time", utc_now_iso8601());
   io::write_attribute(file, "end_time", "");
   io::write_attribute(file, "status", "running");
+  if (nodes_z_ > 1) io::write_attribute(file, "format", "slipstrip interface_2d");
+  // Node positions next to every per-node record: x, and z on a 2D interface.
+  const auto write_positions = [&](hid_t group) {
+    write_fixed_vector(group, "x", slip_sampling.x, "m");
+    if (nodes_z_ > 1) write_fixed_vector(group, "z", slip_sampling.z, "m");
+  };
 
   {
     const Handle group = io::create_group(file, "timeseries");
@@ -205,14 +232,29 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
     // One snapshot per chunk: each chunk is written exactly once, so the
     // compressed fields never leave dead space behind when a flush ends
     // mid-chunk (see create_extendible).
-    const io::ExtendibleLayout layout{.columns = n, .chunk_rows = 1, .deflate = options_.gzip_level};
+    // A 2D interface: [snapshots, nodes_z, nodes_x].
+    const io::ExtendibleLayout layout =
+        nodes_z_ > 1 ? io::ExtendibleLayout{.columns = static_cast<hsize_t>(nodes_x_),
+                                            .planes = static_cast<hsize_t>(nodes_z_),
+                                            .chunk_rows = 1,
+                                            .deflate = options_.gzip_level}
+                     : io::ExtendibleLayout{.columns = n, .chunk_rows = 1, .deflate = options_.gzip_level};
     for (std::size_t f = 0; f < snapshot_fields_; ++f)
-      create_extendible(group, snapshot_names[f], layout, snapshot_units[f]);
-    write_fixed_vector(group, "x", slip_sampling.x, "m");
+      create_extendible(group, snapshot_names_[f], layout, snapshot_units_[f]);
+    if (nodes_z_ == 1) write_fixed_vector(group, "x", slip_sampling.x, "m");
+  }
+  if (nodes_z_ > 1) {
+    // The axes of the 2D interface's snapshots: x along a row, z across rows.
+    const Handle group = io::create_group(file, "grid");
+    write_fixed_vector(group, "x", std::span<const double>(slip_sampling.x).first(static_cast<std::size_t>(nodes_x_)),
+                       "m");
+    std::vector<double> z(static_cast<std::size_t>(nodes_z_));
+    for (int iz = 0; iz < nodes_z_; ++iz) z[iz] = slip_sampling.z[static_cast<std::size_t>(iz) * nodes_x_];
+    write_fixed_vector(group, "z", z, "m");
   }
   if (!options_.node_parameters.empty()) {
     const Handle group = io::create_group(file, "friction");
-    write_fixed_vector(group, "x", slip_sampling.x, "m");
+    write_positions(group);
     for (const auto& p : options_.node_parameters) write_fixed_vector(group, p.name, p.values, p.units);
   }
   if (station_count_ > 0) {
@@ -228,7 +270,7 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
   if (!rupture_front_.empty()) {
     const Handle group = io::create_group(file, "rupture_front");
     io::write_attribute(group, "slip_rate_threshold", options_.front_slip_rate);
-    write_fixed_vector(group, "x", slip_sampling.x, "m");
+    write_positions(group);
     write_fixed_vector(group, "arrival_time", rupture_front_, "s");
   }
   if (slip_sampler_) {
@@ -241,8 +283,11 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
     info.mu = slip_sampling.mu;
     info.D = slip_sampling.D;
     info.L = slip_sampling.L;
+    info.nodes_z = slip_sampling.nodes_z;
+    info.dz = slip_sampling.dz;
+    info.W = slip_sampling.W;
     events::write_slip_sampling_attributes(group, info);
-    write_fixed_vector(group, "x", slip_sampling.x, "m");
+    write_positions(group);
     // Uncompressed, so that chunks updated by several write-outs stay in
     // place.  64 levels x 256 nodes (128 KiB): a write-out touches the chunks
     // around the levels the nodes are currently crossing, not whole rows.
@@ -321,10 +366,18 @@ void RunOutput::write_snapshot(double time, std::span<const double> slip,
     throw std::invalid_argument(std::string("write_snapshot: normal_stress ") +
                                 (normal_stress.empty() ? "missing (normal_stress_snapshots is set)"
                                                        : "given but normal_stress_snapshots is not set"));
-  const std::span<const double> fields[5] = {slip, slip_rate, state, shear_stress, normal_stress};
+  const std::span<const double> fields[] = {slip, slip_rate, state, shear_stress, normal_stress};
+  write_snapshot(time, std::span<const std::span<const double>>(fields, normal_stress.empty() ? 4 : 5));
+}
+
+void RunOutput::write_snapshot(double time, std::span<const std::span<const double>> fields) {
+  if (closed_) throw std::logic_error("RunOutput::write_snapshot after close: " + path_);
+  if (fields.size() != snapshot_fields_)
+    throw std::invalid_argument("write_snapshot: " + std::to_string(fields.size()) + " fields, the file has " +
+                                std::to_string(snapshot_fields_));
   for (std::size_t f = 0; f < snapshot_fields_; ++f)
     if (fields[f].size() != node_count_)
-      throw std::invalid_argument(std::string("write_snapshot: ") + snapshot_names[f] + " has " +
+      throw std::invalid_argument("write_snapshot: " + snapshot_names_[f] + " has " +
                                   std::to_string(fields[f].size()) + " values, expected N = " +
                                   std::to_string(node_count_));
   snapshot_time_buffer_.push_back(time);
@@ -392,7 +445,7 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
   {
     const Handle group = io::open_group(file, "snapshots");
     cut(group, "time", cursor.snapshots);
-    for (std::size_t f = 0; f < snapshot_fields_; ++f) cut(group, snapshot_names[f], cursor.snapshots);
+    for (const std::string& name : snapshot_names_) cut(group, name.c_str(), cursor.snapshots);
   }
   if (station_count_ > 0) {
     const Handle group = io::open_group(file, "stations");
@@ -502,7 +555,8 @@ void RunOutput::update_xdmf_sidecar() {
   description.h5_file_name = std::filesystem::path(path_).filename().string();
   description.snapshot_count = snapshots_in_file_;
   description.node_count = node_count_;
-  description.fields.assign(std::begin(snapshot_names), std::begin(snapshot_names) + snapshot_fields_);
+  description.nodes_z = static_cast<std::size_t>(nodes_z_);
+  description.fields = snapshot_names_;
   io::write_xdmf_sidecar(io::xdmf_sidecar_path(path_), description);
   snapshots_in_sidecar_ = snapshots_in_file_;
 }
@@ -563,7 +617,7 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
     io::grow_rows(time, snapshots_in_file_ + snapshots);
     io::write_rows(time, snapshots_in_file_, snapshots, snapshot_time_buffer_.data());
     for (std::size_t f = 0; f < snapshot_fields_; ++f) {
-      const Handle dset = io::open_dataset(group, snapshot_names[f]);
+      const Handle dset = io::open_dataset(group, snapshot_names_[f]);
       io::grow_rows(dset, snapshots_in_file_ + snapshots);
       for (std::size_t s = 0; s < snapshots; ++s)
         io::write_rows(dset, snapshots_in_file_ + s, 1, snapshot_field_buffer_.data() + (snapshot_fields_ * s + f) * node_count_);

@@ -34,6 +34,11 @@ struct SlipSamplingSetup {
   double D = 0.0;          // [m] characteristic slip
   double L = 0.0;          // [m] period length
   std::vector<double> x;   // [m] node positions; x.size() is the node count N
+  // A 2D interface (docs/3d.md) of nodes_z > 1 rows: node i is (i % nodes_x,
+  // i / nodes_x), at (x[i], z[i]); dz [m] the spacing across, W [m] the width.
+  int nodes_z = 1;
+  double dz = 0.0, W = 0.0;
+  std::vector<double> z;   // [m] size N when nodes_z > 1, else empty
 };
 
 // The run file could not be created or written (full disk, read-only or
@@ -79,6 +84,13 @@ struct RunOutputOptions {
   // /snapshots/normal_stress as a fifth field (in-plane dissimilar bodies,
   // whose normal stress varies; otherwise it is loading.normal_stress).
   bool normal_stress_snapshots = false;
+  // A 2D interface (SlipSamplingSetup.nodes_z > 1): the snapshot fields by
+  // name and units, each stored as [snapshots, nodes_z, nodes_x] (one chunk
+  // per snapshot), given to write_snapshot in this order; the root attribute
+  // `format` is "slipstrip interface_2d", the node positions along each axis
+  // are /grid/x and /grid/z, and the XDMF sidecar is a temporal collection of
+  // (z, x) grids (io/xdmf.hpp).
+  std::vector<std::pair<std::string, std::string>> interface_2d_fields;
 };
 
 // Where the run file's records stand after a complete write-out: what a
@@ -121,6 +133,9 @@ class RunOutput {
   void write_snapshot(double time, std::span<const double> slip, std::span<const double> slip_rate,
                       std::span<const double> state, std::span<const double> shear_stress,
                       std::span<const double> normal_stress = {});
+  // Any snapshot: one span of N values per field, in the file's field order
+  // (the one above, or RunOutputOptions::interface_2d_fields).
+  void write_snapshot(double time, std::span<const std::span<const double>> fields);
   // One row of every station's fields (values at the stations, in the order
   // of station_x) and the global max slip rate [m/s] and moment rate
   // [N/s per m: mu * sum(v) dx].  Only with stations.
@@ -195,7 +210,9 @@ class RunOutput {
   // Buffered rows, row-major.
   std::vector<double> timeseries_buffer_;  // 4 values per row
   std::vector<double> snapshot_time_buffer_;
+  std::vector<std::string> snapshot_names_, snapshot_units_;  // the fields, in order
   std::size_t snapshot_fields_ = 4;              // 5 with normal_stress_snapshots
+  int nodes_x_ = 0, nodes_z_ = 1;                // nodes_z_ > 1: a 2D interface
   std::vector<double> snapshot_field_buffer_;  // fields x N per snapshot, field-major per snapshot
   void append_station_row(double time, std::span<const double> slip, std::span<const double> slip_rate,
                           std::span<const double> shear_stress, std::span<const double> state,

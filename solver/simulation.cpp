@@ -243,23 +243,28 @@ SimulationState Simulation::save_state() const {
   return saved;
 }
 
-void Simulation::restore_state(const SimulationState& saved) {
-  const std::pair<const std::vector<double>*, std::vector<double>*> fields[] = {
-      {&saved.slip, &slip_}, {&saved.slip_rate, &slip_rate_}, {&saved.state, &state_},
-      {&saved.shear_stress, &shear_stress_}, {&saved.history_stress, &history_stress_},
-      {&saved.normal_stress, &normal_stress_}, {&saved.effective_normal_stress, &effective_normal_stress_}};
-  const char* names[] = {"slip", "slip_rate", "state", "shear_stress", "history_stress", "normal_stress",
-                         "effective_normal_stress"};
-  for (std::size_t f = 0; f < std::size(fields); ++f)
-    if (fields[f].first->size() != fields[f].second->size())
-      throw std::invalid_argument(std::string("saved simulation state: ") + names[f] + " has " +
-                                  std::to_string(fields[f].first->size()) + " values, this config has " +
-                                  std::to_string(nodes_) + " nodes");
+void check_saved_state(std::span<const SavedField> fields, const SimulationState& saved, std::size_t nodes,
+                       const std::string& what) {
+  for (const auto& f : fields)
+    if (f.saved->size() != f.target->size())
+      throw std::invalid_argument(what + ": " + f.name + " has " + std::to_string(f.saved->size()) +
+                                  " values, this config has " + std::to_string(nodes) + " nodes");
   if (!(saved.step_index >= 0) || !std::isfinite(saved.time))
-    throw std::invalid_argument("saved simulation state: step " + std::to_string(saved.step_index) +
-                                ", t = " + std::to_string(saved.time) + " s is not a valid time level");
+    throw std::invalid_argument(what + ": step " + std::to_string(saved.step_index) + ", t = " +
+                                std::to_string(saved.time) + " s is not a valid time level");
+}
+
+void Simulation::restore_state(const SimulationState& saved) {
+  const SavedField fields[] = {{"slip", &saved.slip, &slip_},
+                               {"slip_rate", &saved.slip_rate, &slip_rate_},
+                               {"state", &saved.state, &state_},
+                               {"shear_stress", &saved.shear_stress, &shear_stress_},
+                               {"history_stress", &saved.history_stress, &history_stress_},
+                               {"normal_stress", &saved.normal_stress, &normal_stress_},
+                               {"effective_normal_stress", &saved.effective_normal_stress, &effective_normal_stress_}};
+  check_saved_state(fields, saved, nodes_, "saved simulation state");
   history_->restore_state(saved.history);
-  for (const auto& [from, to] : fields) std::copy(from->begin(), from->end(), to->begin());
+  for (const auto& f : fields) std::copy(f.saved->begin(), f.saved->end(), f.target->begin());
   time_ = saved.time;
   step_index_ = saved.step_index;
 }

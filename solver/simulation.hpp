@@ -33,8 +33,25 @@ struct SimulationState {
   std::vector<double> slip, slip_rate, state, shear_stress, history_stress;
   // In-plane dissimilar bodies only (empty otherwise).
   std::vector<double> normal_stress, effective_normal_stress;
+  // A 2D interface only (Simulation3d, empty otherwise): slip, slip_rate and
+  // shear_stress above hold the x components, these the z components, and
+  // speed |v| as the local solve left it (the next step's previous speed,
+  // which hypot(v_x, v_z) need not reproduce bit for bit).
+  std::vector<double> slip_z, slip_rate_z, shear_stress_z, speed;
   HistoryOperatorState history;
 };
+
+// restore_state of Simulation and Simulation3d: each saved field must have
+// the size of the simulation's field (else std::invalid_argument naming it,
+// `what` and `nodes`), and the time level must be valid; checked before
+// anything is copied.
+struct SavedField {
+  const char* name;
+  const std::vector<double>* saved;
+  std::vector<double>* target;
+};
+void check_saved_state(std::span<const SavedField> fields, const SimulationState& saved, std::size_t nodes,
+                       const std::string& what);
 
 class Simulation {
  public:

@@ -38,6 +38,8 @@ const SimulationConfig& checked_3d(const SimulationConfig& c) {
   if (c.friction_along_x.any()) refuse("friction parameters must be numbers, not profiles along x");
   if (c.interface.load_pulse_amplitude != 0.0) refuse("interface.load_pulse_amplitude must be 0");
   if (c.time.history == HistoryAlgorithm::block) refuse("time.history = \"block\" is not available: use \"auto\" or \"modal\"");
+  if (!c.output.stations.empty())
+    refuse("output.stations is not available on a 2D interface: expected [] (use snapshots or the slip sampling)");
   return c;
 }
 
@@ -114,7 +116,7 @@ void Simulation3d::solve(bool initial) {
     std::ostringstream msg;
     msg << "local friction solve failed at node (ix, iz) = (" << e.index % nodes_x_ << ", "
         << e.index / nodes_x_ << "), t = " << time_ << " s, step " << step_index_ << ": " << e.what();
-    throw std::runtime_error(msg.str());
+    throw SimulationError(msg.str());
   }
   for (std::size_t i = 0; i < n; ++i) {
     // v parallel to the load; a load of zero has no direction and sticks.
@@ -167,8 +169,42 @@ void Simulation3d::check_finite(const char* what) const {
     msg << "non-finite " << what << " at node (ix, iz) = (" << i % nodes_x_ << ", " << i / nodes_x_
         << "), t = " << time_ << " s, step " << step_index_ << ": slip_rate = (" << slip_rate_x_[i] << ", "
         << slip_rate_z_[i] << ") m/s, state = " << state_[i] << " s";
-    throw std::runtime_error(msg.str());
+    throw SimulationError(msg.str());
   }
+}
+
+SimulationState Simulation3d::save_state() const {
+  SimulationState saved;
+  saved.time = time_;
+  saved.step_index = step_index_;
+  saved.slip = slip_x_;
+  saved.slip_rate = slip_rate_x_;
+  saved.state = state_;
+  saved.shear_stress = shear_stress_x_;
+  saved.slip_z = slip_z_;
+  saved.slip_rate_z = slip_rate_z_;
+  saved.shear_stress_z = shear_stress_z_;
+  saved.speed = speed_;
+  saved.history = history_.save_state();
+  return saved;
+}
+
+void Simulation3d::restore_state(const SimulationState& saved) {
+  // Everything the next step reads: the previous-step copies and the load are
+  // recomputed by step() before they are used.
+  const SavedField fields[] = {{"slip", &saved.slip, &slip_x_},
+                               {"slip_rate", &saved.slip_rate, &slip_rate_x_},
+                               {"state", &saved.state, &state_},
+                               {"shear_stress", &saved.shear_stress, &shear_stress_x_},
+                               {"slip_z", &saved.slip_z, &slip_z_},
+                               {"slip_rate_z", &saved.slip_rate_z, &slip_rate_z_},
+                               {"shear_stress_z", &saved.shear_stress_z, &shear_stress_z_},
+                               {"speed", &saved.speed, &speed_}};
+  check_saved_state(fields, saved, nodes(), "saved 2D-interface state");
+  history_.restore_state(saved.history);
+  for (const auto& f : fields) std::copy(f.saved->begin(), f.saved->end(), f.target->begin());
+  time_ = saved.time;
+  step_index_ = saved.step_index;
 }
 
 double Simulation3d::max_slip_rate() const { return *std::max_element(speed_.begin(), speed_.end()); }
@@ -177,4 +213,9 @@ double Simulation3d::mean_slip_x() const {
   return std::accumulate(slip_x_.begin(), slip_x_.end(), 0.0) / static_cast<double>(nodes());
 }
 
+double Simulation3d::mean_shear_stress_x() const {
+  return std::accumulate(shear_stress_x_.begin(), shear_stress_x_.end(), 0.0) / static_cast<double>(nodes());
+}
+
 }  // namespace slipstrip
+

@@ -22,6 +22,7 @@
 #include "friction/batch_solve.hpp"
 #include "kernels/fft.hpp"
 #include "kernels/interface_2d_history.hpp"
+#include "solver/simulation.hpp"
 
 namespace slipstrip {
 
@@ -60,8 +61,20 @@ class Simulation3d {
   std::span<const double> shear_stress_x() const { return shear_stress_x_; }  // [Pa]
   std::span<const double> shear_stress_z() const { return shear_stress_z_; }
 
+  std::span<const double> speed() const { return speed_; }                    // |v| [m/s]
+
   double max_slip_rate() const;  // max |v| over the nodes
   double mean_slip_x() const;
+  double mean_shear_stress_x() const;
+
+  // The state after the current step (SimulationState's x fields, its
+  // 2D-interface fields and the history operator; allocates: restart points
+  // only) and its restoration into a Simulation3d of the same config:
+  // afterwards step() continues bit for bit as the saved one would.
+  // restore_state throws std::invalid_argument naming a field of the wrong
+  // size or an invalid time level.
+  SimulationState save_state() const;
+  void restore_state(const SimulationState& saved);
 
  private:
   void initialise(std::span<const double> initial_state);

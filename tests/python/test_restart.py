@@ -144,21 +144,28 @@ def wait_for(predicate, timeout, what):
     pytest.fail(f"timed out waiting for {what}")
 
 
+def stop_mid_run(cli, config, args, out, started, sig, seed):
+    """Starts `slipstrip run config args --out out`, waits until started()
+    and a seeded 0.05-0.3 s more, then sends `sig` (SIGTERM: exit 143;
+    SIGKILL).  Skips the test if the run completed before the signal."""
+    proc = subprocess.Popen([str(cli), "run", str(config), *args, "--out", str(out), "--quiet"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    wait_for(started, 60, "the run to start")
+    time.sleep(random.Random(seed).uniform(0.05, 0.3))
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    if proc.returncode == 0:
+        pytest.skip(f"the run completed before {sig.name} arrived (machine too fast)")
+    assert proc.returncode == (143 if sig == signal.SIGTERM else -sig), err
+
+
 def test_sigterm_writes_a_restart_point_and_exits_143(cli, tmp_path):
     # Long enough (~20000 steps) that the signal arrives mid-run.
     args = TINY + CASES["modal strip"] + ["--set", "time.duration_transits=200",
                                           "--set", "output.snapshot_interval=1e-3"]
     reference = reference_run(cli, tmp_path, args)
     out = tmp_path / "resumed.h5"
-    proc = subprocess.Popen([str(cli), "run", str(QUICKSTART), *args, "--out", str(out), "--quiet"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    wait_for(out.exists, 60, "the run file")
-    time.sleep(random.Random(SEED).uniform(0.05, 0.3))
-    proc.send_signal(signal.SIGTERM)
-    _, err = proc.communicate(timeout=60)
-    if proc.returncode == 0:
-        pytest.skip("the run completed before SIGTERM arrived (machine too fast)")
-    assert proc.returncode == 143, err
+    stop_mid_run(cli, QUICKSTART, args, out, out.exists, signal.SIGTERM, SEED)
     assert Path(str(out) + ".restart").is_file()
     with h5py.File(Path(str(out) + ".restart"), "r") as c:
         stopped_at = int(c["simulation"].attrs["step_index"])
@@ -181,15 +188,7 @@ def test_sigkill_after_periodic_restart_points_resumes_identically(cli, tmp_path
     reference = reference_run(cli, tmp_path, args)
     out = tmp_path / "resumed.h5"
     restart = Path(str(out) + ".restart")
-    proc = subprocess.Popen([str(cli), "run", str(QUICKSTART), *args, "--out", str(out), "--quiet"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    wait_for(restart.exists, 60, "the first restart point")
-    time.sleep(random.Random(SEED + 1).uniform(0.05, 0.3))
-    proc.kill()
-    proc.communicate(timeout=60)
-    if proc.returncode == 0:
-        pytest.skip("the run completed before SIGKILL arrived (machine too fast)")
-    assert proc.returncode == -signal.SIGKILL
+    stop_mid_run(cli, QUICKSTART, args, out, restart.exists, signal.SIGKILL, SEED + 1)
     assert restart.is_file()
     with h5py.File(restart, "r") as c:
         at = int(c["simulation"].attrs["step_index"])

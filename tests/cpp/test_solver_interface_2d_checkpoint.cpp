@@ -1,0 +1,121 @@
+// Restart points of a 2D interface (solver/simulation_3d.hpp, docs/3d.md): a
+// Simulation3d restored from a saved state, directly or through
+// RUN.h5.restart (solver/checkpoint.hpp), steps bit for bit as the one it was
+// saved from, for strips and half-spaces; a state of another grid is refused
+// naming the field.  The CLI-level tests (interrupt, resume, compare whole
+// files) are in tests/python/test_interface_2d_restart.py.
+#include <doctest/doctest.h>
+#include <unistd.h>
+
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <span>
+#include <string>
+
+#include "config/config.hpp"
+#include "solver/checkpoint.hpp"
+#include "solver/simulation_3d.hpp"
+
+using namespace slipstrip;
+
+namespace {
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("slipstrip_interface_2d_checkpoint_" + std::to_string(getpid()) + "_" + name))
+      .string();
+}
+
+bool same_bits(std::span<const double> a, std::span<const double> b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
+}
+
+bool same_bits(const Simulation3d& a, const Simulation3d& b) {
+  return a.step_index() == b.step_index() &&
+         std::bit_cast<std::uint64_t>(a.time()) == std::bit_cast<std::uint64_t>(b.time()) &&
+         same_bits(a.slip_x(), b.slip_x()) && same_bits(a.slip_z(), b.slip_z()) &&
+         same_bits(a.slip_rate_x(), b.slip_rate_x()) && same_bits(a.slip_rate_z(), b.slip_rate_z()) &&
+         same_bits(a.state(), b.state()) && same_bits(a.shear_stress_x(), b.shear_stress_x()) &&
+         same_bits(a.shear_stress_z(), b.shear_stress_z()) && same_bits(a.speed(), b.speed());
+}
+
+// configs/3d/tiny.toml's physics on 16 x 8 nodes: white noise node by node
+// plus a bump along x, so the slip has x and z parts.
+SimulationConfig small_config(const std::string& height, int nodes_z) {
+  return load_config_string(
+      "[geometry]\nlength = 0.25\nwidth = " + std::to_string(0.25 * nodes_z / 16) + "\nheight = " + height +
+      "\nnodes = 16\nnodes_z = " + std::to_string(nodes_z) +
+      "\n[friction]\ncharacteristic_slip = 1.667e-7\n"
+      "[loading]\ndriving_velocity = 2e-3\n"
+      "[initial]\nnoise_amplitude = 1e-2\nnoise_seed = 1\nlocal_amplitude = 0.5\nlocal_center = 0.125\n"
+      "local_width = 0.02\n"
+      "[time]\nbeta = 0.24\n");
+}
+
+}  // namespace
+
+TEST_CASE("a restored 2D-interface simulation steps bit for bit as the one it was saved from") {
+  for (const char* height : {"0.025", "\"inf\""}) {
+    CAPTURE(height);
+    const SimulationConfig config = small_config(height, 8);
+    Simulation3d original(config);
+    for (int n = 0; n < 40; ++n) original.step();
+    const SimulationState saved = original.save_state();
+    CHECK(saved.history.kind == "interface 2d");
+    CHECK(saved.step_index == 40);
+    CHECK(saved.slip_z.size() == 128);
+    CHECK(saved.speed.size() == 128);
+
+    // Through the restart-point file as well: the HDF5 round trip is exact,
+    // and the checksum covers the 2D-interface fields.
+    const std::string run_path = temp_path("run.h5");
+    std::ofstream(run_path) << "stand-in for the run file (write_checkpoint syncs it)";
+    RunCheckpoint checkpoint;
+    checkpoint.config_toml = to_toml(config);
+    checkpoint.simulation = saved;
+    write_checkpoint(run_path, checkpoint);
+    const RunCheckpoint read = read_checkpoint(run_path);
+    CHECK(read.checksum_verified);
+    CHECK(checkpoint_checksum(read) == checkpoint_checksum(checkpoint));
+    RunCheckpoint changed = checkpoint;
+    changed.simulation.slip_rate_z[3] = std::nextafter(changed.simulation.slip_rate_z[3], 1.0);
+    CHECK(checkpoint_checksum(changed) != checkpoint_checksum(checkpoint));
+    remove_checkpoint(run_path);
+    std::filesystem::remove(run_path);
+
+    Simulation3d direct(config), from_file(config);
+    direct.restore_state(saved);
+    from_file.restore_state(read.simulation);
+    CHECK(same_bits(original, direct));
+    CHECK(same_bits(original, from_file));
+    for (int n = 0; n < 60; ++n) {
+      original.step();
+      direct.step();
+      from_file.step();
+    }
+    CHECK(same_bits(original, direct));
+    CHECK(same_bits(original, from_file));
+    // The run moved on, and across x: not a comparison of resting states.
+    CHECK(original.slip_x()[0] > saved.slip[0]);
+    double max_rate_z = 0.0;
+    for (double v : original.slip_rate_z()) max_rate_z = std::max(max_rate_z, std::abs(v));
+    CHECK(max_rate_z > 0.0);
+  }
+}
+
+TEST_CASE("a saved 2D-interface state is refused by a simulation of another grid") {
+  Simulation3d eight_rows(small_config("0.025", 8));
+  eight_rows.step();
+  const SimulationState saved = eight_rows.save_state();
+  Simulation3d four_rows(small_config("0.025", 4));
+  CHECK_THROWS_WITH_AS(four_rows.restore_state(saved),
+                       doctest::Contains("slip has 128 values, this config has 64 nodes"), std::invalid_argument);
+  SimulationState no_speed = saved;
+  no_speed.speed.clear();
+  Simulation3d same(small_config("0.025", 8));
+  CHECK_THROWS_WITH_AS(same.restore_state(no_speed), doctest::Contains("speed has 0 values"),
+                       std::invalid_argument);
+}
