@@ -165,9 +165,17 @@ void write_event_catalog(const std::string& path, const EventCatalog& c) {
     write_field(g, "x_start", c.x_start, "m");
     write_field(g, "L_s", c.extent, "m");
     write_field(g, "u_mean", c.mean_slip, "m");
-    write_field(g, "M0", c.moment, "N/m");
+    // A 2D interface: M0 = mu A u_mean is a moment [N m]; L_s the extent along x.
+    write_field(g, "M0", c.moment, c.nodes_z > 1 ? "N m" : "N/m");
     write_field(g, "max_slip_rate", c.max_slip_rate, "m/s");
     write_field(g, "n_clusters", c.n_clusters, "1");  // int32
+    if (c.nodes_z > 1) {
+      write_field(g, "z_start", c.z_start, "m");
+      write_field(g, "L_z", c.extent_z, "m");
+      write_field(g, "A", c.area, "m^2");
+      io::write_attribute(g, "nodes_z", static_cast<std::int64_t>(c.nodes_z));
+      io::write_attribute(g, "dz", c.dz);
+    }
 
     // Counts and flags are unsigned 64-bit integers in the file.
     const auto count = [&](const char* name, std::uint64_t value) { io::write_attribute(g, name, value); };
@@ -207,6 +215,13 @@ EventCatalog read_event_catalog(const std::string& path) {
   c.moment = io::read_vector<double>(g, "M0");
   c.max_slip_rate = io::read_vector<double>(g, "max_slip_rate");
   c.n_clusters = io::read_vector<int>(g, "n_clusters");
+  if (io::has_attribute(g, "nodes_z")) {
+    c.nodes_z = static_cast<int>(io::read_attribute<std::int64_t>(g, "nodes_z"));
+    c.dz = io::read_attribute<double>(g, "dz");
+    c.z_start = io::read_vector<double>(g, "z_start");
+    c.extent_z = io::read_vector<double>(g, "L_z");
+    c.area = io::read_vector<double>(g, "A");
+  }
   c.options.alpha = io::read_attribute<double>(g, "alpha");
   c.waiting_time_threshold = io::read_attribute<double>(g, "waiting_time_threshold");
   c.options.min_extent_dx = io::read_attribute<double>(g, "min_extent_dx");
@@ -229,11 +244,16 @@ EventCatalog read_event_catalog(const std::string& path) {
 void write_event_catalog_csv(const std::string& path, const EventCatalog& c) {
   std::ofstream out(path);
   if (!out) throw std::invalid_argument("path = '" + path + "' is invalid: cannot open for writing");
-  out << "t_start_s,T_s,x_start_m,L_s_m,u_mean_m,M0_N_per_m,max_slip_rate_m_per_s,n_clusters\n";
+  const bool plane = c.nodes_z > 1;  // a 2D interface: three more columns, M0 in N m
+  out << "t_start_s,T_s,x_start_m,L_s_m,u_mean_m," << (plane ? "M0_N_m" : "M0_N_per_m")
+      << ",max_slip_rate_m_per_s,n_clusters" << (plane ? ",z_start_m,L_z_m,A_m2" : "") << "\n";
   out << std::setprecision(17);
-  for (std::size_t e = 0; e < c.n_events(); ++e)
+  for (std::size_t e = 0; e < c.n_events(); ++e) {
     out << c.t_start[e] << ',' << c.duration[e] << ',' << c.x_start[e] << ',' << c.extent[e] << ','
-        << c.mean_slip[e] << ',' << c.moment[e] << ',' << c.max_slip_rate[e] << ',' << c.n_clusters[e] << '\n';
+        << c.mean_slip[e] << ',' << c.moment[e] << ',' << c.max_slip_rate[e] << ',' << c.n_clusters[e];
+    if (plane) out << ',' << c.z_start[e] << ',' << c.extent_z[e] << ',' << c.area[e];
+    out << '\n';
+  }
   if (!out) throw std::runtime_error("writing CSV '" + path + "' failed");
 }
 

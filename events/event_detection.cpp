@@ -303,8 +303,26 @@ void append(EventCatalog& c, const EventSummary& e) {
 
 }  // namespace
 
+EventCatalog empty_catalog(const SlipSamplingInfo& info, const EventDetectionOptions& options, std::size_t n_nodes,
+                           std::size_t threshold_nodes) {
+  EventCatalog catalog;
+  catalog.options = options;
+  catalog.delta_th = info.delta_th;
+  catalog.dx = info.dx;
+  catalog.dz = info.dz;
+  catalog.nodes_z = info.nodes_z;
+  catalog.v0 = info.v0;
+  catalog.mu = info.mu;
+  catalog.n_nodes = n_nodes;
+  catalog.waiting_time_threshold = waiting_time_threshold(options.alpha, info.delta_th, info.v0, threshold_nodes);
+  catalog.min_extent = options.min_extent_dx * info.dx;
+  catalog.min_mean_slip = options.min_mean_slip_dth * info.delta_th;
+  return catalog;
+}
+
 EventCatalog detect_events(const CrossingTimeSource& source, const SlipSamplingInfo& info,
                            const EventDetectionOptions& options) {
+  if (info.nodes_z > 1) return detect_interface_2d_events(source, info, options);
   const std::size_t n = source.n_nodes();
   if (n == 0) throw std::invalid_argument("n_nodes = 0 is invalid: crossing_time must have >= 1 column");
   require_positive("delta_th", info.delta_th);
@@ -319,16 +337,7 @@ EventCatalog detect_events(const CrossingTimeSource& source, const SlipSamplingI
                                 " is invalid: must equal the number of crossing_time columns N = " +
                                 std::to_string(n));
 
-  EventCatalog catalog;
-  catalog.options = options;
-  catalog.delta_th = info.delta_th;
-  catalog.dx = info.dx;
-  catalog.v0 = info.v0;
-  catalog.mu = info.mu;
-  catalog.n_nodes = n;
-  catalog.waiting_time_threshold = waiting_time_threshold(options.alpha, info.delta_th, info.v0, n);
-  catalog.min_extent = options.min_extent_dx * info.dx;
-  catalog.min_mean_slip = options.min_mean_slip_dth * info.delta_th;
+  EventCatalog catalog = empty_catalog(info, options, n, n);
 
   NodalSlipStream stream(source, options.block_rows);
   OpenEvent open(n, info, options);

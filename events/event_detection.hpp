@@ -168,6 +168,12 @@ struct EventCatalog {
   std::vector<double> moment;         // M0 = mu L_s u_mean [N/m] (per unit thickness)
   std::vector<double> max_slip_rate;  // delta_th / min Delta t inside the event [m/s]
   std::vector<int> n_clusters;        // connected slipped patches kept by the filters [1]
+  // A 2D interface (nodes_z > 1, docs/3d.md) only, else empty: each event is
+  // one connected patch of nodes in (x, z); extent is the patch's extent along
+  // x (distinct columns * dx), moment mu * area * mean_slip [N m], n_clusters 1.
+  std::vector<double> z_start;        // hypocentre z (x_start, z_start: the first NS) [m]
+  std::vector<double> extent_z;       // distinct rows * dz [m]
+  std::vector<double> area;           // slipped nodes * dx dz [m^2]
 
   // What produced it.
   EventDetectionOptions options;
@@ -175,8 +181,10 @@ struct EventCatalog {
   double dx = 0.0;                      // [m]
   double v0 = 0.0;                      // [m/s]
   double mu = 0.0;                      // [Pa]
-  std::size_t n_nodes = 0;
-  double waiting_time_threshold = 0.0;  // alpha delta_th / (v0 N) [s]
+  std::size_t n_nodes = 0;              // all nodes (nodes_x * nodes_z on a 2D interface)
+  int nodes_z = 1;                      // > 1: a 2D interface
+  double dz = 0.0;                      // [m] (2D interface)
+  double waiting_time_threshold = 0.0;  // alpha delta_th / (v0 N) [s]; N = nodes_x on a 2D interface
   double min_extent = 0.0;              // min_extent_dx * dx [m]
   double min_mean_slip = 0.0;           // min_mean_slip_dth * delta_th [m]
 
@@ -192,10 +200,34 @@ struct EventCatalog {
 // alpha * delta_th / (v0 * n_nodes) [s]
 double waiting_time_threshold(double alpha, double delta_th, double v0, std::size_t n_nodes);
 
-// Streams `source` once and returns the filtered catalog.
+// A catalog without events: the options, the scales of `info` and the
+// thresholds, for n_nodes nodes of which threshold_nodes set the waiting time
+// (all of them on a line, one row on a 2D interface).
+EventCatalog empty_catalog(const SlipSamplingInfo& info, const EventDetectionOptions& options, std::size_t n_nodes,
+                           std::size_t threshold_nodes);
+
+// Streams `source` once and returns the filtered catalog.  A 2D interface
+// (info.nodes_z > 1) is detect_interface_2d_events.
 // Throws std::invalid_argument on inconsistent metadata or options.
 EventCatalog detect_events(const CrossingTimeSource& source, const SlipSamplingInfo& info,
                            const EventDetectionOptions& options = {});
+
+// Slip events on a 2D interface (docs/3d.md, docs/events.md "2D interface"):
+// the nodal slips are grouped in time as on a line, with the waiting-time
+// threshold of one row, alpha delta_th / (v0 nodes_x) (a front spanning the
+// width gives each row the NS of a line); within each time group, every
+// connected set of slipped nodes in (x, z) (4 neighbours, periodic in both)
+// is one event: patches that slip at overlapping times but do not touch are
+// separate events.  Per event: t_start and the hypocentre (x_start, z_start)
+// of its first NS, duration, area, mean slip, moment = mu area mean_slip,
+// extents along x and z, max slip rate.  An event passes the filters if it
+// spans >= min_extent_dx columns and >= min_extent_dx rows and its mean slip
+// is >= min_mean_slip_dth delta_th; the events of the first and of the last
+// time group are excluded (exclude_first_last).  A record uniform in z gives
+// the line's catalog for events of one connected cluster, with area =
+// extent * W and moment = line moment * W.
+EventCatalog detect_interface_2d_events(const CrossingTimeSource& source, const SlipSamplingInfo& info,
+                                        const EventDetectionOptions& options = {});
 
 // Why `catalog` keeps no event and what to change, as one line from its
 // counts (docs/events.md): no nodal slip at all (delta_th above the slip of

@@ -67,6 +67,14 @@ py::dict catalog_to_dict(ev::EventCatalog&& c) {
   d["moment"] = to_numpy(std::move(c.moment));
   d["max_slip_rate"] = to_numpy(std::move(c.max_slip_rate));
   d["n_clusters"] = to_numpy(std::move(c.n_clusters));
+  if (c.nodes_z > 1) {
+    // A 2D interface (docs/3d.md): each event a connected patch in (x, z).
+    d["z_start"] = to_numpy(std::move(c.z_start));
+    d["extent_z"] = to_numpy(std::move(c.extent_z));
+    d["area"] = to_numpy(std::move(c.area));
+    d["nodes_z"] = c.nodes_z;
+    d["dz"] = c.dz;
+  }
   py::dict options;
   options["alpha"] = c.options.alpha;
   options["min_extent_dx"] = c.options.min_extent_dx;

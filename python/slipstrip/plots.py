@@ -7,6 +7,9 @@ package draws -- the space-time fields of `plot`, `analyze`, `report` and
 spacetime(run, out_png): log10(v / v0) over x / L (horizontal) and t c_s / L
 (vertical) from /snapshots -- the paper's space-time representation.
 timeseries(run, out_png): max slip rate and mean shear stress against time.
+interface_2d_maps(run, out_png, times): a 2D interface (docs/3d.md): maps of
+log10(|v|/v0) over (x, z) at chosen times with the rupture front drawn as
+contours.
 """
 from __future__ import annotations
 
@@ -22,7 +25,8 @@ import numpy as np  # noqa: E402
 
 from .runfile import RunFile, open_run  # noqa: E402
 
-__all__ = ["SPACETIME_CMAP", "draw_log_rate", "spacetime", "spacetime_axes", "timeseries"]
+__all__ = ["SPACETIME_CMAP", "draw_log_rate", "interface_2d_maps", "interface_2d_map_axes", "spacetime",
+           "spacetime_axes", "timeseries"]
 
 # Upper bound of cells drawn per axis: a longer run is subsampled (every k-th
 # snapshot / node) so memory and drawing time stay bounded whatever the run size.
@@ -216,3 +220,74 @@ def stability(table_csv, out_png, dpi: int = 150):
     fig.savefig(out_png, dpi=dpi)
     plt.close(fig)
     return out_png
+
+
+def interface_2d_map_axes(run, axes, times, front_slip_rate: float | None = None,
+                          vmin: float | None = None, vmax: float | None = None) -> list[dict]:
+    """A 2D interface (docs/3d.md): on each of `axes`, the map of
+    log10(|v|/v0) over x (horizontal) and z (vertical) of the snapshot
+    nearest to each of `times` [s], one colour scale for all (default: the
+    range of the drawn maps), and the rupture front as the contour
+    |v| = front_slip_rate (default: the run's output.front_slip_rate, else
+    2 v0).  Returns per map: time (of the snapshot), index, the speed map
+    [N_z, N] (z, x), the QuadMesh, the front's contour set (None if the map
+    has no node on either side of the threshold) and the threshold."""
+    run = _as_run(run)
+    if not run.interface_2d:
+        raise ValueError(f"run file '{run.path}' is not a 2D interface (geometry.nodes_z = 1): "
+                         "use spacetime() for its space-time map")
+    snaps = run.snapshots
+    t = snaps.time
+    if len(t) == 0:
+        raise ValueError(f"run file '{run.path}' has no snapshots: set [output] snapshot_interval > 0")
+    x, z = snaps.x, snaps.z
+    v0 = run.driving_velocity
+    if front_slip_rate is None:
+        front_slip_rate = float(run.config.get("output", {}).get("front_slip_rate", 0.0)) or 2.0 * v0
+    chosen = [int(np.argmin(np.abs(t - time))) for time in times]
+    speeds = [np.hypot(snaps["slip_rate_x"][k], snaps["slip_rate_z"][k]) for k in chosen]
+    with np.errstate(divide="ignore"):
+        logs = [np.log10(s[s > 0] / v0) for s in speeds]
+    finite = np.concatenate([g[np.isfinite(g)] for g in logs])
+    if finite.size == 0:
+        raise ValueError(f"run file '{run.path}': no positive slip rate in the chosen snapshots")
+    lo = float(finite.min()) if vmin is None else vmin
+    hi = float(finite.max()) if vmax is None else vmax
+    maps = []
+    for ax, k, speed in zip(axes, chosen, speeds):
+        mesh = draw_log_rate(ax, x, z, speed, v0, vmin=lo, vmax=hi)
+        front = None
+        if speed.min() < front_slip_rate < speed.max():
+            front = ax.contour(x, z, speed, levels=[front_slip_rate], colors="cyan", linewidths=1.0)
+        ax.set_xlim(0.0, run.length)
+        ax.set_ylim(0.0, run.width)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("z [m]")
+        ax.set_title(f"t = {t[k]:.4g} s", fontsize=9)
+        maps.append({"time": float(t[k]), "index": k, "speed": speed, "mesh": mesh, "front": front,
+                     "front_slip_rate": front_slip_rate})
+    return maps
+
+
+def interface_2d_maps(run, out_png: str | os.PathLike, times=None, front_slip_rate: float | None = None,
+                      dpi: int = 150) -> str:
+    """Slip-rate maps of a 2D interface at `times` [s] (default: four snapshots
+    spread over the run) with the rupture-front contours, side by side, and one
+    colour bar; returns the PNG's path."""
+    run = _as_run(run)
+    t = run.snapshots.time
+    if times is None:
+        times = t[np.linspace(0, len(t) - 1, min(4, len(t))).round().astype(int)] if len(t) else []
+    times = list(times)
+    if not times:
+        raise ValueError("interface_2d_maps: give at least one time")
+    fig, axes = plt.subplots(1, len(times), figsize=(3.2 * len(times) + 1.0, 3.4), squeeze=False,
+                             constrained_layout=True)
+    maps = interface_2d_map_axes(run, axes[0], times, front_slip_rate=front_slip_rate)
+    fig.colorbar(maps[0]["mesh"], ax=axes[0].tolist(), label=r"log$_{10}$(|v| / $v_0$)")
+    fig.suptitle(f"{os.path.basename(run.path)}: slip rate; rupture front (cyan) |v| = "
+                 f"{maps[0]['front_slip_rate']:.3g} m/s", fontsize=9)
+    fig.savefig(out_png, dpi=dpi)
+    plt.close(fig)
+    return os.fspath(out_png)

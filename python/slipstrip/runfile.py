@@ -231,7 +231,9 @@ class _Group:
 
 class Snapshots(_Group):
     """/snapshots: time [n], x [N] and the fields [n, N], read lazily:
-    run.snapshots["slip_rate"][-1] reads only the last snapshot."""
+    run.snapshots["slip_rate"][-1] reads only the last snapshot.  A 2D
+    interface (docs/3d.md): the fields (slip_x, slip_rate_x, ...) are
+    [n, N_z, N] arrays (time, z, x), x and z the node positions of /grid."""
 
     @property
     def time(self) -> np.ndarray:
@@ -239,7 +241,16 @@ class Snapshots(_Group):
 
     @property
     def x(self) -> np.ndarray:
-        return self["x"][()]
+        with open_h5(self.path) as f:
+            return f["snapshots/x" if "x" in f["snapshots"] else "grid/x"][()]
+
+    @property
+    def z(self) -> np.ndarray:
+        """Node positions across [m] (a 2D interface; KeyError on a line)."""
+        with open_h5(self.path) as f:
+            if "grid" not in f:
+                raise KeyError(f"{self.path} is a one-dimensional interface: its snapshots have no z")
+            return f["grid/z"][()]
 
     @property
     def trigger(self) -> str:
@@ -334,6 +345,21 @@ class RunFile:
         return int(self._cfg("geometry", "nodes"))
 
     @property
+    def interface_2d(self) -> bool:
+        """True for a 2D interface (x and z, docs/3d.md): snapshots are maps."""
+        return self.attrs.get("format", "") == "slipstrip interface_2d"
+
+    @property
+    def width(self) -> float:
+        """L_z [m], the period across x of a 2D interface."""
+        return float(self._cfg("geometry", "width"))
+
+    @property
+    def nodes_z(self) -> int:
+        """Nodes across x (1 on a one-dimensional interface)."""
+        return int(self.config.get("geometry", {}).get("nodes_z", 1))
+
+    @property
     def driving_velocity(self) -> float:
         return float(self._cfg("loading", "driving_velocity"))
 
@@ -362,6 +388,17 @@ class RunFile:
     @property
     def slip_sampling(self) -> SlipSampling | None:
         return SlipSampling(self.path, "slip_sampling") if "slip_sampling" in self._groups else None
+
+    @property
+    def rupture_front(self) -> np.ndarray | None:
+        """First time [s] each node's slip rate exceeded output.front_slip_rate
+        (NaN: not yet): [N] on a line, [N_z, N] (z, x) on a 2D interface;
+        None without /rupture_front."""
+        if "rupture_front" not in self._groups:
+            return None
+        with open_h5(self.path) as f:
+            arrival = f["rupture_front/arrival_time"][()]
+        return arrival.reshape(self.nodes_z, -1) if self.interface_2d else arrival
 
     @property
     def events(self) -> dict[str, Any] | None:

@@ -12,8 +12,10 @@
 #include <vector>
 
 #include "events/event_detection.hpp"
+#include "events_test_support.hpp"
 
 using namespace slipstrip::events;
+using events_test::History;
 
 namespace {
 
@@ -35,29 +37,6 @@ struct Setup {
   }
 };
 
-// Per-node lists of crossing times, turned into the [n_levels, N] matrix with
-// NaN tails.
-struct History {
-  std::vector<std::vector<double>> columns;
-  explicit History(std::size_t n) : columns(n) {}
-  void slip(std::size_t node, double t) {
-    auto& c = columns[node % columns.size()];
-    REQUIRE((c.empty() || t >= c.back()));  // the builder itself must be monotone
-    c.push_back(t);
-  }
-  std::size_t n_levels() const {
-    std::size_t m = 0;
-    for (const auto& c : columns) m = std::max(m, c.size());
-    return m;
-  }
-  std::vector<double> matrix() const {
-    const std::size_t nl = n_levels(), n = columns.size();
-    std::vector<double> m(nl * n, kNaN);
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t j = 0; j < columns[i].size(); ++j) m[j * n + i] = columns[i][j];
-    return m;
-  }
-};
 
 // A crack-like event: the front leaves `first` at t0 and reaches a node at
 // ring distance d (towards higher indices, wrapping) at t0 + d * dt_front;
