@@ -9,7 +9,7 @@ packages=(build-essential cmake pkg-config git
           libfftw3-dev libeigen3-dev libhdf5-dev doctest-dev pybind11-dev
           libtomlplusplus-dev libcli11-dev libxsimd-dev
           python3 python3-dev python3-numpy python3-scipy python3-h5py
-          python3-matplotlib python3-pytest python3-dask python3-distributed
+          python3-matplotlib python3-pytest python3-pytest-xdist python3-dask python3-distributed
           python3-pip python3-setuptools python3-venv)
 SUDO=""
 [ "$(id -u)" -ne 0 ] && SUDO="sudo"

@@ -374,6 +374,10 @@ def test_report_has_a_row_for_every_claim_at_both_readings(tiny_rundir, tiny_pri
     assert (figs / "asrun").is_dir() and (figs / "printed").is_dir()
 
 
+# Slow tier for its cost (the whole report built twice, minutes of CPU); the
+# fast tier builds the whole report once in
+# test_report_has_a_row_for_every_claim_at_both_readings.
+@pytest.mark.slow
 def test_report_rows_come_from_the_run_files(tiny_rundir, tiny_printed, tmp_path, binary):
     d = tmp_path / "runs"
     shutil.copytree(tiny_rundir, d)
