@@ -1,10 +1,12 @@
 // slipstrip stability CONFIG: growth rates of steady sliding against
 // wavelength, or the critical wavelength Lc(H) over a range of heights.
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -50,6 +52,74 @@ std::vector<double> parse_list(const std::string& text, const std::string& what)
   return values;
 }
 
+// An in-plane pair of different bodies (docs/bodies.md §5): the generalised
+// dispersion relation of stability/interface_stability, with the normal-stress
+// coupling and the memory the solver uses.  Per wavelength the fastest unstable
+// root (and how many there are: the pair has no x -> -x symmetry, so waves
+// travelling either way grow at different rates), and the critical wavelength.
+int pair_stability(const SimulationConfig& config, const StabilityOptions& o) {
+  if (!o.height_range.empty())
+    throw std::invalid_argument("--height-range = '" + o.height_range +
+                                "': Lc(H) varies the height of two identical bodies; this config is an in-plane "
+                                "pair of different bodies (bottom.body = \"" +
+                                std::string(kBodyKindNames[static_cast<std::size_t>(config.bottom.body)]) +
+                                "\"): use --wavelength (the output gives the pair's critical wavelength)");
+  const PairSliding pair = pair_sliding_of(config);
+  const auto wavelengths =
+      parse_list(o.wavelengths.empty() ? std::to_string(config.geometry.length) : o.wavelengths, "--wavelength");
+  const double length = config.geometry.length;
+  const double critical = pair_critical_wavelength(pair, 1e-3 * length, 1e3 * length);
+  std::ostringstream table, csv, js;
+  table << "# in-plane pair of different bodies: critical wavelength Lc = " << critical
+        << " m (shortest unstable wavelength in [1e-3, 1e3] x geometry.length)\n"
+        << "  wavelength [m]   Re Lambda [1/s]   Im Lambda [rad/s]   phase velocity [m/s]   unstable roots\n";
+  csv << "wavelength_m,growth_rate_per_s,frequency_rad_per_s,phase_velocity_m_per_s,unstable_roots\n";
+  std::vector<double> w, g, f, c;
+  std::ostringstream roots_js;
+  roots_js << "[";
+  for (std::size_t i = 0; i < wavelengths.size(); ++i) {
+    const double wavelength = wavelengths[i];
+    const auto roots = pair_unstable_roots(pair, wavelength);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double rate = roots.empty() ? nan : roots.front().real();
+    const double im = roots.empty() ? nan : roots.front().imag();
+    // A root travels along x at -Im(Lambda) / k.
+    const double speed = roots.empty() ? nan : -im * wavelength / (2.0 * std::numbers::pi);
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%16.8g %17.8g %19.8g %22.8g %16zu\n", wavelength, rate, im, speed,
+                  roots.size());
+    table << buf;
+    // No unstable root: "nan" in the CSV (Python's float reads it), null in JSON.
+    const auto cell = [](double v) { return std::isfinite(v) ? json_number(v) : std::string("nan"); };
+    csv << cell(wavelength) << "," << cell(rate) << "," << cell(std::abs(im)) << "," << cell(speed) << ","
+        << roots.size() << "\n";
+    w.push_back(wavelength);
+    g.push_back(rate);
+    f.push_back(std::abs(im));
+    c.push_back(speed);
+    roots_js << (i ? ", " : "") << "[";
+    for (std::size_t j = 0; j < roots.size(); ++j)
+      roots_js << (j ? ", " : "") << "[" << json_number(roots[j].real()) << ", " << json_number(roots[j].imag()) << "]";
+    roots_js << "]";
+  }
+  roots_js << "]";
+  js << "{\"wavelengths\": " << json_array(w) << ", \"growth_rate\": " << json_array(g)
+     << ", \"frequency\": " << json_array(f) << ", \"phase_velocity\": " << json_array(c)
+     << ", \"unstable_roots\": " << roots_js.str() << ", \"critical_wavelength\": " << json_number(critical) << "}";
+  std::cout << (o.json ? js.str() + "\n" : table.str());
+  if (!o.out_path.empty()) {
+    std::ofstream file(o.out_path);
+    if (!file) throw std::runtime_error("cannot write --out " + o.out_path);
+    file << csv.str();
+    file.close();
+    std::fprintf(stderr, "wrote %s\n", o.out_path.c_str());
+    const std::string png = figure_path(o.out_path);
+    if (run_python_module({"plot-stability", o.out_path, "--out", png, "--overwrite"}) != 0)
+      std::fprintf(stderr, "warning: could not plot %s (the CSV is written)\n", png.c_str());
+  }
+  return 0;
+}
+
 int stability(const StabilityOptions& o) {
   const std::string &config_path = o.config_path, &height_range = o.height_range, &out_path = o.out_path;
   const std::string& wavelengths_text = o.wavelengths;
@@ -61,6 +131,7 @@ int stability(const StabilityOptions& o) {
     const std::string inputs[] = {config_path};
     io::check_output_paths(outputs, inputs, o.overwrite);
   }
+  if (config.bottom.body != BodyKind::mirror && !config.material.antiplane()) return pair_stability(config, o);
   const auto sliding = steady_sliding_of(config);
   std::ostringstream table, csv, js;
   if (!height_range.empty()) {

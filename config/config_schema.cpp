@@ -246,9 +246,8 @@ void require_on_interface(double x, double length, bool closed_at_length, const 
 }
 
 // [top] and [bottom] (docs/bodies.md).  In-plane pairs other than two
-// identical driven strips run through the per-body 2x2 operators
-// (FaceModalHistory), which exist for finite strips only: in-plane half-spaces
-// in a dissimilar pair are refused by name rather than run without a kernel.
+// identical driven strips run through the per-body 2x2 operators: the modal one
+// of a finite strip (FaceModalHistory) or a half-space's (FaceHalfSpaceHistory).
 void bottom_rule(const SimulationConfig& c) {
   const bool inplane = !c.material.antiplane();
   const bool clamped = c.top.outer_face == OuterFace::clamped || c.bottom.outer_face == OuterFace::clamped;
@@ -260,17 +259,6 @@ void bottom_rule(const SimulationConfig& c) {
     throw ConfigRuleError({"outer_face", "body"},
                           "outer_face = \"clamped\" in-plane needs bottom.body = \"elastic\" or \"rigid\" "
                           "(the per-body operators); the mirror pair's operator has driven faces");
-  if (inplane && c.bottom.body != BodyKind::mirror) {
-    if (is_half_space(c.geometry.height))
-      throw ConfigRuleError({"body"}, "geometry.height = \"inf\" with bottom.body = \"" +
-                                          std::string(kBodyKindNames[static_cast<std::size_t>(c.bottom.body)]) +
-                                          "\" in-plane: the 2x2 half-space operator is not implemented; "
-                                          "give the top body a finite height (or material.plane = \"antiplane\")");
-    if (c.bottom.body == BodyKind::elastic && is_half_space(c.bottom.height))
-      throw ConfigRuleError({"height", "body"},
-                            "bottom.height = \"inf\" in-plane: the 2x2 half-space operator is not implemented; "
-                            "give the bottom body a finite height (or material.plane = \"antiplane\")");
-  }
 }
 
 // Two forms of the normal-stress memory, one at a time (docs/bodies.md).

@@ -39,31 +39,53 @@ struct FaceDiscreteModes {
 FaceDiscreteModes face_discrete_modes(const ElasticMaterial& material, double height,
                                       OuterFace outer_face, double wavenumber, double time_step);
 
-class FaceModalHistory {
+// One body's discrete 2x2 history operator as the interface sees it (per
+// Fourier mode: t_n = E v_n + h_n, E = diag(shear_impedance, normal_impedance)):
+// the finite body's modal operator below, or a half-space's
+// (kernels/face_half_space.hpp).
+class FaceHistory {
+ public:
+  virtual ~FaceHistory() = default;
+  virtual double time_step() const = 0;
+  // E = diag(mu/c_s, rho c_d).
+  virtual double shear_impedance() const = 0;
+  virtual double normal_impedance() const = 0;
+  virtual int modes() const = 0;
+  // Feed the face-velocity spectra (x and y, q = 0..N/2) at t_n; afterwards
+  // history_x/y hold h_{n+1}.  No allocation.
+  virtual void push(std::span<const std::complex<double>> velocity_x,
+                    std::span<const std::complex<double>> velocity_y) = 0;
+  virtual std::span<const std::complex<double>> history_x() const = 0;
+  virtual std::span<const std::complex<double>> history_y() const = 0;
+  // Everything push() changes, as arrays named prefix + "...", and its
+  // restoration into an operator built with the same arguments (then push()
+  // continues bit for bit).  Allocates: not in the time loop.
+  virtual void save_into(HistoryOperatorState& state, const std::string& prefix) const = 0;
+  virtual void restore_from(const HistoryOperatorState& state, const std::string& prefix) = 0;
+  virtual std::size_t memory_bytes() const = 0;
+  // Recursions per step (modes, exponentials): the stats' "oscillators".
+  virtual std::size_t discrete_modes() const = 0;
+};
+
+class FaceModalHistory final : public FaceHistory {
  public:
   FaceModalHistory(const ElasticMaterial& material, double height, OuterFace outer_face,
                    double length, int nodes, double time_step);
 
-  double time_step() const { return dt_; }
-  // E = diag(mu/c_s, rho c_d).
-  double shear_impedance() const { return impedance_x_; }
-  double normal_impedance() const { return impedance_y_; }
-  int modes() const { return static_cast<int>(first_.size()) - 1; }
-  // Feed the face-velocity spectra (x and y, q = 0..N/2) at t_n; afterwards
-  // history_x/y hold h_{n+1}.  No allocation.
+  double time_step() const override { return dt_; }
+  double shear_impedance() const override { return impedance_x_; }
+  double normal_impedance() const override { return impedance_y_; }
+  int modes() const override { return static_cast<int>(first_.size()) - 1; }
   void push(std::span<const std::complex<double>> velocity_x,
-            std::span<const std::complex<double>> velocity_y);
-  std::span<const std::complex<double>> history_x() const { return history_x_; }
-  std::span<const std::complex<double>> history_y() const { return history_y_; }
+            std::span<const std::complex<double>> velocity_y) override;
+  std::span<const std::complex<double>> history_x() const override { return history_x_; }
+  std::span<const std::complex<double>> history_y() const override { return history_y_; }
   // The discrete weights of Fourier mode q (for tests).
   FaceDiscreteModes mode(int q) const;
-  // Everything push() changes, as arrays named prefix + "...", and its
-  // restoration into an operator built with the same arguments (then push()
-  // continues bit for bit).  Allocates: not in the time loop.
-  void save_into(HistoryOperatorState& state, const std::string& prefix) const;
-  void restore_from(const HistoryOperatorState& state, const std::string& prefix);
-  std::size_t memory_bytes() const;
-  std::size_t discrete_modes() const { return weight_.size(); }
+  void save_into(HistoryOperatorState& state, const std::string& prefix) const override;
+  void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
+  std::size_t memory_bytes() const override;
+  std::size_t discrete_modes() const override { return weight_.size(); }
 
  private:
   double dt_, impedance_x_, impedance_y_;

@@ -45,21 +45,17 @@ GaussRule gauss_legendre(int n) {
   return rule;
 }
 
-// G on one side of a branch cut.  zeta = i b - x lies on the cut that leaves
-// the branch point i b horizontally to the left; the factor sqrt(zeta - i b)
-// of the root that branches there is +i sqrt(x) on the upper side (side = +1)
-// and -i sqrt(x) on the lower side.  Every other square-root factor is the
-// principal one, whose own cut (pointing left from its branch point) is not
-// crossed here; this is the continuation of G from Re p > 0 with all four cuts
-// turned horizontal.
-complex relaxation_on_cut(const HalfSpaceShape& shape, bool shear_branch, double x, int side) {
-  const double r2 = shape.speed_ratio_squared;
-  if (shape.antiplane) {
-    // G = (a_s / p - 1) / 2: only the shear branch point i (and -i).
-    const complex zeta(-x, 1.0);
-    const complex alpha_s = complex(0.0, side * std::sqrt(x)) * std::sqrt(zeta + complex(0.0, 1.0));
-    return 0.5 * (alpha_s / zeta - 1.0);
-  }
+// The square roots a_s = sqrt(1 + p^2), a_d = sqrt(1 + r^2 p^2) on one side of
+// a branch cut.  zeta = i b - x lies on the cut that leaves the branch point
+// i b horizontally to the left; the factor sqrt(zeta - i b) of the root that
+// branches there is +i sqrt(x) on the upper side (side = +1) and -i sqrt(x) on
+// the lower side.  Every other square-root factor is the principal one, whose
+// own cut (pointing left from its branch point) is not crossed here; this is
+// the continuation from Re p > 0 with all four cuts turned horizontal.
+struct RootsOnCut {
+  complex zeta, alpha_s, alpha_d;
+};
+RootsOnCut roots_on_cut(double r2, bool shear_branch, double x, int side) {
   const double r = std::sqrt(r2);
   const double b = shear_branch ? 1.0 : 1.0 / r;
   const complex zeta(-x, b);
@@ -69,7 +65,69 @@ complex relaxation_on_cut(const HalfSpaceShape& shape, bool shear_branch, double
       shear_branch ? on_cut * std::sqrt(zeta + i) : std::sqrt(zeta - i) * std::sqrt(zeta + i);
   const complex alpha_d = shear_branch ? r * std::sqrt(zeta - i / r) * std::sqrt(zeta + i / r)
                                        : r * on_cut * std::sqrt(zeta + i / r);
+  return {zeta, alpha_s, alpha_d};
+}
+
+// G on one side of a branch cut (roots_on_cut).
+complex relaxation_on_cut(const HalfSpaceShape& shape, bool shear_branch, double x, int side) {
+  const double r2 = shape.speed_ratio_squared;
+  if (shape.antiplane) {
+    // G = (a_s / p - 1) / 2: only the shear branch point i (and -i).
+    const complex zeta(-x, 1.0);
+    const complex alpha_s = complex(0.0, side * std::sqrt(x)) * std::sqrt(zeta + complex(0.0, 1.0));
+    return 0.5 * (alpha_s / zeta - 1.0);
+  }
+  const auto [zeta, alpha_s, alpha_d] = roots_on_cut(r2, shear_branch, x, side);
   return 2.0 * (1.0 - r2) / (zeta * (alpha_s + alpha_d)) + zeta / (2.0 * alpha_s) - 0.5;
+}
+
+// The exponential sum of any G with the in-plane (or, antiplane, the shear)
+// branch points: g(tau) = static + sum over the four cuts of
+//   -1/(2 pi i) int_0^inf [G_+(ib - x) - G_-(ib - x)] e^{(ib - x) tau} dx
+// (the lower cuts give the complex conjugates, G being real on the real axis).
+// With x = u^2 the integrand is smooth at u = 0 and carries the factor
+// e^{-u^2 tau}: for tau >= tau_min it is below e^{-36} beyond u_max =
+// sqrt(36 / tau_min); below u_min = tau_max^{-1/2} it is nearly constant for
+// tau <= tau_max.  Panels [0, u_min], then doubling up to u_max, resolve
+// e^{-u^2 tau} uniformly.
+template <class OnCut>
+ExponentialSum cut_exponential_sum(double static_value, double r2, int branches, double tau_min,
+                                   double tau_max, int nodes_per_panel, const OnCut& on_cut) {
+  if (!(tau_min > 0.0 && tau_max > tau_min))
+    throw std::invalid_argument("half_space_exponential_sum: need 0 < tau_min < tau_max");
+  if (nodes_per_panel < 2 || nodes_per_panel > 32)
+    throw std::invalid_argument("half_space_exponential_sum: nodes_per_panel must be in [2, 32]");
+  const double u_min = 1.0 / std::sqrt(tau_max);
+  const double u_max = std::sqrt(36.0 / tau_min);
+  std::vector<double> edges{0.0, u_min};
+  while (edges.back() < u_max) edges.push_back(2.0 * edges.back());
+  const auto rule = gauss_legendre(nodes_per_panel);
+
+  ExponentialSum sum;
+  sum.static_value = static_value;
+  const double b_values[2] = {1.0, branches == 1 ? 0.0 : 1.0 / std::sqrt(r2)};
+  for (int branch = 0; branch < branches; ++branch) {
+    const bool shear = branch == 0;
+    for (std::size_t p = 0; p + 1 < edges.size(); ++p) {
+      const double a = edges[p], c = edges[p + 1];
+      for (int j = 0; j < nodes_per_panel; ++j) {
+        const double u = 0.5 * (c - a) * rule.node[j] + 0.5 * (c + a);
+        const double w = 0.5 * (c - a) * rule.weight[j];
+        const double x = u * u;
+        const complex jump = on_cut(shear, x, +1) - on_cut(shear, x, -1);
+        const complex density = -jump / complex(0.0, 2.0 * pi);
+        sum.rate.emplace_back(-x, b_values[branch]);
+        sum.amplitude.push_back(w * 2.0 * u * density);
+      }
+    }
+  }
+  return sum;
+}
+
+void require_speed_ratio(double r2) {
+  if (!(r2 > 0.0 && r2 < 1.0))
+    throw std::invalid_argument("half_space_exponential_sum: c_s^2/c_d^2 = " + std::to_string(r2) +
+                                " must lie in (0, 1)");
 }
 
 }  // namespace
@@ -118,48 +176,21 @@ ExponentialSum half_space_exponential_sum(double r2, double tau_min, double tau_
 
 ExponentialSum half_space_exponential_sum(const HalfSpaceShape& shape, double tau_min,
                                           double tau_max, int nodes_per_panel) {
-  const double r2 = shape.speed_ratio_squared;
-  if (!shape.antiplane && !(r2 > 0.0 && r2 < 1.0))
-    throw std::invalid_argument("half_space_exponential_sum: c_s^2/c_d^2 = " + std::to_string(r2) +
-                                " must lie in (0, 1)");
-  if (!(tau_min > 0.0 && tau_max > tau_min))
-    throw std::invalid_argument("half_space_exponential_sum: need 0 < tau_min < tau_max");
-  if (nodes_per_panel < 2 || nodes_per_panel > 32)
-    throw std::invalid_argument("half_space_exponential_sum: nodes_per_panel must be in [2, 32]");
-  // g(tau) = (1 - r^2) + sum over the four cuts of
-  //   -1/(2 pi i) int_0^inf [G_+(ib - x) - G_-(ib - x)] e^{(ib - x) tau} dx
-  // (the lower cuts give the complex conjugates).  With x = u^2 the integrand
-  // is smooth at u = 0 and carries the factor e^{-u^2 tau}: for tau >= tau_min
-  // it is below e^{-36} beyond u_max = sqrt(36 / tau_min); below
-  // u_min = tau_max^{-1/2} it is nearly constant for tau <= tau_max.  Panels
-  // [0, u_min], then doubling up to u_max, resolve e^{-u^2 tau} uniformly.
-  const double u_min = 1.0 / std::sqrt(tau_max);
-  const double u_max = std::sqrt(36.0 / tau_min);
-  std::vector<double> edges{0.0, u_min};
-  while (edges.back() < u_max) edges.push_back(2.0 * edges.back());
-  const auto rule = gauss_legendre(nodes_per_panel);
+  if (!shape.antiplane) require_speed_ratio(shape.speed_ratio_squared);
+  return cut_exponential_sum(half_space_static_value(shape), shape.speed_ratio_squared, shape.antiplane ? 1 : 2,
+                             tau_min, tau_max, nodes_per_panel, [&](bool shear, double x, int side) {
+                               return relaxation_on_cut(shape, shear, x, side);
+                             });
+}
 
-  ExponentialSum sum;
-  sum.static_value = half_space_static_value(shape);
-  const double b_values[2] = {1.0, shape.antiplane ? 0.0 : 1.0 / std::sqrt(r2)};
-  const int branches = shape.antiplane ? 1 : 2;
-  for (int branch = 0; branch < branches; ++branch) {
-    const bool shear = branch == 0;
-    for (std::size_t p = 0; p + 1 < edges.size(); ++p) {
-      const double a = edges[p], c = edges[p + 1];
-      for (int j = 0; j < nodes_per_panel; ++j) {
-        const double u = 0.5 * (c - a) * rule.node[j] + 0.5 * (c + a);
-        const double w = 0.5 * (c - a) * rule.weight[j];
-        const double x = u * u;
-        const complex jump =
-            relaxation_on_cut(shape, shear, x, +1) - relaxation_on_cut(shape, shear, x, -1);
-        const complex density = -jump / complex(0.0, 2.0 * pi);
-        sum.rate.emplace_back(-x, b_values[branch]);
-        sum.amplitude.push_back(w * 2.0 * u * density);
-      }
-    }
-  }
-  return sum;
+ExponentialSum in_plane_exponential_sum(double r2, double static_value, const InPlaneTransform& transform,
+                                        double tau_min, double tau_max, int nodes_per_panel) {
+  require_speed_ratio(r2);
+  return cut_exponential_sum(static_value, r2, 2, tau_min, tau_max, nodes_per_panel,
+                             [&](bool shear, double x, int side) {
+                               const RootsOnCut c = roots_on_cut(r2, shear, x, side);
+                               return transform(c.zeta, c.alpha_s, c.alpha_d);
+                             });
 }
 
 double evaluate(const ExponentialSum& sum, double tau) {

@@ -17,6 +17,7 @@
 // reproduces g exactly; a sum of exponentials does, to a chosen accuracy, on
 // any interval [tau_min, tau_max].
 #include <complex>
+#include <functional>
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
@@ -65,6 +66,18 @@ ExponentialSum half_space_exponential_sum(double speed_ratio_squared, double tau
 // The same for either shape (antiplane: the shear branch only).
 ExponentialSum half_space_exponential_sum(const HalfSpaceShape& shape, double tau_min,
                                           double tau_max, int nodes_per_panel = 10);
+
+// The same construction for any transform G(p) of the in-plane half-space
+// whose only singularities are a simple pole at p = 0 (residue
+// static_value = g(inf)) and the branch points of a_s = sqrt(1 + p^2) and
+// a_d = sqrt(1 + r^2 p^2), real on the real axis and vanishing as |p| -> inf:
+// `transform(p, a_s, a_d)` is G written through its roots, which the cut
+// integration continues across each cut (kernels/face_half_space.hpp).
+using InPlaneTransform =
+    std::function<std::complex<double>(std::complex<double>, std::complex<double>, std::complex<double>)>;
+ExponentialSum in_plane_exponential_sum(double speed_ratio_squared, double static_value,
+                                        const InPlaneTransform& transform, double tau_min, double tau_max,
+                                        int nodes_per_panel = 10);
 
 double evaluate(const ExponentialSum& sum, double tau);
 

@@ -5,8 +5,7 @@
 
 namespace slipstrip {
 
-InplanePairHistory::InplanePairHistory(std::unique_ptr<FaceModalHistory> top,
-                                       std::unique_ptr<FaceModalHistory> bottom)
+InplanePairHistory::InplanePairHistory(std::unique_ptr<FaceHistory> top, std::unique_ptr<FaceHistory> bottom)
     : top_(std::move(top)), bottom_(std::move(bottom)) {
   if (!top_) throw std::invalid_argument("InplanePairHistory: the top body needs an operator");
   if (bottom_ && (bottom_->modes() != top_->modes() || bottom_->time_step() != top_->time_step()))

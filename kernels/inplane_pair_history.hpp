@@ -34,7 +34,9 @@ class InplanePairHistory final : public HistoryOperator {
  public:
   // Both operators share the time step and the number of Fourier modes;
   // bottom == nullptr is a rigid bottom body.
-  InplanePairHistory(std::unique_ptr<FaceModalHistory> top, std::unique_ptr<FaceModalHistory> bottom);
+  // Either body's operator may be a finite body's (FaceModalHistory) or a
+  // half-space's (FaceHalfSpaceHistory).
+  InplanePairHistory(std::unique_ptr<FaceHistory> top, std::unique_ptr<FaceHistory> bottom);
 
   double time_step() const override { return top_->time_step(); }
   double radiation_damping() const override { return eta_; }
@@ -49,7 +51,7 @@ class InplanePairHistory final : public HistoryOperator {
   void restore_state(const HistoryOperatorState& state) override;
 
  private:
-  std::unique_ptr<FaceModalHistory> top_, bottom_;
+  std::unique_ptr<FaceHistory> top_, bottom_;
   double ex_top_, ey_top_, ex_bottom_, ey_bottom_, eta_;
   std::vector<std::complex<double>> top_x_, top_y_, bottom_x_, bottom_y_, history_, normal_;
 };

@@ -10,6 +10,7 @@
 #include "kernels/half_space_history.hpp"
 #include "kernels/kernel_cache.hpp"
 #include "kernels/face_history.hpp"
+#include "kernels/face_half_space.hpp"
 #include "kernels/inplane_pair_history.hpp"
 #include "kernels/two_body_history.hpp"
 
@@ -85,13 +86,19 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
     dt_ = c_top >= c_bottom ? strip_time_step(config_.material, g.height, dx_, config_.time.beta)
                             : config_.time.beta * dx_ / c_bottom;
     if (rigid) bottom_height_used_ = std::numeric_limits<double>::quiet_NaN();
-    auto top = std::make_unique<FaceModalHistory>(config_.material, g.height, config_.top.outer_face,
-                                                  g.length, nodes_, dt_);
+    // Each body: its modal 2x2 operator (finite height) or the half-space's
+    // (kernels/face_half_space.hpp).
+    const auto body_operator = [&](const ElasticMaterial& m, double height,
+                                   OuterFace face) -> std::unique_ptr<FaceHistory> {
+      if (is_half_space(height))
+        return std::make_unique<FaceHalfSpaceHistory>(m, g.length, nodes_, dt_, HalfSpaceOperatorDesign{},
+                                                      cancelled);
+      return std::make_unique<FaceModalHistory>(m, height, face, g.length, nodes_, dt_);
+    };
+    auto top = body_operator(config_.material, g.height, config_.top.outer_face);
     throw_if_cancelled(cancelled, "the top body's operator");
-    std::unique_ptr<FaceModalHistory> bottom;
-    if (!rigid)
-      bottom = std::make_unique<FaceModalHistory>(bottom_body, config_.bottom.height, config_.bottom.outer_face,
-                                                  g.length, nodes_, dt_);
+    std::unique_ptr<FaceHistory> bottom;
+    if (!rigid) bottom = body_operator(bottom_body, config_.bottom.height, config_.bottom.outer_face);
     auto pair = std::make_unique<InplanePairHistory>(std::move(top), std::move(bottom));
     pair_ = pair.get();
     history_ = std::move(pair);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -113,4 +114,37 @@ std::vector<complex> pair_characteristic_roots(const PairSliding& p, const Linea
   return sorted_zeros_in(g, r);
 }
 
+std::vector<complex> pair_unstable_roots(const PairSliding& p, double wavelength) {
+  if (!(wavelength > 0.0) || std::isinf(wavelength))
+    throw std::invalid_argument("pair stability: wavelength = " + std::to_string(wavelength) +
+                                " m is not allowed; it must be > 0 and finite");
+  const LinearisedInterfaceFriction lin = linearise_interface_friction(p);
+  const double k = 2.0 * std::numbers::pi / wavelength;
+  return pair_characteristic_roots(p, lin, k, pair_search_box(p, lin, k));
+}
+
+double pair_critical_wavelength(const PairSliding& p, double shortest, double longest) {
+  if (!(shortest > 0.0 && longest > shortest) || std::isinf(longest))
+    throw std::invalid_argument("pair_critical_wavelength: need 0 < shortest < longest < inf");
+  const auto unstable = [&](double wavelength) { return !pair_unstable_roots(p, wavelength).empty(); };
+  constexpr int samples = 64;
+  double stable_below = 0.0;
+  for (int i = 0; i < samples; ++i) {
+    const double w = shortest * std::pow(longest / shortest, static_cast<double>(i) / (samples - 1));
+    if (!unstable(w)) {
+      stable_below = w;
+      continue;
+    }
+    if (i == 0) return shortest;
+    double lo = stable_below, hi = w;
+    while (hi - lo > 1e-6 * hi) {
+      const double mid = 0.5 * (lo + hi);
+      (unstable(mid) ? hi : lo) = mid;
+    }
+    return hi;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace slipstrip
+

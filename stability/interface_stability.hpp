@@ -89,4 +89,15 @@ std::vector<std::complex<double>> pair_characteristic_roots(
     const PairSliding& sliding, const LinearisedInterfaceFriction& friction, double wavenumber,
     const PairSearchBox& box);
 
+// The unstable roots at one wavelength [m] (pair_characteristic_roots in
+// pair_search_box), fastest first; empty when steady sliding is stable there
+// (within that box: a search region, not a proof, for dissimilar bodies).
+std::vector<std::complex<double>> pair_unstable_roots(const PairSliding& sliding, double wavelength);
+
+// The critical wavelength: the shortest wavelength in [shortest, longest] [m]
+// with an unstable root, located to a relative 1e-6 by bisection between
+// the last stable and the first unstable of 64 log-spaced wavelengths.  NaN
+// when every sampled wavelength is stable, `shortest` when all are unstable.
+double pair_critical_wavelength(const PairSliding& sliding, double shortest, double longest);
+
 }  // namespace slipstrip

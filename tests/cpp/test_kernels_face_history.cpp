@@ -10,9 +10,8 @@
 #include <numbers>
 #include <vector>
 
-#include "inverse_laplace.hpp"
+#include "face_drive.hpp"
 #include "kernels/face_history.hpp"
-#include "single_mode_drive.hpp"
 
 namespace {
 
@@ -29,52 +28,20 @@ double max_eigenvalue(const FaceMatrix& m) {
   return 0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + std::norm(m.xy));
 }
 
-struct Errors {
-  double xx, yx, xy, yy;
-};
+using Errors = slipstrip::testing::FaceErrors;
 
 // Drive Fourier mode q = 1 (wavenumber k) with the face displacement u = g(t) e_x,
 // then g(t) e_y (g the sin^4 bump of single_mode_drive.hpp) and compare the face
-// traction t_n = E v_n + h_n with the inverse Laplace transform of K(k, s) g^(s).
-// K_xy, K_yx are i times real functions: their responses are compared as
-// Im(t) against the inverse of K / i.
+// traction t_n = E v_n + h_n with the inverse Laplace transform of K(k, s) g^(s)
+// (tests/cpp/face_drive.hpp).
 Errors prescribed_displacement(const ElasticMaterial& m, OuterFace face, double kH, int steps_per_echo,
                                double round_trips) {
   const double H = 0.1, k = kH / H, cs = m.shear_wave_speed();
   const double echo = 2 * H / cs, dt = echo / steps_per_echo, rise = 2 * echo;
   const int steps = static_cast<int>(round_trips * steps_per_echo);
-  Errors e{};
-  for (int component = 0; component < 2; ++component) {
-    slipstrip::FaceModalHistory history(m, H, face, 2 * pi / k, 4, dt);
-    std::vector<cd> vx(3, 0.0), vy(3, 0.0);
-    std::vector<double> tx(steps + 1), ty(steps + 1);
-    for (int n = 0; n <= steps; ++n) {
-      const double v = slipstrip::testing::bump_rate(n * dt, rise);
-      const cd ux = component == 0 ? v : 0.0, uy = component == 1 ? v : 0.0;
-      const cd hx = n == 0 ? cd(0.0) : history.history_x()[1];
-      const cd hy = n == 0 ? cd(0.0) : history.history_y()[1];
-      const cd t_x = history.shear_impedance() * ux + hx, t_y = history.normal_impedance() * uy + hy;
-      tx[n] = component == 0 ? t_x.real() : t_x.imag();
-      ty[n] = component == 0 ? t_y.imag() : t_y.real();
-      vx[1] = ux;
-      vy[1] = uy;
-      history.push(vx, vy);
-    }
-    const cd i(0.0, 1.0);
-    const auto reference = [&](auto entry) {
-      return slipstrip::testing::inverse_laplace(
-          [&](cd s) { return entry(slipstrip::face_stiffness(m, H, face, k, s)) * slipstrip::testing::bump_laplace(s, rise); },
-          dt, 1 << 18, steps + 1);
-    };
-    if (component == 0) {
-      e.xx = slipstrip::testing::relative_l2_difference(tx, reference([](const FaceMatrix& K) { return K.xx; }));
-      e.yx = slipstrip::testing::relative_l2_difference(ty, reference([&](const FaceMatrix& K) { return K.yx / i; }));
-    } else {
-      e.xy = slipstrip::testing::relative_l2_difference(tx, reference([&](const FaceMatrix& K) { return K.xy / i; }));
-      e.yy = slipstrip::testing::relative_l2_difference(ty, reference([](const FaceMatrix& K) { return K.yy; }));
-    }
-  }
-  return e;
+  return slipstrip::testing::prescribed_face_errors(
+      [&] { return slipstrip::FaceModalHistory(m, H, face, 2 * pi / k, 4, dt); },
+      [&](cd s) { return slipstrip::face_stiffness(m, H, face, k, s); }, dt, rise, steps);
 }
 
 }  // namespace

@@ -1,0 +1,432 @@
+#include "kernels/face_half_space.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include "kernels/passivity.hpp"
+
+namespace slipstrip {
+namespace {
+
+using complex = std::complex<double>;
+constexpr double pi = std::numbers::pi;
+
+// A, B, D through the roots (so that the cut integration can continue them).
+complex entry_of_roots(double r2, FaceEntry entry, complex a, complex d) {
+  const complex R = r2 * a + d;
+  switch (entry) {
+    case FaceEntry::shear: return d * (a + d) / R;
+    case FaceEntry::coupling: return ((2.0 * r2 - 1.0) * a + d) / R;
+    case FaceEntry::normal: return a * (a + d) / R;
+  }
+  return 0.0;
+}
+
+// G_e = entry / p - E'_e, E' = diag(1, 1/r).
+double instantaneous_of(double r2, FaceEntry entry) {
+  switch (entry) {
+    case FaceEntry::shear: return 1.0;
+    case FaceEntry::coupling: return 0.0;
+    case FaceEntry::normal: return 1.0 / std::sqrt(r2);
+  }
+  return 0.0;
+}
+
+complex history_of_roots(double r2, FaceEntry entry, complex p, complex a, complex d) {
+  return entry_of_roots(r2, entry, a, d) / p - instantaneous_of(r2, entry);
+}
+
+std::size_t index_of(FaceEntry e) { return static_cast<std::size_t>(e); }
+
+// Design constants (as kernels/half_space_design.cpp): Gauss-Legendre nodes per
+// panel of the near-field sums (evaluated at every stored lag) and of the far
+// field's exponentials (whose count sets the cost per step); a far exponential
+// whose weight at the first far lag is below kNegligibleAmplitude (units of the
+// kernel, which is O(1) there) is dropped.
+constexpr int kNearNodesPerPanel = 10;
+constexpr int kFarNodesPerPanel = 8;
+constexpr double kNegligibleAmplitude = 1e-17;
+constexpr double kWindowSlack = 1e-12;
+// Passivity grid (passivity_phases): 2048 phases over (0, pi], 2048 across the band
+// up to 2.5 times the P-wave frequency (lossless below c_s k, where aliasing
+// makes the sampled kernel dip), 64 on each side of each branch point.
+constexpr int kCircleThetas = 2048, kBandThetas = 2048, kClusterThetas = 64;
+// Cutting-plane rounds of the passivity correction, and the margin each new
+// constraint asks for above `margin` (so that the next round's eigenvectors,
+// which move with the corrections, still clear it).
+constexpr int kCorrectionRounds = 40;
+constexpr double kMarginSlack = 0.5;
+// The smallest eigenvalue asked for on the grid, in units of mu/c_s.  Between
+// the SV and P frequencies the exact Hermitian part is rank one and the
+// corrected one dips between grid phases by up to ~2e-7 (measured on a 10 times
+// finer grid), so the grid margin is 1e-6 (the scalar operator's 1e-9 does not
+// cover it): an added damping of 1e-6 of the radiation impedance at most.
+constexpr double kMatrixPassivityMargin = 1e-6;
+
+// Re of the three entries' symbols (units mu/c_s) at theta, from the mode's
+// coefficients: E' + static (Re sum_{j>=1} e^{-ij theta} = -1/2) + stored lags +
+// the exponentials' geometric series.
+struct ModeDesign {
+  double h = 0.0;
+  int window = 0;
+  std::array<double, 3> static_value{};          // units mu/c_s (h g(inf))
+  std::array<std::vector<double>, 3> lag;         // units mu/c_s, j = 1..W
+  std::vector<complex> pole;
+  std::array<std::vector<complex>, 3> weight;     // units mu/c_s
+};
+
+// The phases where passivity is imposed: a uniform grid over (0, pi], a finer
+// one across the band up to 2.5 times the P-wave frequency, and geometric
+// clusters on both sides of the branch points theta = h and h / r (shear and P
+// frequencies), where Re Z_d has square-root kinks and its minima sit.
+std::vector<double> passivity_phases(double h, double r2) {
+  std::vector<double> thetas;
+  for (int i = 1; i <= kCircleThetas; ++i) thetas.push_back(pi * i / kCircleThetas);
+  const double band = std::min(pi, 2.5 * h / std::sqrt(r2));
+  for (int i = 1; i <= kBandThetas; ++i) thetas.push_back(band * (i - 0.5) / kBandThetas);
+  for (double b : {h, h / std::sqrt(r2)})
+    for (int i = 0; i < kClusterThetas; ++i) {
+      const double offset = b * std::pow(10.0, -8.0 + 7.7 * i / (kClusterThetas - 1));  // 1e-8 b .. 0.5 b
+      for (double theta : {b - offset, b + offset})
+        if (theta > 0.0 && theta <= pi) thetas.push_back(theta);
+    }
+  return thetas;
+}
+
+std::array<complex, 3> symbol_of(const ModeDesign& m, double r2, double theta) {
+  const complex rotation = std::polar(1.0, -theta);
+  const complex static_sum = rotation / (1.0 - rotation);  // sum_{j>=1} e^{-i j theta}
+  std::array<complex, 3> near{}, far{};
+  complex power = 1.0;
+  for (int j = 1; j <= m.window; ++j) {
+    power *= rotation;
+    for (std::size_t i = 0; i < 3; ++i) near[i] += m.lag[i][j - 1] * power;
+  }
+  for (std::size_t k = 0; k < m.pole.size(); ++k) {
+    const complex a = m.pole[k] * rotation, b = std::conj(m.pole[k]) * rotation;
+    const complex ga = a / (1.0 - a), gb = b / (1.0 - b);
+    for (std::size_t i = 0; i < 3; ++i) far[i] += m.weight[i][k] * ga + std::conj(m.weight[i][k]) * gb;
+  }
+  std::array<complex, 3> z{};
+  for (FaceEntry e : kFaceEntries) {
+    const std::size_t i = index_of(e);
+    z[i] = instantaneous_of(r2, e) + m.static_value[i] * static_sum + near[i] + power * far[i];
+  }
+  return z;
+}
+
+// The smallest corrections of the first `lags` weights of each entry (units
+// mu/c_s) that make the real matrix M = [[Re Z_A, Re Z_B], [Re Z_B, Re Z_D]]
+// have both eigenvalues >= margin at every grid phase: the Hermitian part of
+// Z_d = [[Z_A, -i Z_B], [i Z_B, Z_D]] is diag(1, i) M diag(1, -i), so the two
+// are positive semidefinite together.  w^T M w >= margin is linear in the
+// corrections for a fixed direction w; between the shear and P frequencies the
+// exact M is rank one (only the SV wave radiates), so the binding direction is
+// sharp and a fixed set of directions would not do.  Cutting planes: each round
+// adds, at every phase where the corrected M has an eigenvalue below the
+// margin, the constraint along that eigenvector, and solves the minimum-norm
+// problem on all constraints so far.
+std::vector<double> passivity_correction(const ModeDesign& m, double r2, int lags, double margin) {
+  const std::vector<double> thetas = passivity_phases(m.h, r2);
+  std::vector<std::array<double, 3>> base;  // Re Z_A, Re Z_B, Re Z_D uncorrected
+  for (double theta : thetas) {
+    const auto z = symbol_of(m, r2, theta);
+    base.push_back({z[0].real(), z[1].real(), z[2].real()});
+  }
+  const int n = 3 * lags;
+  std::vector<double> rows, rhs, x(n, 0.0);
+  for (int round = 0; round < kCorrectionRounds; ++round) {
+    bool added = false;
+    for (std::size_t t = 0; t < thetas.size(); ++t) {
+      std::array<double, 3> re = base[t];
+      for (int e = 0; e < 3; ++e)
+        for (int j = 1; j <= lags; ++j) re[e] += x[e * lags + j - 1] * std::cos(j * thetas[t]);
+      // Smallest eigenvalue of [[a, b], [b, d]] and its eigenvector (cos phi, sin phi).
+      const double a = re[0], b = re[1], d = re[2];
+      const double lowest = 0.5 * (a + d) - std::hypot(0.5 * (a - d), b);
+      if (lowest >= margin) continue;
+      const double phi = 0.5 * std::atan2(2.0 * b, a - d) + 0.5 * pi;
+      const double c = std::cos(phi), sn = std::sin(phi);
+      const double weights[3] = {c * c, 2.0 * c * sn, sn * sn};
+      for (int e = 0; e < 3; ++e)
+        for (int j = 1; j <= lags; ++j) rows.push_back(weights[e] * std::cos(j * thetas[t]));
+      rhs.push_back(margin * (1.0 + kMarginSlack) -
+                    (weights[0] * base[t][0] + weights[1] * base[t][1] + weights[2] * base[t][2]));
+      added = true;
+    }
+    if (!added) return x;
+    x = minimum_norm_point(rows, rhs, n);
+  }
+  throw std::runtime_error("the passivity correction did not settle in " + std::to_string(kCorrectionRounds) +
+                           " rounds");
+}
+
+}  // namespace
+
+complex half_space_face_entry(double r2, FaceEntry entry, complex p) {
+  const complex a = std::sqrt(1.0 + p * p), d = std::sqrt(1.0 + r2 * (p * p));
+  return entry_of_roots(r2, entry, a, d);
+}
+
+FaceMatrix half_space_face_stiffness(const ElasticMaterial& material, double k, complex s) {
+  const double mu = material.shear_modulus, cs = material.shear_wave_speed();
+  const double r2 = 1.0 / material.wave_speed_ratio_squared();
+  FaceMatrix out;
+  if (k == 0.0) {
+    out.xx = mu * s / cs;
+    out.yy = mu * s / (cs * std::sqrt(r2));
+    return out;
+  }
+  const double ak = std::abs(k);
+  const complex p = s / (cs * ak);
+  const complex i(0.0, 1.0);
+  out.xx = mu * ak * half_space_face_entry(r2, FaceEntry::shear, p);
+  out.yy = mu * ak * half_space_face_entry(r2, FaceEntry::normal, p);
+  out.xy = -i * k * mu * half_space_face_entry(r2, FaceEntry::coupling, p);
+  out.yx = -out.xy;
+  return out;
+}
+
+complex half_space_face_history_transform(double r2, FaceEntry entry, complex p) {
+  const complex a = std::sqrt(1.0 + p * p), d = std::sqrt(1.0 + r2 * (p * p));
+  return history_of_roots(r2, entry, p, a, d);
+}
+
+double half_space_face_static_value(double r2, FaceEntry entry) {
+  return entry_of_roots(r2, entry, 1.0, 1.0).real();
+}
+
+double half_space_face_initial_value(double r2, FaceEntry entry) {
+  return entry == FaceEntry::coupling ? (2.0 * std::sqrt(r2) - 1.0) / std::sqrt(r2) : 0.0;
+}
+
+ExponentialSum half_space_face_exponential_sum(double r2, FaceEntry entry, double tau_min, double tau_max,
+                                               int nodes_per_panel) {
+  return in_plane_exponential_sum(
+      r2, half_space_face_static_value(r2, entry),
+      [r2, entry](complex p, complex a, complex d) { return history_of_roots(r2, entry, p, a, d); }, tau_min,
+      tau_max, nodes_per_panel);
+}
+
+FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
+                                           double time_step, const HalfSpaceOperatorDesign& design,
+                                           const CancelCheck& cancelled)
+    : dt_(time_step), lags_(design.corrected_lags) {
+  if (material.antiplane())
+    throw std::invalid_argument("FaceHalfSpaceHistory: the in-plane 2x2 operator needs an in-plane material");
+  if (!(time_step > 0.0) || nodes < 2 || !(length > 0.0))
+    throw std::invalid_argument("FaceHalfSpaceHistory: need time_step > 0, nodes >= 2, length > 0");
+  const double mu = material.shear_modulus, cs = material.shear_wave_speed();
+  const double r2 = 1.0 / material.wave_speed_ratio_squared();
+  const double unit = mu / cs;
+  impedance_x_ = unit;
+  impedance_y_ = unit / std::sqrt(r2);
+  const int n_modes = nodes / 2 + 1;
+  wavenumber_.resize(n_modes);
+  h_.resize(n_modes);
+  for (int q = 0; q < n_modes; ++q) {
+    wavenumber_[q] = 2.0 * pi * q / length;
+    h_[q] = cs * wavenumber_[q] * dt_;
+  }
+  std::vector<int> window(n_modes, 0);
+  double tau_near_max = 0.0;
+  for (int q = 1; q < n_modes; ++q) {
+    window[q] = std::max(lags_, static_cast<int>(std::ceil(design.near_field_tau / h_[q] - kWindowSlack)));
+    tau_near_max = std::max(tau_near_max, window[q] * h_[q]);
+  }
+  std::array<ExponentialSum, 3> near, far;
+  if (n_modes > 1)
+    for (FaceEntry e : kFaceEntries) {
+      near[index_of(e)] = half_space_face_exponential_sum(r2, e, h_[1], 2.0 * tau_near_max + 1.0, kNearNodesPerPanel);
+      far[index_of(e)] =
+          half_space_face_exponential_sum(r2, e, design.near_field_tau, design.horizon_tau, kFarNodesPerPanel);
+    }
+
+  static_weight_.assign(n_modes, {});
+  first_lag_.assign(n_modes + 1, 0);
+  first_pole_.assign(n_modes + 1, 0);
+  correction_.assign(static_cast<std::size_t>(n_modes) * lags_, {});
+  for (int q = 1; q < n_modes; ++q) {
+    throw_if_cancelled(cancelled, "the half-space body's operator");
+    const double h = h_[q];
+    ModeDesign m;
+    m.h = h;
+    m.window = window[q];
+    for (FaceEntry e : kFaceEntries) {
+      const std::size_t i = index_of(e);
+      m.static_value[i] = h * far[i].static_value;
+      m.lag[i].resize(m.window);
+      for (int j = 1; j <= m.window; ++j) m.lag[i][j - 1] = h * (evaluate(near[i], j * h) - near[i].static_value);
+    }
+    // The coupling's step: its trapezoidal half weight at j = 0 moves to j = 1.
+    m.lag[1][0] += 0.5 * h * half_space_face_initial_value(r2, FaceEntry::coupling);
+    const double shift = m.window * h;
+    for (std::size_t k = 0; k < far[0].rate.size(); ++k) {
+      std::array<complex, 3> w;
+      double largest = 0.0;
+      for (std::size_t i = 0; i < 3; ++i) {
+        w[i] = h * far[i].amplitude[k] * std::exp(far[i].rate[k] * shift);
+        largest = std::max(largest, std::abs(w[i]));
+      }
+      if (largest < kNegligibleAmplitude) continue;
+      m.pole.push_back(std::exp(far[0].rate[k] * h));
+      for (std::size_t i = 0; i < 3; ++i) m.weight[i].push_back(w[i]);
+    }
+    std::vector<double> e;
+    try {
+      e = passivity_correction(m, r2, lags_, std::max(design.passivity_margin, kMatrixPassivityMargin));
+    } catch (const std::exception& ex) {
+      std::ostringstream msg;
+      msg << "half-space body operator (dt = " << dt_ << " s, c_s k dt = " << h << " at mode " << q
+          << "): no passive correction (" << ex.what() << "); refine the time step (time.beta)";
+      throw std::invalid_argument(msg.str());
+    }
+    for (std::size_t i = 0; i < 3; ++i) {
+      static_weight_[q][i] = unit * m.static_value[i];
+      for (int j = 1; j <= lags_; ++j) {
+        m.lag[i][j - 1] += e[i * lags_ + (j - 1)];
+        correction_[(q - 1) * static_cast<std::size_t>(lags_) + (j - 1)][i] = e[i * lags_ + (j - 1)];
+      }
+    }
+    for (int j = 1; j <= m.window; ++j) lag_weight_.push_back({unit * m.lag[0][j - 1], unit * m.lag[1][j - 1],
+                                                               unit * m.lag[2][j - 1]});
+    for (std::size_t k = 0; k < m.pole.size(); ++k) {
+      pole_.push_back(m.pole[k]);
+      pole_weight_.push_back({unit * m.weight[0][k], unit * m.weight[1][k], unit * m.weight[2][k]});
+    }
+    first_lag_[q + 1] = lag_weight_.size();
+    first_pole_[q + 1] = pole_.size();
+  }
+  first_lag_[1] = first_lag_[0] = 0;
+  ring_x_.assign(lag_weight_.size(), 0.0);
+  ring_y_ = ring_x_;
+  running_x_.assign(n_modes, 0.0);
+  running_y_ = history_x_ = history_y_ = running_x_;
+  far_x_.assign(pole_.size(), 0.0);
+  far_conj_x_ = far_y_ = far_conj_y_ = far_x_;
+}
+
+void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<const complex> velocity_y) {
+  const complex i(0.0, 1.0);
+  const std::size_t n_modes = history_x_.size();
+  // q = 0: a half-space's uniform mode is pure radiation damping (no history).
+  for (std::size_t q = 1; q < n_modes; ++q) {
+    const complex vx = velocity_x[q], vy = velocity_y[q];
+    const std::size_t lag0 = first_lag_[q], window = first_lag_[q + 1] - lag0;
+    // The slot of v_{n-W} (the oldest stored input), which v_n replaces.
+    const std::size_t slot = static_cast<std::size_t>(step_ % static_cast<long long>(window));
+    const complex old_x = ring_x_[lag0 + slot], old_y = ring_y_[lag0 + slot];
+    ring_x_[lag0 + slot] = vx;
+    ring_y_[lag0 + slot] = vy;
+    running_x_[q] += vx;
+    running_y_[q] += vy;
+    const auto& s = static_weight_[q];
+    std::array<complex, 3> from_x{s[0] * running_x_[q], s[1] * running_x_[q], 0.0};
+    std::array<complex, 3> from_y{0.0, s[1] * running_y_[q], s[2] * running_y_[q]};
+    // Stored lags j = 1..W: v_{n+1-j} sits at slot - (j - 1) (mod W).
+    for (std::size_t j = 1; j <= window; ++j) {
+      const std::size_t at = lag0 + (slot + window - (j - 1)) % window;
+      const auto& w = lag_weight_[lag0 + j - 1];
+      from_x[0] += w[0] * ring_x_[at];
+      from_x[1] += w[1] * ring_x_[at];
+      from_y[1] += w[1] * ring_y_[at];
+      from_y[2] += w[2] * ring_y_[at];
+    }
+    // Lags W + i: kernel 2 Re(w z^i), states sum_i z^i v_{n+1-W-i} (and conj(z)).
+    for (std::size_t k = first_pole_[q]; k < first_pole_[q + 1]; ++k) {
+      const complex z = pole_[k], zc = std::conj(z);
+      far_x_[k] = z * (far_x_[k] + old_x);
+      far_conj_x_[k] = zc * (far_conj_x_[k] + old_x);
+      far_y_[k] = z * (far_y_[k] + old_y);
+      far_conj_y_[k] = zc * (far_conj_y_[k] + old_y);
+      const auto& w = pole_weight_[k];
+      from_x[0] += w[0] * far_x_[k] + std::conj(w[0]) * far_conj_x_[k];
+      from_x[1] += w[1] * far_x_[k] + std::conj(w[1]) * far_conj_x_[k];
+      from_y[1] += w[1] * far_y_[k] + std::conj(w[1]) * far_conj_y_[k];
+      from_y[2] += w[2] * far_y_[k] + std::conj(w[2]) * far_conj_y_[k];
+    }
+    // [[K^0, -i K^1], [i K^1, K^2]] (k > 0).
+    history_x_[q] = from_x[0] - i * from_y[1];
+    history_y_[q] = i * from_x[1] + from_y[2];
+  }
+  ++step_;
+}
+
+FaceHalfSpaceModeKernel FaceHalfSpaceHistory::mode_kernel(int q) const {
+  if (q < 1 || q >= modes()) throw std::out_of_range("FaceHalfSpaceHistory::mode_kernel: q out of range");
+  FaceHalfSpaceModeKernel out;
+  out.wavenumber = wavenumber_[q];
+  out.h = h_[q];
+  out.static_weight = static_weight_[q];
+  for (std::size_t i = 0; i < 3; ++i) {
+    for (std::size_t j = first_lag_[q]; j < first_lag_[q + 1]; ++j) out.lag_weight[i].push_back(lag_weight_[j][i]);
+    for (int j = 0; j < lags_; ++j) out.correction[i].push_back(correction_[(q - 1) * static_cast<std::size_t>(lags_) + j][i]);
+    for (std::size_t k = first_pole_[q]; k < first_pole_[q + 1]; ++k) out.pole_weight[i].push_back(pole_weight_[k][i]);
+  }
+  out.pole.assign(pole_.begin() + first_pole_[q], pole_.begin() + first_pole_[q + 1]);
+  return out;
+}
+
+FaceMatrix FaceHalfSpaceHistory::symbol(int q, double theta) const {
+  const FaceHalfSpaceModeKernel k = mode_kernel(q);
+  ModeDesign m;
+  m.h = k.h;
+  m.window = static_cast<int>(k.lag_weight[0].size());
+  m.pole = k.pole;
+  const double r2 = (impedance_x_ / impedance_y_) * (impedance_x_ / impedance_y_);
+  for (std::size_t i = 0; i < 3; ++i) {
+    m.static_value[i] = k.static_weight[i] / impedance_x_;
+    for (double w : k.lag_weight[i]) m.lag[i].push_back(w / impedance_x_);
+    for (complex w : k.pole_weight[i]) m.weight[i].push_back(w / impedance_x_);
+  }
+  const auto z = symbol_of(m, r2, theta);
+  const complex i(0.0, 1.0);
+  FaceMatrix out;
+  out.xx = impedance_x_ * z[0];
+  out.xy = -i * impedance_x_ * z[1];
+  out.yx = i * impedance_x_ * z[1];
+  out.yy = impedance_x_ * z[2];
+  return out;
+}
+
+void FaceHalfSpaceHistory::save_into(HistoryOperatorState& state, const std::string& prefix) const {
+  state.add(prefix + "ring_x", ring_x_);
+  state.add(prefix + "ring_y", ring_y_);
+  state.add(prefix + "running_x", running_x_);
+  state.add(prefix + "running_y", running_y_);
+  state.add(prefix + "far_x", far_x_);
+  state.add(prefix + "far_conj_x", far_conj_x_);
+  state.add(prefix + "far_y", far_y_);
+  state.add(prefix + "far_conj_y", far_conj_y_);
+  state.add(prefix + "history_x", history_x_);
+  state.add(prefix + "history_y", history_y_);
+  state.counters.emplace_back(prefix + "step", step_);
+}
+
+void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const std::string& prefix) {
+  state.copy_to(prefix + "ring_x", std::span<complex>(ring_x_));
+  state.copy_to(prefix + "ring_y", std::span<complex>(ring_y_));
+  state.copy_to(prefix + "running_x", std::span<complex>(running_x_));
+  state.copy_to(prefix + "running_y", std::span<complex>(running_y_));
+  state.copy_to(prefix + "far_x", std::span<complex>(far_x_));
+  state.copy_to(prefix + "far_conj_x", std::span<complex>(far_conj_x_));
+  state.copy_to(prefix + "far_y", std::span<complex>(far_y_));
+  state.copy_to(prefix + "far_conj_y", std::span<complex>(far_conj_y_));
+  state.copy_to(prefix + "history_x", std::span<complex>(history_x_));
+  state.copy_to(prefix + "history_y", std::span<complex>(history_y_));
+  step_ = state.counter(prefix + "step");
+}
+
+std::size_t FaceHalfSpaceHistory::memory_bytes() const {
+  return sizeof(complex) * (ring_x_.size() + ring_y_.size() + running_x_.size() + running_y_.size() +
+                            4 * far_x_.size() + history_x_.size() + history_y_.size() + pole_.size()) +
+         sizeof(pole_weight_[0]) * pole_weight_.size() + sizeof(lag_weight_[0]) * lag_weight_.size() +
+         sizeof(static_weight_[0]) * static_weight_.size() + sizeof(correction_[0]) * correction_.size() +
+         sizeof(double) * (wavenumber_.size() + h_.size()) +
+         sizeof(std::size_t) * (first_lag_.size() + first_pole_.size());
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,135 @@
+#pragma once
+// The in-plane 2x2 face response of ONE half-space and its discrete,
+// bounded-memory history operator (docs/inplane_bodies.md §6).
+//
+// Per Fourier mode k > 0 and p = s / (c_s k), with a = sqrt(1 + p^2),
+// d = sqrt(1 + r^2 p^2) (principal roots), r^2 = c_s^2 / c_d^2 and R = r^2 a + d,
+//     K(k, s) = mu k [[A, -i B], [i B, D]],
+//     A = d (a + d) / R,   B = ((2 r^2 - 1) a + d) / R,   D = a (a + d) / R,
+// in the convention of kernels/face_response.hpp (t = K u, the body above its
+// face); k < 0 flips the sign of the off-diagonal (K(-k) = K(k)^T).  This is
+// face_stiffness(material, inf, ...) simplified: Q = a (r^2 a + d) / (a + d)
+// (in units of k).  R has no zero on the principal sheet (its zeros
+// p = +-i sqrt(1 + r^2) / r lie on the other one), so K has only the branch
+// points p = +-i, +-i/r: the Rayleigh denominator belongs to the compliance
+// K^{-1} (a free surface), not to the stiffness; two bodies in contact meet it
+// again through K_t + K_b' (the generalised Rayleigh wave).
+//
+// Time domain: K / s = (mu / c_s) [E' + G(p)], E' = diag(1, 1/r) (radiation
+// impedances diag(mu/c_s, rho c_d) in units of mu/c_s), with the history
+// transforms G_A = A/p - 1, G_B = B/p, G_D = D/p - 1/r and their inverses
+// g_e(tau), tau = c_s k t:
+//     g_e(inf) = A(0), B(0), D(0) = 2/(1+r^2), 2 r^2/(1+r^2), 2/(1+r^2),
+//     g_e(0+)  = 0, (2r - 1)/r, 0
+// (the coupling starts with a step: its transform falls like 1/p, the diagonal
+// ones like 1/p^2).  The traction on the body through its face is
+//     t(t) = E v(t) + mu k int_0^t g(c_s k t') v(t - t') dt'    (2x2 g).
+#include <array>
+#include <complex>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "kernels/elastic_material.hpp"
+#include "kernels/face_history.hpp"
+#include "kernels/face_response.hpp"
+#include "kernels/half_space_design.hpp"
+#include "kernels/half_space_kernel.hpp"
+
+namespace slipstrip {
+
+// The three distinct entries: shear (xx), coupling (the real B of
+// xy = -i B, yx = +i B) and normal (yy).
+enum class FaceEntry { shear = 0, coupling = 1, normal = 2 };
+inline constexpr std::array<FaceEntry, 3> kFaceEntries = {FaceEntry::shear, FaceEntry::coupling,
+                                                          FaceEntry::normal};
+
+// A, B or D above at p (Re p >= 0; on the imaginary axis the limit from Re p > 0).
+std::complex<double> half_space_face_entry(double speed_ratio_squared, FaceEntry entry, std::complex<double> p);
+// K(k, s) of a half-space body from the entries (k of either sign; k = 0:
+// diag(mu s / c_s, rho c_d s)).  Pa/m.
+FaceMatrix half_space_face_stiffness(const ElasticMaterial& material, double wavenumber, std::complex<double> s);
+// G_e(p) above.
+std::complex<double> half_space_face_history_transform(double speed_ratio_squared, FaceEntry entry,
+                                                       std::complex<double> p);
+double half_space_face_static_value(double speed_ratio_squared, FaceEntry entry);   // g_e(inf)
+double half_space_face_initial_value(double speed_ratio_squared, FaceEntry entry);  // g_e(0+)
+// g_e(tau) ~= g_e(inf) + 2 Re sum amplitude e^{rate tau} for tau in [tau_min,
+// tau_max] (the branch-cut construction of kernels/half_space_kernel.hpp).
+ExponentialSum half_space_face_exponential_sum(double speed_ratio_squared, FaceEntry entry, double tau_min,
+                                               double tau_max, int nodes_per_panel = 10);
+
+// The coefficients of one Fourier mode q >= 1 of the discrete operator, per
+// entry e (index 0, 1, 2 = shear, coupling, normal), in Pa s/m:
+//     K_j^e = static_weight[e] + lag_weight[e][j-1]           (1 <= j <= W),
+//     K_{W+i}^e = static_weight[e] + 2 Re sum_m pole_weight[e][m] pole[m]^i   (i >= 1),
+// and the mode's 2x2 kernel is [[K^0, -i K^1], [i K^1, K^2]] (k > 0).
+struct FaceHalfSpaceModeKernel {
+  double wavenumber = 0.0, h = 0.0;  // |k|, c_s |k| dt
+  std::array<double, 3> static_weight{};
+  std::array<std::vector<double>, 3> lag_weight;
+  std::array<std::vector<double>, 3> correction;  // passivity corrections (units mu/c_s), lags 1..L
+  std::vector<std::complex<double>> pole;
+  std::array<std::vector<std::complex<double>>, 3> pole_weight;
+};
+
+// Per Fourier mode, t_n = E v_n + h_n with h_n = sum_{j>=1} K_j v_{n-j} (2x2
+// K_j).  K_j samples mu k g(c_s k t) by the trapezoidal rule (dt mu k g(j h));
+// the coupling's half weight at j = 0 (its step g_B(0+) != 0) is moved to j = 1,
+// which keeps the rule second order for smooth inputs (the change is
+// (dt/2) mu k g_B(0) (v_n - v_{n-1}) = O(dt^2)) and keeps the operator strictly
+// causal with the diagonal instantaneous impedance E the interface needs.  Lags
+// beyond W (c_s k W dt >= near_field_tau) use the exponential sum, rotated every
+// step; the static part is a running sum (exact static stiffness).  The first
+// `corrected_lags` weights of each entry get the smallest correction (Euclidean
+// norm) that makes the operator passive as a matrix: the Hermitian part of its
+// symbol Z_d(theta) = E + sum_j K_j e^{-i j theta} positive semidefinite on a
+// grid of theta (cutting planes along the binding eigenvectors;
+// docs/inplane_bodies.md §6), with a margin of at least 1e-6 mu/c_s.  Uses
+// HalfSpaceOperatorDesign's corrected_lags, near_field_tau, horizon_tau and
+// passivity_margin.
+class FaceHalfSpaceHistory final : public FaceHistory {
+ public:
+  FaceHalfSpaceHistory(const ElasticMaterial& material, double length, int nodes, double time_step,
+                       const HalfSpaceOperatorDesign& design = {}, const CancelCheck& cancelled = {});
+
+  double time_step() const override { return dt_; }
+  double shear_impedance() const override { return impedance_x_; }
+  double normal_impedance() const override { return impedance_y_; }
+  int modes() const override { return static_cast<int>(history_x_.size()); }
+  void push(std::span<const std::complex<double>> velocity_x,
+            std::span<const std::complex<double>> velocity_y) override;
+  std::span<const std::complex<double>> history_x() const override { return history_x_; }
+  std::span<const std::complex<double>> history_y() const override { return history_y_; }
+  void save_into(HistoryOperatorState& state, const std::string& prefix) const override;
+  void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
+  std::size_t memory_bytes() const override;
+  std::size_t discrete_modes() const override { return pole_.size(); }
+
+  // The coefficients of mode q >= 1, and its symbol Z_d(e^{i theta}) (Pa s/m,
+  // E included; the static running sum contributes its finite part for
+  // theta in (0, 2 pi)).
+  FaceHalfSpaceModeKernel mode_kernel(int q) const;
+  FaceMatrix symbol(int q, double theta) const;
+
+ private:
+  double dt_, impedance_x_, impedance_y_;
+  long long step_ = 0;
+  std::vector<double> wavenumber_, h_;
+  std::vector<std::array<double, 3>> static_weight_;
+  std::vector<std::size_t> first_lag_, first_pole_;  // size modes + 1
+  std::vector<std::array<double, 3>> lag_weight_;
+  std::vector<std::array<double, 3>> correction_;    // corrected_lags per mode q >= 1
+  int lags_;
+  std::vector<std::complex<double>> pole_;
+  std::vector<std::array<std::complex<double>, 3>> pole_weight_;
+  // State.
+  std::vector<std::complex<double>> ring_x_, ring_y_;  // last W_q inputs of mode q
+  std::vector<std::complex<double>> running_x_, running_y_;
+  // Per exponential: sum_i z^i v and sum_i conj(z)^i v of the delayed inputs.
+  std::vector<std::complex<double>> far_x_, far_conj_x_, far_y_, far_conj_y_;
+  std::vector<std::complex<double>> history_x_, history_y_;
+};
+
+}  // namespace slipstrip
