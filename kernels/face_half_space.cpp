@@ -1,6 +1,9 @@
 #include "kernels/face_half_space.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -245,14 +248,20 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
           half_space_face_exponential_sum(r2, e, design.near_field_tau, design.horizon_tau, kFarNodesPerPanel);
     }
 
-  static_weight_.assign(n_modes, {});
-  first_lag_.assign(n_modes + 1, 0);
-  first_pole_.assign(n_modes + 1, 0);
-  correction_.assign(static_cast<std::size_t>(n_modes) * lags_, {});
+  // Each mode's design (sampled near field, exponentials, passivity correction)
+  // is independent: computed in parallel, then laid out flat for the time loop.
+  // `cancelled` may call into Python, so only the calling thread polls it.
+  std::vector<ModeDesign> designs(n_modes);
+  std::vector<std::vector<double>> corrections(n_modes);
+  std::string failure;
+  std::atomic<bool> cancel_seen{false};
+#pragma omp parallel for schedule(dynamic)
   for (int q = 1; q < n_modes; ++q) {
-    throw_if_cancelled(cancelled, "the half-space body's operator");
+    if (omp_get_thread_num() == 0 && cancelled && !cancel_seen.load(std::memory_order_relaxed) && cancelled())
+      cancel_seen.store(true);
+    if (cancel_seen.load(std::memory_order_relaxed)) continue;
     const double h = h_[q];
-    ModeDesign m;
+    ModeDesign& m = designs[q];
     m.h = h;
     m.window = window[q];
     for (FaceEntry e : kFaceEntries) {
@@ -275,15 +284,26 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
       m.pole.push_back(std::exp(far[0].rate[k] * h));
       for (std::size_t i = 0; i < 3; ++i) m.weight[i].push_back(w[i]);
     }
-    std::vector<double> e;
     try {
-      e = passivity_correction(m, r2, lags_, std::max(design.passivity_margin, kMatrixPassivityMargin));
+      corrections[q] = passivity_correction(m, r2, lags_, std::max(design.passivity_margin, kMatrixPassivityMargin));
     } catch (const std::exception& ex) {
       std::ostringstream msg;
       msg << "half-space body operator (dt = " << dt_ << " s, c_s k dt = " << h << " at mode " << q
           << "): no passive correction (" << ex.what() << "); refine the time step (time.beta)";
-      throw std::invalid_argument(msg.str());
+#pragma omp critical(slipstrip_face_half_space_setup)
+      if (failure.empty()) failure = msg.str();
     }
+  }
+  if (cancel_seen.load()) throw SetupCancelled("set-up cancelled during the half-space body's operator");
+  if (!failure.empty()) throw std::invalid_argument(failure);
+
+  static_weight_.assign(n_modes, {});
+  first_lag_.assign(n_modes + 1, 0);
+  first_pole_.assign(n_modes + 1, 0);
+  correction_.assign(static_cast<std::size_t>(n_modes) * lags_, {});
+  for (int q = 1; q < n_modes; ++q) {
+    ModeDesign& m = designs[q];
+    const std::vector<double>& e = corrections[q];
     for (std::size_t i = 0; i < 3; ++i) {
       static_weight_[q][i] = unit * m.static_value[i];
       for (int j = 1; j <= lags_; ++j) {

@@ -88,7 +88,8 @@ struct FaceHalfSpaceModeKernel {
 // grid of theta (cutting planes along the binding eigenvectors;
 // docs/inplane_bodies.md §6), with a margin of at least 1e-6 mu/c_s.  Uses
 // HalfSpaceOperatorDesign's corrected_lags, near_field_tau, horizon_tau and
-// passivity_margin.
+// passivity_margin.  The modes are designed in parallel (OpenMP); the set-up
+// throws SetupCancelled when `cancelled` says so.
 class FaceHalfSpaceHistory final : public FaceHistory {
  public:
   FaceHalfSpaceHistory(const ElasticMaterial& material, double length, int nodes, double time_step,
