@@ -4,7 +4,7 @@
 // friction solve, and the stop on opening.  Checked here:
 //   * identical bodies through the dissimilar path against today's mirror
 //     operator (a different discrete operator: see the tolerance);
-//   * symmetry: identical bodies leave the normal stress at sigma0 exactly;
+//   * symmetry: identical bodies leave the normal stress at sigma0 (to a few ulps);
 //   * a bottom body 1e4 times stiffer (same wave speeds) against the rigid base;
 //   * opening stops the run with a message naming the node and the time;
 //   * save/restore continues bit for bit.
@@ -65,9 +65,16 @@ TEST_CASE("identical in-plane bodies through the dissimilar path: sigma stays si
   CHECK(a.time_step() == b.time_step());
   CHECK(a.radiation_damping() == doctest::Approx(b.radiation_damping()).epsilon(1e-15));
   const Difference d = compare(a, b, 2000);
-  // Mirror symmetry: the bottom operator's inputs are exactly the top's negated,
-  // so its histories are too, and sigma' = (hy_t + hy_b)/2 = 0 exactly.
-  for (double s : b.normal_stress()) CHECK(s == mirror.loading.normal_stress);
+  // Mirror symmetry: the bottom operator's inputs are the top's negated, so its
+  // histories are too, and sigma' = (hy_t + hy_b)/2 = 0 -- up to rounding: the
+  // split of the slip rate into the two faces' velocities, -(e v + h_t + h_b)/(2e)
+  // and that plus v, is a negated pair only to the last bit, and which way the
+  // last bit goes depends on the compiler's FMA contraction (exact in the
+  // -march=native build, 2 ulps of sigma0 = 2.3e-10 Pa at most in the portable
+  // one).  So sigma stays sigma0 to a few ulps of sigma0, not a physical change.
+  const double sigma0 = mirror.loading.normal_stress;
+  const double ulp = std::nextafter(sigma0, 2 * sigma0) - sigma0;
+  for (double s : b.normal_stress()) CHECK(std::abs(s - sigma0) <= 4 * ulp);
   MESSAGE("identical bodies, mirror operator vs per-body 2x2 operators, 2000 steps: max |dv| = "
           << d.worst << " m/s, max |v - v0| = " << d.largest << " m/s");
   REQUIRE(d.largest > 1e-3 * mirror.loading.driving_velocity);
