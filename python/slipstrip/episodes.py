@@ -121,6 +121,13 @@ def _peak_text(peak: dict | None) -> str:
     return "–" if not peak else f"{peak['median']:.2f} / {peak['p99']:.1f} / {peak['max']:.1f} v0"
 
 
+
+def _stretch_text(summary: dict) -> str:
+    """The longest stretch of pulse windows, "t0-t1" in whole L/c_s (the window
+    bounds are multiples of the window length; the division leaves 60.00000000000001)."""
+    stretch = summary.get("longest_stretch_transits")
+    return f"{stretch[0]:.0f}-{stretch[1]:.0f}" if stretch else "none"
+
 def markdown_table(summaries: list[dict]) -> str:
     """One row per run, and a total row for several: windows with a pulse; of
     the windows after the first (the start-up), how many move one way
@@ -132,8 +139,7 @@ def markdown_table(summaries: list[dict]) -> str:
             "|---|---|---|---|---|---|---|---|---|"]
     totals = [0, 0, 0, 0]
     for s in summaries:
-        stretch = s.get("longest_stretch_transits")
-        stretch_text = f"{stretch[0]:.0f}-{stretch[1]:.0f}" if stretch else "none"
+        stretch_text = _stretch_text(s)
         lh = s["late_half"]
         rate = lh.get("min_max_slip_rate_v0")
         way = lh.get("moving_fraction")
@@ -216,7 +222,7 @@ def main(argv: list[str]) -> int:
           f"(min max v {lh['min_max_slip_rate_v0']:.3g} v0, width {lh['median_width_fraction']:.3g} L, "
           f"correlation {lh['median_correlation']:.3g}, moving one way {lh['moving_fraction']:.3g}, "
           f"travelled {lh['travelled_periods']:.3g} L); pulse in {s['pulse_windows']} of {len(s['windows'])} "
-          f"windows of {s['window_transits']:g} L/c_s, longest stretch {s['longest_stretch_transits']}")
+          f"windows of {s['window_transits']:g} L/c_s, longest stretch {_stretch_text(s)}")
     for w in s["windows"]:
         print(f"  t = {w['t0_transits']:5.0f}-{w['t1_transits']:5.0f} L/c_s: pulse {str(w['pulse']):5s}  "
               f"min max v {w['min_max_slip_rate_v0']:.3g} v0 (> {an.PULSE_MIN_RATE:g}), "

@@ -688,3 +688,9 @@ def test_trajectory_divergence_reports_a_pair_shorter_than_the_first_sample_time
     assert divergence._rms_samples(short) == "; rms at the last common snapshot, t = 4.03 L/c_s: 7.2e-07"
     long = {"rms_at_transits": {"10": 5.4e-3, "20": 2.7e-2}, "time_transits": [0.0, 25.0], "rms_log10_ratio": [0, 0]}
     assert divergence._rms_samples(long) == "; rms at t = 10, 20 L/c_s: 5.4e-03, 2.7e-02"
+
+
+def test_pulse_episodes_prints_the_longest_stretch_in_whole_transits():
+    # Was: "longest stretch [60.00000000000001, 80.0]" (the window bounds divided by L/c_s).
+    assert episodes_command._stretch_text({"longest_stretch_transits": [60.00000000000001, 80.0]}) == "60-80"
+    assert episodes_command._stretch_text({"longest_stretch_transits": None}) == "none"
