@@ -371,6 +371,17 @@ def plot_fronts(runs, out_png: str, dpi: int = 150) -> str:
     return out_png
 
 
+def _json_ready(value):
+    """NaN (a front that never got somewhere) as null: strict JSON has no NaN."""
+    if isinstance(value, float) and math.isnan(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_ready(v) for v in value]
+    return value
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python3 -m slipstrip rupture-fronts",
                                      description="Rupture-front speeds in both directions of a locally "
@@ -386,6 +397,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", default=None, help="write the summary as JSON (a list for several runs)")
     parser.add_argument("--plot", default=None, help="write the space-time figure, one panel per run (needs snapshots)")
     parser.add_argument("--titles", default=None, help="panel titles separated by ';' (default: the file names)")
+    parser.add_argument("--dpi", type=int, default=150, help="resolution of --plot")
     parser.add_argument("--overwrite", action="store_true", help="replace existing --json/--plot files")
     args = parser.parse_args(argv)
     try:
@@ -401,10 +413,11 @@ def main(argv: list[str] | None = None) -> int:
         print("\n".join(format_fronts(s) for s in summaries))
         if args.json:
             with open(args.json, "w") as f:
-                json.dump(summaries[0] if len(summaries) == 1 else summaries, f, indent=1)
+                json.dump(_json_ready(summaries[0] if len(summaries) == 1 else summaries), f, indent=1,
+                          allow_nan=False)
             print(f"wrote {args.json}")
         if args.plot:
-            plot_fronts(list(zip(args.runs, summaries, titles)), args.plot)
+            plot_fronts(list(zip(args.runs, summaries, titles)), args.plot, dpi=args.dpi)
             print(f"wrote {args.plot}")
     except (OutputPathError, ValueError, OSError, KeyError) as e:
         print(f"error: {one_line(e)}", file=sys.stderr)

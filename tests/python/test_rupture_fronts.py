@@ -102,6 +102,9 @@ def test_front_speed_is_nan_where_the_front_never_got():
     assert math.isnan(fronts.front_speed(d, t, 0.1, 0.3))
     c_lim, _ = fronts.limiting_speed(d, t, 0.1, 0.3)
     assert math.isnan(c_lim)
+    # ... and null in the JSON summary (strict JSON has no NaN)
+    assert json.loads(json.dumps(fronts._json_ready({"speed": c_lim, "rows": [(0.1, c_lim)]}),
+                                 allow_nan=False)) == {"speed": None, "rows": [[0.1, None]]}
 
 
 # --- runs of configs/examples/bimaterial_rupture.toml -------------------------
