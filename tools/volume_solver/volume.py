@@ -1,7 +1,9 @@
 """Python driver of the independent volume solver `slipstrip_volume`.
 
 The solver itself is tools/volume_solver/volume_solver.cpp (a staggered-grid
-finite-difference scheme of one elastic strip; see docs/benchmarks/volume_solver.md).
+finite-difference scheme of one elastic strip, or of a top and a bottom body of their
+own heights and materials, or a strip on a rigid base, in-plane or antiplane; see
+docs/benchmarks/volume_solver.md and docs/benchmarks/volume_bodies.md).
 This module reads a slipstrip TOML config with the standard library's tomllib
 (not with slipstrip's config code: the oracle shares only the friction law with
 the product), turns it into the solver's key=value arguments, runs it and
@@ -41,6 +43,8 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
 EXE_NAME = "slipstrip_volume"
+# the columns per station of the solver's station file (and of final_profile after x)
+STATION_FIELDS = ("slip", "slip_rate", "shear_stress", "state", "normal_stress", "effective_normal_stress")
 
 
 def find_executable() -> Path | None:
@@ -84,6 +88,7 @@ def read_config(path, overrides: dict | None = None, *, allow_slipstrip_initial:
     supplies phi(x, 0) with initial_state_from_slipstrip)."""
     c = path if isinstance(path, dict) else load_table(path, overrides)
     g, m, lo = c.get("geometry", {}), c.get("material", {}), c.get("loading", {})
+    bo, top = c.get("bottom", {}), c.get("top", {})
     fr, st = c.get("friction", {}), c.get("state", {})
     it, ini, tm = c.get("interface", {}), c.get("initial", {}), c.get("time", {})
     nu = m.get("poisson_ratio", 0.33)
@@ -103,10 +108,15 @@ def read_config(path, overrides: dict | None = None, *, allow_slipstrip_initial:
                          "(noise and sine: volume.py run, which takes phi(x, 0) from slipstrip)")
     if it.get("load_pulse_amplitude", 0.0) and it.get("profile", "ramp") != "bump":
         raise ValueError("the volume solver implements the sin^4 'bump' load pulse only")
+    H = g.get("height", 0.1)
+    bottom = _bottom_body(bo, top, H, mu, nu, rho)
     return {
-        "length": L, "height": g.get("height", 0.1),
+        "length": L, "height": H,
         "shear_modulus": mu, "poisson_ratio": nu, "density": rho,
         "plane": m.get("plane", "strain"),
+        **bottom,
+        "normal_stress_slip": it.get("normal_stress_slip", 0.0),
+        "normal_stress_time": it.get("normal_stress_time", 0.0),
         "driving_velocity": lo.get("driving_velocity", 2e-3),
         "normal_stress": lo.get("normal_stress", 1e6),
         "law": fr.get("law", "paper"), "f0": fr.get("f0", 0.28), "a": fr.get("a", 0.005),
@@ -125,15 +135,41 @@ def read_config(path, overrides: dict | None = None, *, allow_slipstrip_initial:
     }
 
 
+def _bottom_body(bo: dict, top: dict, H: float, mu: float, nu: float, rho: float) -> dict:
+    """The solver's bottom_* arguments from [bottom] (docs/bodies.md section 1): a mirror
+    image of the top body, another elastic strip (keys not given are the top body's), or
+    rigid.  Half-spaces and clamped outer faces are refused (the grid is finite and its
+    outer faces are driven)."""
+    kind = bo.get("body", "mirror")
+    if kind not in ("mirror", "elastic", "rigid"):
+        raise ValueError(f"bottom.body = {kind!r}: allowed are mirror, elastic, rigid")
+    for face in (top.get("outer_face", "driven"), bo.get("outer_face", "driven")):
+        if face != "driven":
+            raise ValueError(f"outer_face = {face!r}: the volume solver implements driven outer faces only")
+    if kind == "rigid":
+        return {"bottom": "rigid"}
+    nu_b = bo.get("poisson_ratio", nu)
+    mu_b = bo["shear_modulus"] if "shear_modulus" in bo else (
+        bo["youngs_modulus"] / (2 * (1 + nu_b)) if "youngs_modulus" in bo else mu)
+    H_b = bo.get("height", H)
+    if isinstance(H_b, str) or not math.isfinite(H_b):
+        raise ValueError("bottom.height = inf: the volume solver's bodies are finite strips")
+    if kind == "mirror":
+        return {"bottom": "mirror"}
+    return {"bottom": "elastic", "bottom_height": float(H_b), "bottom_shear_modulus": float(mu_b),
+            "bottom_poisson_ratio": float(nu_b), "bottom_density": float(bo.get("density", rho))}
+
+
 def run_volume(config, nx: int, stations, *, dt: float | None = None, cfl: float | None = None,
                duration: float | None = None, output_every: int = 1, exe=None,
                final_profile: bool = False, threads: int | None = None) -> dict:
     """Run slipstrip_volume on `config` (a TOML path or a read_config() dict).
 
-    nx: cells along the period (h = L/nx; H/h must be whole).  dt: time step [s]
-    (default: cfl h / c_d with cfl = 0.5).  Returns a dict: time [nt], and
-    slip, slip_rate, shear_stress, state [nt, n_stations]; `wall_seconds`; with
-    final_profile, `profile` = dict of x, slip, slip_rate, shear_stress, state at the end.
+    nx: cells along the period (h = L/nx; H/h and H_b/h must be whole).  dt: time step [s]
+    (default: cfl h / c with cfl = 0.5 and c the fastest wave speed of the grid).
+    Returns a dict: time [nt], and slip, slip_rate, shear_stress, state, normal_stress,
+    effective_normal_stress [nt, n_stations]; `wall_seconds`; with final_profile,
+    `profile` = dict of those fields and x at the end.
     threads: OMP_NUM_THREADS of the run (default: inherited); results do not depend on it."""
     p = dict(config) if isinstance(config, dict) else read_config(config)
     if duration is not None:
@@ -166,14 +202,13 @@ def run_volume(config, nx: int, stations, *, dt: float | None = None, cfl: float
             raise RuntimeError(f"{EXE_NAME} failed ({proc.returncode}): {proc.stderr.strip()}")
         header = [ln for ln in out.read_text().splitlines()[:3]]
         data = np.loadtxt(out, ndmin=2)
-        result = {"time": data[:, 0], "slip": data[:, 1::4], "slip_rate": data[:, 2::4],
-                  "shear_stress": data[:, 3::4], "state": data[:, 4::4],
+        result = {"time": data[:, 0],
+                  **{name: data[:, 1 + k::len(STATION_FIELDS)] for k, name in enumerate(STATION_FIELDS)},
                   "stations": np.asarray(stations, float), "header": header,
                   "wall_seconds": wall}
         if final_profile:
             q = np.loadtxt(prof, ndmin=2)
-            result["profile"] = {"x": q[:, 0], "slip": q[:, 1], "slip_rate": q[:, 2],
-                                 "shear_stress": q[:, 3], "state": q[:, 4]}
+            result["profile"] = {"x": q[:, 0], **{name: q[:, 1 + k] for k, name in enumerate(STATION_FIELDS)}}
     return result
 
 
@@ -298,16 +333,28 @@ def _grid_numbers(arguments: list[str]) -> dict:
     have written it yet)."""
     a = dict(item.split("=", 1) for item in arguments)
     L, H, nx = float(a["length"]), float(a["height"]), int(a["nx"])
+    plane = a.get("plane", "strain")
+
+    def speeds(mu, nu, rho):
+        lam = 2 * mu * nu / (1 - nu) if plane == "stress" else 2 * mu * nu / (1 - 2 * nu)
+        return math.sqrt(mu / rho), math.sqrt((lam + 2 * mu) / rho)
+
     mu, nu, rho = float(a["shear_modulus"]), float(a["poisson_ratio"]), float(a["density"])
-    lam = 2 * mu * nu / (1 - 2 * nu) if a.get("plane", "strain") == "strain" else 2 * mu * nu / (1 - nu)
     h = L / nx
-    cs, cd = math.sqrt(mu / rho), math.sqrt((lam + 2 * mu) / rho)
+    cs, cd = speeds(mu, nu, rho)
+    c_max = cs if plane == "antiplane" else cd
+    if a.get("bottom", "mirror") == "elastic":
+        cs_b, cd_b = speeds(float(a["bottom_shear_modulus"]), float(a["bottom_poisson_ratio"]),
+                            float(a["bottom_density"]))
+        c_max = max(c_max, cs_b if plane == "antiplane" else cd_b)
     dt = float(a.get("dt", 0.0))
     if dt <= 0:
-        dt = float(a.get("cfl", 0.5)) * h / cd
+        dt = float(a.get("cfl", 0.5)) * h / c_max
     t_end = float(a["duration"])
     dt = t_end / round(t_end / dt)
-    return {"nx": nx, "ny": int(round(H / h)), "h": h, "dt": dt, "courant_cd": cd * dt / h, "c_s": cs, "c_d": cd}
+    ny_b = int(round(float(a["bottom_height"]) / h)) if a.get("bottom", "mirror") == "elastic" else 0
+    return {"nx": nx, "ny": int(round(H / h)), "ny_bottom": ny_b, "h": h, "dt": dt, "courant_cd": cd * dt / h,
+            "courant_max": c_max * dt / h, "c_s": cs, "c_d": cd}
 
 
 def convert(out, keep_raw: bool = True) -> Path:
@@ -330,8 +377,8 @@ def convert(out, keep_raw: bool = True) -> Path:
     table.setdefault("geometry", {})["nodes"] = nx
     # The time step is the volume solver's, not slipstrip's beta dx / c_s.
     table["time"] = {"duration": float(meta["duration"]), "time_step": dt}
-    table["volume_solver"] = {"nx": nx, "ny": ny, "cell_size": h, "time_step": dt,
-                              "courant_cd": hdr["courant_cd"],
+    table["volume_solver"] = {"nx": nx, "ny": ny, "ny_bottom": hdr["ny_bottom"], "cell_size": h, "time_step": dt,
+                              "courant_cd": hdr["courant_cd"], "courant_max": hdr["courant_max"],
                               "courant_cs": hdr["c_s"] * dt / h, "arguments": " ".join(meta["arguments"])}
     snaps = np.fromfile(paths["snapshots"], dtype=np.float64) if paths["snapshots"].exists() else np.empty(0)
     rec = 1 + len(SNAPSHOT_FIELDS) * nx
