@@ -19,6 +19,8 @@ pulse-episodes` and `trajectory-divergence` and the analysis read it unchanged:
 
     /usr/bin/python3 tools/volume_solver/volume.py run configs/fig5.toml --nx 1600 --out RUN.h5
     /usr/bin/python3 tools/volume_solver/volume.py convert RUN.h5     # after an interrupted run
+    /usr/bin/python3 tools/volume_solver/volume.py run ... --checkpoint-interval 600   # restartable
+    /usr/bin/python3 tools/volume_solver/volume.py resume RUN.h5      # after a kill: from the last checkpoint
 
 Noise and sinusoidal initial perturbations are not re-implemented: phi(x, 0) is
 taken from slipstrip's own initial-state code (the pybind11 module), which is
@@ -262,7 +264,8 @@ def _paths(out) -> dict:
     out = Path(out)
     return {name: out.with_name(out.name + suffix) for name, suffix in (
         ("snapshots", ".snapshots.bin"), ("timeseries", ".timeseries.bin"), ("initial", ".initial_state.bin"),
-        ("stations", ".stations.txt"), ("meta", ".meta.json"), ("log", ".log"))}
+        ("stations", ".stations.txt"), ("meta", ".meta.json"), ("log", ".log"),
+        ("checkpoint", ".checkpoint.bin"))}
 
 
 def _parse_value(text: str):
@@ -276,13 +279,16 @@ def _parse_value(text: str):
 def run_to_file(config, out, nx: int, *, overrides: dict | None = None, cfl: float | None = None,
                 dt: float | None = None, duration: float | None = None, snapshot_interval: float | None = None,
                 timeseries_interval: float | None = None, progress: float = 0.0, exe=None,
-                keep_raw: bool = False) -> Path:
+                keep_raw: bool = False, checkpoint_interval: float = 0.0, halt_after_steps: int = 0) -> Path:
     """Run slipstrip_volume on `config` (a TOML path; overrides {"section.key": value})
     and write the run file `out` (HDF5, slipstrip's layout).  The snapshot and
     time-series intervals default to the config's [output] values.  While it runs,
     the raw records are out.snapshots.bin and out.timeseries.bin; convert(out)
     turns them into the run file (done here at the end, or by hand after an
-    interruption).  Returns the path of the run file."""
+    interruption).  checkpoint_interval > 0: a checkpoint out.checkpoint.bin every
+    that many wall seconds, from which resume_run(out) continues a killed run;
+    halt_after_steps > 0: stop with a checkpoint after that step (the run file is
+    then 'interrupted' until resume_run).  Returns the path of the run file."""
     import time as _time
     overrides = dict(overrides or {})
     table = load_table(config, overrides)
@@ -311,20 +317,57 @@ def run_to_file(config, out, nx: int, *, overrides: dict | None = None, cfl: flo
         p["dt"] = float(dt)
     if cfl is not None:
         p["cfl"] = float(cfl)
+    if checkpoint_interval > 0 or halt_after_steps > 0:
+        p["checkpoint"] = str(paths["checkpoint"])
+        if checkpoint_interval > 0:
+            p["checkpoint_interval"] = float(checkpoint_interval)
     args = [str(exe)] + [f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}" for k, v in p.items()]
-    meta = {"config": str(config), "overrides": overrides, "table": table, "arguments": args[1:],
+    if halt_after_steps > 0:  # not in the saved arguments: resume_run runs to the end
+        args.append(f"halt_after_steps={int(halt_after_steps)}")
+    meta = {"config": str(config), "overrides": overrides, "table": table,
+            "arguments": [a for a in args[1:] if not a.startswith("halt_after_steps=")],
             "nx": int(nx), "duration": p["duration"],
             "start_time": _time.strftime(DATE_FORMAT, _time.gmtime())}
     paths["meta"].write_text(json.dumps(meta, indent=1))
+    return _execute(args, out, meta, keep_raw, "w")
+
+
+HALTED = 3  # the solver's exit code after halt_after_steps (a checkpoint was written)
+
+
+def _execute(args, out, meta: dict, keep_raw: bool, log_mode: str) -> Path:
+    """Run the solver with `args`, record how it ended in the meta file and convert."""
+    import time as _time
+    paths = _paths(out)
     t0 = _time.perf_counter()
-    with open(paths["log"], "w") as log:
+    with open(paths["log"], log_mode) as log:
         proc = subprocess.run(args, stdout=log, stderr=subprocess.STDOUT)
-    meta.update(returncode=proc.returncode, wall_seconds=_time.perf_counter() - t0,
+    meta.update(returncode=proc.returncode, wall_seconds=meta.get("wall_seconds", 0.0) + _time.perf_counter() - t0,
                 end_time=_time.strftime(DATE_FORMAT, _time.gmtime()))
     paths["meta"].write_text(json.dumps(meta, indent=1))
-    if proc.returncode != 0:
+    if proc.returncode not in (0, HALTED):
         raise RuntimeError(f"{EXE_NAME} failed ({proc.returncode}): {paths['log'].read_text().strip()[-2000:]}")
+    if proc.returncode == HALTED:
+        return convert(out, keep_raw=True)       # 'interrupted'; resume_run continues it
+    if not keep_raw and paths["checkpoint"].exists():
+        paths["checkpoint"].unlink()
     return convert(out, keep_raw=keep_raw)
+
+
+def resume_run(out, exe=None, keep_raw: bool = False) -> Path:
+    """Continue the run of `out` (started by run_to_file with a checkpoint interval, then
+    killed or halted) from its last checkpoint, to the end, and write the run file.  The
+    outputs are cut back to the checkpoint, so the result is the uninterrupted run's."""
+    paths = _paths(out)
+    meta = json.loads(paths["meta"].read_text())
+    arguments = meta["arguments"]
+    if not any(a.startswith("checkpoint=") for a in arguments) or not paths["checkpoint"].exists():
+        raise FileNotFoundError(f"{out}: no checkpoint to resume from (run with a checkpoint interval)")
+    exe = Path(exe) if exe else find_executable()
+    if exe is None or not exe.is_file():
+        raise FileNotFoundError(f"{EXE_NAME} not built: cmake --build build --target {EXE_NAME}")
+    meta["resumed"] = meta.get("resumed", 0) + 1
+    return _execute([str(exe)] + arguments + ["resume=1"], out, meta, keep_raw, "a")
 
 
 def _grid_numbers(arguments: list[str]) -> dict:
@@ -440,11 +483,18 @@ def main(argv: list[str]) -> int:
     r.add_argument("--timeseries-interval", type=float)
     r.add_argument("--progress", type=float, default=60.0, help="seconds between progress lines in OUT.log")
     r.add_argument("--keep-raw", action="store_true")
+    r.add_argument("--checkpoint-interval", type=float, default=0.0,
+                   help="wall seconds between checkpoints (OUT.checkpoint.bin; `resume OUT` continues)")
+    u = sub.add_parser("resume", help="continue OUT from its last checkpoint to the end")
+    u.add_argument("out")
     c = sub.add_parser("convert", help="write OUT from OUT.snapshots.bin etc. (e.g. after an interruption)")
     c.add_argument("out")
     a = ap.parse_args(argv)
     if a.command == "convert":
         print(convert(a.out))
+        return 0
+    if a.command == "resume":
+        print(resume_run(a.out))
         return 0
     overrides = {}
     for item in a.set:
@@ -454,7 +504,7 @@ def main(argv: list[str]) -> int:
         overrides[k] = _parse_value(v)
     path = run_to_file(a.config, a.out, a.nx, overrides=overrides, cfl=a.cfl, dt=a.dt, duration=a.duration,
                        snapshot_interval=a.snapshot_interval, timeseries_interval=a.timeseries_interval,
-                       progress=a.progress, keep_raw=a.keep_raw)
+                       progress=a.progress, keep_raw=a.keep_raw, checkpoint_interval=a.checkpoint_interval)
     print(path)
     return 0
 

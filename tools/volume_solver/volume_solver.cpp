@@ -79,7 +79,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -122,6 +124,10 @@ void usage() {
       "               mean shear stress, raw float64)\n"
       "             progress=s (seconds of wall time between progress lines on stderr; 0 = off)\n"
       "  interface: stick_hold=1|0 (hold V^{n+1/2} = 0 at stuck nodes; default 1)\n"
+      "  restart  : checkpoint=FILE checkpoint_interval=s (wall seconds between checkpoints)\n"
+      "             checkpoint_steps=k (every k steps) halt_after_steps=k (checkpoint at step k, exit 3)\n"
+      "             resume=1 (continue from FILE: same arguments apart from these and progress;\n"
+      "               the output files are cut back to what they held at the checkpoint)\n"
       "  threads  : OMP_NUM_THREADS (results do not depend on it)\n";
 }
 
@@ -401,8 +407,21 @@ int main(int argc, char** argv) {
     if (!timeseries_path.empty() && !(timeseries_interval > 0))
       throw std::invalid_argument("timeseries_file needs timeseries_interval > 0 (seconds)");
     const bool stick_fix = args.num("stick_hold", 1.0) != 0.0;
+    const std::string checkpoint_path = args.str("checkpoint", "");
+    const double checkpoint_interval = args.num("checkpoint_interval", 0.0);
+    const long checkpoint_steps = static_cast<long>(args.num("checkpoint_steps", 0.0));
+    const long halt_step = static_cast<long>(args.num("halt_after_steps", 0.0));
+    const bool resume = args.num("resume", 0.0) != 0.0;
+    if (checkpoint_path.empty() && (checkpoint_interval > 0 || checkpoint_steps > 0 || halt_step > 0 || resume))
+      throw std::invalid_argument("checkpoint_interval, checkpoint_steps, halt_after_steps and resume need checkpoint=FILE");
     for (auto& [k, v] : args.kv)
       if (!args.used.count(k)) throw std::invalid_argument("unknown argument " + k);
+    // What a checkpoint must agree with to be resumed: every argument but the restart ones.
+    std::string run_identity;
+    for (const auto& [k, v] : args.kv)
+      if (k != "checkpoint" && k != "checkpoint_interval" && k != "checkpoint_steps" && k != "halt_after_steps" &&
+          k != "resume" && k != "progress")
+        run_identity += k + "=" + v + "\n";
 
     // --- fields ---------------------------------------------------------------
     const std::size_t nxs = nx;
@@ -413,6 +432,14 @@ int main(int argc, char** argv) {
     // normal stress (compressive, at the nodes) and the friction's effective one:
     // sigma0 throughout for a mirror pair and antiplane.
     std::vector<double> sigma(nxs, sigma0), sigma_eff(nxs, sigma0);
+    // The bottom body's fields, in its own frame (two bodies with an elastic bottom).
+    const std::size_t rows_b = ny_b;
+    std::vector<double> vx_b((rows_b + 1) * nxs, 0.0), vy_b(rows_b * nxs, 0.0), sxx_b((rows_b + 1) * nxs, 0.0),
+        syy_b((rows_b + 1) * nxs, 0.0), sxy_b(rows_b * nxs, 0.0);
+    // Everything a step reads that an earlier step wrote (the restart state).
+    const std::vector<std::vector<double>*> restart_fields = {&vx,   &vy,  &sxx, &syy,   &sxy,       &vx_b,
+                                                              &vy_b, &sxx_b, &syy_b, &sxy_b, &phi, &slip,
+                                                              &V,    &tau, &sigma, &sigma_eff, &v_mid};
     const double phi_ss = slipstrip::steady_state(f, v0);
     const double tau_ref = slipstrip::frictional_strength(f, sigma0, v0, phi_ss);
     for (int i = 0; i < nx; ++i) {
@@ -453,21 +480,65 @@ int main(int argc, char** argv) {
     const double eta_h = rho * h / (2 * dt);
     const double c_v = c_rho * inv_h, c_xy = dt * mu * inv_h, c_b = dt * Mb * inv_h;
 
-    std::ofstream os(out);
+    // --- restart ------------------------------------------------------------------
+    // A checkpoint is taken at the end of a step: the fields above, the step to
+    // start at, the output counters and the byte sizes of the three output files.
+    struct Counters {
+      std::int64_t n_next = 0, snap_k = 0, ts_k = 0, next_snap = -1, next_ts = -1;
+      std::int64_t bytes_out = 0, bytes_snap = 0, bytes_ts = 0;
+    } resumed;
+    const char magic[8] = {'S', 'L', 'P', 'V', 'O', 'L', 'C', '1'};
+    if (resume) {
+      const File in = open_file(checkpoint_path, "rb");
+      char m[8];
+      std::uint64_t len = 0;
+      bool ok = std::fread(m, 1, 8, in.get()) == 8 && std::equal(m, m + 8, magic) &&
+                std::fread(&len, sizeof len, 1, in.get()) == 1 && len < (1u << 20);
+      std::string identity(ok ? len : 0, '\0');
+      ok = ok && std::fread(identity.data(), 1, len, in.get()) == len;
+      if (!ok) throw std::invalid_argument("checkpoint " + checkpoint_path + " is not a slipstrip_volume checkpoint");
+      if (identity != run_identity)
+        throw std::invalid_argument("checkpoint " + checkpoint_path + " was written by a run with other arguments");
+      ok = std::fread(&resumed, sizeof resumed, 1, in.get()) == 1;
+      for (std::vector<double>* field : restart_fields) {
+        std::uint64_t n = 0;
+        ok = ok && std::fread(&n, sizeof n, 1, in.get()) == 1 && n == field->size() &&
+             std::fread(field->data(), sizeof(double), n, in.get()) == n;
+      }
+      if (!ok || std::fgetc(in.get()) != EOF)
+        throw std::invalid_argument("checkpoint " + checkpoint_path + " is truncated or does not match the grid");
+      // Cut the outputs back to what they held at the checkpoint; they are appended to.
+      auto cut = [](const std::string& path, std::int64_t bytes) {
+        if (path.empty()) return;
+        if (!std::filesystem::exists(path) || static_cast<std::int64_t>(std::filesystem::file_size(path)) < bytes)
+          throw std::invalid_argument("resume: " + path + " holds less than at the checkpoint");
+        std::filesystem::resize_file(path, static_cast<std::uintmax_t>(bytes));
+      };
+      cut(out, resumed.bytes_out);
+      cut(snapshot_path, resumed.bytes_snap);
+      cut(timeseries_path, resumed.bytes_ts);
+    }
+
+    std::ofstream os(out, resume ? std::ios::app : std::ios::trunc);
     if (!os) throw std::runtime_error("cannot write " + out);
+    if (!resume)
     os << "# slipstrip_volume: staggered-grid FD, L=" << L << " H=" << H << " nx=" << nx
        << " ny=" << ny << " h=" << h << " dt=" << std::setprecision(17) << dt
        << " c_d dt/h=" << cd * dt / h << " c_s=" << cs << " c_d=" << cd << " plane=" << plane
        << " bottom=" << bottom_kind << " ny_b=" << ny_b << " c_max dt/h=" << c_max * dt / h << "\n";
+    if (!resume)
     os << "# columns: time [s], then per station x: slip [m], slip_rate [m/s], shear_stress [Pa], state [s], "
           "normal_stress [Pa], effective_normal_stress [Pa]\n";
-    os << "# stations:";
-    for (double xs : stations) os << " " << xs;
-    os << "\n" << std::setprecision(15) << std::scientific << std::flush;
+    if (!resume) {
+      os << "# stations:";
+      for (double xs : stations) os << " " << xs;
+      os << "\n";
+    }
+    os << std::setprecision(15) << std::scientific << std::flush;
 
     File snap_out, ts_out;
-    if (!snapshot_path.empty()) snap_out = open_file(snapshot_path, "wb");
-    if (!timeseries_path.empty()) ts_out = open_file(timeseries_path, "wb");
+    if (!snapshot_path.empty()) snap_out = open_file(snapshot_path, resume ? "ab" : "wb");
+    if (!timeseries_path.empty()) ts_out = open_file(timeseries_path, resume ? "ab" : "wb");
 
     auto write_row = [&](double t) {
       os << t;
@@ -518,8 +589,39 @@ int main(int argc, char** argv) {
     long snap_k = 0, ts_k = 0;
     long next_snap = snap_out ? sample_step(0, snapshot_interval, dt) : -1;
     long next_ts = ts_out ? sample_step(0, timeseries_interval, dt) : -1;
+    const long n_start = resume ? resumed.n_next : 0;
+    if (resume) {
+      snap_k = resumed.snap_k, ts_k = resumed.ts_k, next_snap = resumed.next_snap, next_ts = resumed.next_ts;
+    }
     const auto wall0 = std::chrono::steady_clock::now();
     double next_progress = progress_s;
+    double next_checkpoint = checkpoint_interval;
+    bool checkpoint_now = false, halted = false;
+    // Written to FILE.partial and renamed, so a run killed while writing keeps the previous one.
+    auto save_checkpoint = [&](long n_next) {
+      os.flush();
+      if (!os) throw std::runtime_error("cannot write " + out);
+      for (std::FILE* fp : {snap_out.get(), ts_out.get()})
+        if (fp && std::fflush(fp) != 0) throw std::runtime_error("cannot flush an output file");
+      Counters c{n_next, snap_k, ts_k, next_snap, next_ts, static_cast<std::int64_t>(os.tellp()),
+                 snap_out ? static_cast<std::int64_t>(std::ftell(snap_out.get())) : 0,
+                 ts_out ? static_cast<std::int64_t>(std::ftell(ts_out.get())) : 0};
+      const std::string tmp = checkpoint_path + ".partial";
+      {
+        const File fo = open_file(tmp, "wb");
+        const std::uint64_t len = run_identity.size();
+        bool ok = std::fwrite(magic, 1, 8, fo.get()) == 8 && std::fwrite(&len, sizeof len, 1, fo.get()) == 1 &&
+                  std::fwrite(run_identity.data(), 1, len, fo.get()) == len &&
+                  std::fwrite(&c, sizeof c, 1, fo.get()) == 1;
+        for (const std::vector<double>* field : restart_fields) {
+          const std::uint64_t n = field->size();
+          ok = ok && std::fwrite(&n, sizeof n, 1, fo.get()) == 1 &&
+               std::fwrite(field->data(), sizeof(double), n, fo.get()) == n;
+        }
+        if (!ok || std::fflush(fo.get()) != 0) throw std::runtime_error("cannot write " + tmp);
+      }
+      std::filesystem::rename(tmp, checkpoint_path);
+    };
     // The outputs at step n (one thread).
     auto record = [&](long n, double t) {
       if (n % every == 0 || n == nsteps) write_row(t);
@@ -532,13 +634,26 @@ int main(int argc, char** argv) {
         write_timeseries(t);
         while (next_ts <= n) next_ts = sample_step(++ts_k, timeseries_interval, dt);
       }
-      if (progress_s > 0) {
-        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-        if (wall >= next_progress) {
-          std::fprintf(stderr, "step %ld / %ld  t = %.6g s  wall %.0f s\n", n, nsteps, t, wall);
-          next_progress += progress_s;
-        }
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+      if (progress_s > 0 && wall >= next_progress) {
+        std::fprintf(stderr, "step %ld / %ld  t = %.6g s  wall %.0f s\n", n, nsteps, t, wall);
+        next_progress += progress_s;
       }
+      // a checkpoint at the end of this step (read by every thread after the barriers)
+      checkpoint_now = false;
+      if (!checkpoint_path.empty() && n < nsteps) {
+        if (checkpoint_interval > 0 && wall >= next_checkpoint) {
+          checkpoint_now = true;
+          next_checkpoint = wall + checkpoint_interval;
+        }
+        if ((checkpoint_steps > 0 && (n + 1) % checkpoint_steps == 0) || (halt_step > 0 && n + 1 == halt_step))
+          checkpoint_now = true;
+      }
+    };
+    // At the end of step n (all fields at the start of step n + 1).
+    auto end_of_step = [&](long n) {
+      save_checkpoint(n + 1);
+      if (halt_step > 0 && n + 1 == halt_step) halted = true;
     };
     if (!two_bodies) {
     const double* sxx_p = sxx.data();
@@ -548,7 +663,7 @@ int main(int argc, char** argv) {
     double* vy_p = vy.data();
 #pragma omp parallel
     {
-      for (long n = 0; n <= nsteps; ++n) {
+      for (long n = n_start; n <= nsteps; ++n) {
         const double t = n * dt;
         // interface row: friction at t_n, in blocks of nodes (the batch solve
         // vectorises over the nodes of a block).
@@ -659,15 +774,24 @@ int main(int argc, char** argv) {
 #pragma omp for schedule(static)
           for (int j = 0; j < ny; ++j) stress_shear(j);
         }
+        if (checkpoint_now) {
+#pragma omp single
+          {
+            try {
+              end_of_step(n);
+            } catch (const std::exception& e) {
+              error = e.what();
+            }
+            stop = halted || !error.empty();
+          }
+          if (stop) break;
+        }
       }
     }
     } else {
       // --- two bodies (the header's "Two bodies"); one thread ----------------------
       // The top body's fields are the arrays above (antiplane: vx = v_z, sxx =
       // s_xz, sxy = s_yz); the bottom body's, in its own frame, these.
-      const std::size_t rows_b = ny_b;
-      std::vector<double> vx_b((rows_b + 1) * nxs, 0.0), vy_b(rows_b * nxs, 0.0), sxx_b((rows_b + 1) * nxs, 0.0),
-          syy_b((rows_b + 1) * nxs, 0.0), sxy_b(rows_b * nxs, 0.0);
       const BodyGrid top{ny, nx, vx.data(), vy.data(), sxx.data(), syy.data(), sxy.data(), rho, mu, lambda};
       const BodyGrid bot{ny_b, nx, vx_b.data(), vy_b.data(), sxx_b.data(), syy_b.data(), sxy_b.data(),
                          rho_b, mu_b, lambda_b};
@@ -681,7 +805,7 @@ int main(int argc, char** argv) {
       const double compliance = 1.0 / M_t + (elastic_bottom ? 1.0 / M_b : 0.0);
       double* v_t = vx.data();
       double* v_b = vx_b.data();
-      for (long n = 0; n <= nsteps; ++n) {
+      for (long n = n_start; n <= nsteps; ++n) {
         const double t = n * dt;
         const double g = profile(t);
         for (int i = 0; i < nx; ++i) {
@@ -766,9 +890,18 @@ int main(int argc, char** argv) {
         }
         body_stresses(top, antiplane, dt, h);
         if (elastic_bottom) body_stresses(bot, antiplane, dt, h);
+        if (checkpoint_now) {
+          end_of_step(n);
+          if (halted) break;
+        }
       }
     }
     if (!error.empty()) throw std::runtime_error(error);
+    if (halted) {
+      std::cerr << "slipstrip_volume: halted after step " << halt_step << " of " << nsteps << "; checkpoint "
+                << checkpoint_path << " (resume=1 continues)\n";
+      return 3;
+    }
     if (!profile_file.empty()) {
       std::ofstream ps(profile_file);
       ps << "# x [m], slip [m], slip_rate [m/s], shear_stress [Pa], state [s], normal_stress [Pa], "
