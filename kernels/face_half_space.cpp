@@ -1,14 +1,12 @@
 #include "kernels/face_half_space.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
 
+#include "kernels/mode_parallel.hpp"
 #include "kernels/passivity.hpp"
 
 namespace slipstrip {
@@ -250,16 +248,10 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
 
   // Each mode's design (sampled near field, exponentials, passivity correction)
   // is independent: computed in parallel, then laid out flat for the time loop.
-  // `cancelled` may call into Python, so only the calling thread polls it.
   std::vector<ModeDesign> designs(n_modes);
   std::vector<std::vector<double>> corrections(n_modes);
-  std::string failure;
-  std::atomic<bool> cancel_seen{false};
-#pragma omp parallel for schedule(dynamic)
-  for (int q = 1; q < n_modes; ++q) {
-    if (omp_get_thread_num() == 0 && cancelled && !cancel_seen.load(std::memory_order_relaxed) && cancelled())
-      cancel_seen.store(true);
-    if (cancel_seen.load(std::memory_order_relaxed)) continue;
+  const std::string failure = for_each_mode_in_parallel(
+      1, n_modes, cancelled, "the half-space body's operator", [&](int q) {
     const double h = h_[q];
     ModeDesign& m = designs[q];
     m.h = h;
@@ -290,11 +282,9 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
       std::ostringstream msg;
       msg << "half-space body operator (dt = " << dt_ << " s, c_s k dt = " << h << " at mode " << q
           << "): no passive correction (" << ex.what() << "); refine the time step (time.beta)";
-#pragma omp critical(slipstrip_face_half_space_setup)
-      if (failure.empty()) failure = msg.str();
+      throw std::invalid_argument(msg.str());
     }
-  }
-  if (cancel_seen.load()) throw SetupCancelled("set-up cancelled during the half-space body's operator");
+  });
   if (!failure.empty()) throw std::invalid_argument(failure);
 
   static_weight_.assign(n_modes, {});
