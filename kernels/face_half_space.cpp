@@ -165,6 +165,55 @@ std::vector<double> passivity_correction(const ModeDesign& m, double r2, int lag
                            " rounds");
 }
 
+// The entries' exponential sums: near field over [h_min, 2 tau_near_max + 1]
+// (evaluated at every stored lag), far field over [near_field_tau, horizon_tau].
+struct EntrySums {
+  std::array<ExponentialSum, 3> near, far;
+};
+
+EntrySums entry_sums(double r2, double h_min, double tau_near_max, const HalfSpaceOperatorDesign& design) {
+  EntrySums sums;
+  for (FaceEntry e : kFaceEntries) {
+    sums.near[index_of(e)] = half_space_face_exponential_sum(r2, e, h_min, 2.0 * tau_near_max + 1.0, kNearNodesPerPanel);
+    sums.far[index_of(e)] =
+        half_space_face_exponential_sum(r2, e, design.near_field_tau, design.horizon_tau, kFarNodesPerPanel);
+  }
+  return sums;
+}
+
+// One mode's design at h = c_s |k| dt with `window` stored lags, before its
+// passivity correction.
+ModeDesign design_mode(double r2, double h, int window, const EntrySums& sums) {
+  ModeDesign m;
+  m.h = h;
+  m.window = window;
+  for (FaceEntry e : kFaceEntries) {
+    const std::size_t i = index_of(e);
+    m.static_value[i] = h * sums.far[i].static_value;
+    m.lag[i].resize(m.window);
+    for (int j = 1; j <= m.window; ++j) m.lag[i][j - 1] = h * (evaluate(sums.near[i], j * h) - sums.near[i].static_value);
+  }
+  // The coupling's step: its trapezoidal half weight at j = 0 moves to j = 1.
+  m.lag[1][0] += 0.5 * h * half_space_face_initial_value(r2, FaceEntry::coupling);
+  const double shift = m.window * h;
+  for (std::size_t k = 0; k < sums.far[0].rate.size(); ++k) {
+    std::array<complex, 3> w;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < 3; ++i) {
+      w[i] = h * sums.far[i].amplitude[k] * std::exp(sums.far[i].rate[k] * shift);
+      largest = std::max(largest, std::abs(w[i]));
+    }
+    if (largest < kNegligibleAmplitude) continue;
+    m.pole.push_back(std::exp(sums.far[0].rate[k] * h));
+    for (std::size_t i = 0; i < 3; ++i) m.weight[i].push_back(w[i]);
+  }
+  return m;
+}
+
+int window_of(double h, const HalfSpaceOperatorDesign& design) {
+  return std::max(design.corrected_lags, static_cast<int>(std::ceil(design.near_field_tau / h - kWindowSlack)));
+}
+
 }  // namespace
 
 complex half_space_face_entry(double r2, FaceEntry entry, complex p) {
@@ -212,6 +261,32 @@ ExponentialSum half_space_face_exponential_sum(double r2, FaceEntry entry, doubl
       tau_max, nodes_per_panel);
 }
 
+double face_half_space_passive_limit(double r2, const HalfSpaceOperatorDesign& design, double failed) {
+  if (!(failed > 0.0)) throw std::invalid_argument("face_half_space_passive_limit: need failed > 0");
+  const double margin = std::max(design.passivity_margin, kMatrixPassivityMargin);
+  const auto passive = [&](double h) {
+    const int window = window_of(h, design);
+    const ModeDesign m = design_mode(r2, h, window, entry_sums(r2, h, window * h, design));
+    try {
+      (void)passivity_correction(m, r2, design.corrected_lags, margin);
+      return true;
+    } catch (const std::exception&) {
+      return false;
+    }
+  };
+  double hi = failed, lo = 0.5 * failed;
+  while (!passive(lo)) {
+    hi = lo;
+    lo *= 0.5;
+    if (lo < 1e-3 * failed) return 0.0;
+  }
+  while (hi - lo > 1e-3 * hi) {
+    const double mid = 0.5 * (lo + hi);
+    (passive(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
                                            double time_step, const HalfSpaceOperatorDesign& design,
                                            const CancelCheck& cancelled)
@@ -235,16 +310,10 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
   std::vector<int> window(n_modes, 0);
   double tau_near_max = 0.0;
   for (int q = 1; q < n_modes; ++q) {
-    window[q] = std::max(lags_, static_cast<int>(std::ceil(design.near_field_tau / h_[q] - kWindowSlack)));
+    window[q] = window_of(h_[q], design);
     tau_near_max = std::max(tau_near_max, window[q] * h_[q]);
   }
-  std::array<ExponentialSum, 3> near, far;
-  if (n_modes > 1)
-    for (FaceEntry e : kFaceEntries) {
-      near[index_of(e)] = half_space_face_exponential_sum(r2, e, h_[1], 2.0 * tau_near_max + 1.0, kNearNodesPerPanel);
-      far[index_of(e)] =
-          half_space_face_exponential_sum(r2, e, design.near_field_tau, design.horizon_tau, kFarNodesPerPanel);
-    }
+  const EntrySums sums = n_modes > 1 ? entry_sums(r2, h_[1], tau_near_max, design) : EntrySums{};
 
   // Each mode's design (sampled near field, exponentials, passivity correction)
   // is independent: computed in parallel, then laid out flat for the time loop.
@@ -252,40 +321,24 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
   std::vector<std::vector<double>> corrections(n_modes);
   const std::string failure = for_each_mode_in_parallel(
       1, n_modes, cancelled, "the half-space body's operator", [&](int q) {
-    const double h = h_[q];
     ModeDesign& m = designs[q];
-    m.h = h;
-    m.window = window[q];
-    for (FaceEntry e : kFaceEntries) {
-      const std::size_t i = index_of(e);
-      m.static_value[i] = h * far[i].static_value;
-      m.lag[i].resize(m.window);
-      for (int j = 1; j <= m.window; ++j) m.lag[i][j - 1] = h * (evaluate(near[i], j * h) - near[i].static_value);
-    }
-    // The coupling's step: its trapezoidal half weight at j = 0 moves to j = 1.
-    m.lag[1][0] += 0.5 * h * half_space_face_initial_value(r2, FaceEntry::coupling);
-    const double shift = m.window * h;
-    for (std::size_t k = 0; k < far[0].rate.size(); ++k) {
-      std::array<complex, 3> w;
-      double largest = 0.0;
-      for (std::size_t i = 0; i < 3; ++i) {
-        w[i] = h * far[i].amplitude[k] * std::exp(far[i].rate[k] * shift);
-        largest = std::max(largest, std::abs(w[i]));
-      }
-      if (largest < kNegligibleAmplitude) continue;
-      m.pole.push_back(std::exp(far[0].rate[k] * h));
-      for (std::size_t i = 0; i < 3; ++i) m.weight[i].push_back(w[i]);
-    }
+    m = design_mode(r2, h_[q], window[q], sums);
     try {
       corrections[q] = passivity_correction(m, r2, lags_, std::max(design.passivity_margin, kMatrixPassivityMargin));
     } catch (const std::exception& ex) {
       std::ostringstream msg;
-      msg << "half-space body operator (dt = " << dt_ << " s, c_s k dt = " << h << " at mode " << q
+      msg << "half-space body operator (dt = " << dt_ << " s, c_s k dt = " << m.h << " at mode " << q
           << "): no passive correction (" << ex.what() << "); refine the time step (time.beta)";
       throw std::invalid_argument(msg.str());
     }
   });
-  if (!failure.empty()) throw std::invalid_argument(failure);
+  if (!failure.empty()) {
+    // The largest c_s k dt that failed (a failed mode has no correction).
+    double failed_h = 0.0;
+    for (int q = 1; q < n_modes; ++q)
+      if (corrections[q].empty()) failed_h = std::max(failed_h, h_[q]);
+    throw FaceHalfSpaceNotPassive(failure, failed_h);
+  }
 
   static_weight_.assign(n_modes, {});
   first_lag_.assign(n_modes + 1, 0);

@@ -28,6 +28,7 @@
 #include <complex>
 #include <cstddef>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,24 @@ struct FaceHalfSpaceModeKernel {
 // HalfSpaceOperatorDesign's corrected_lags, near_field_tau, horizon_tau and
 // passivity_margin.  The modes are designed in parallel (OpenMP); the set-up
 // throws SetupCancelled when `cancelled` says so.
+// Thrown by FaceHalfSpaceHistory when some mode's passivity correction does not
+// exist (the time step is too long for this Poisson ratio); `h` is the largest
+// c_s |k| dt that failed.  An std::invalid_argument with the kernel's message.
+struct FaceHalfSpaceNotPassive : std::invalid_argument {
+  FaceHalfSpaceNotPassive(const std::string& message, double failed_h)
+      : std::invalid_argument(message), h(failed_h) {}
+  double h;
+};
+
+// The largest c_s |k| dt at which a mode's passivity correction exists, for
+// r^2 = c_s^2/c_d^2 and `design`: bisection (to 1e-3 relative) between
+// `failed` (a value where it does not) and the largest smaller value found by
+// halving where it does.  Each trial designs one mode (~0.1 s).  The operator
+// of a run exists when the shortest wavelength's c_s k_max dt is at most this;
+// docs/bodies.md §4 turns it into the bound on time.beta.
+double face_half_space_passive_limit(double speed_ratio_squared, const HalfSpaceOperatorDesign& design,
+                                     double failed);
+
 class FaceHalfSpaceHistory final : public FaceHistory {
  public:
   FaceHalfSpaceHistory(const ElasticMaterial& material, double length, int nodes, double time_step,
