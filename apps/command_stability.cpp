@@ -52,18 +52,72 @@ std::vector<double> parse_list(const std::string& text, const std::string& what)
   return values;
 }
 
+// --height-range Hmin:Hmax:n -> n evenly spaced heights including both ends.
+std::vector<double> parse_height_range(const std::string& height_range) {
+  double hmin, hmax;
+  int n;
+  char c1, c2;
+  std::istringstream is(height_range);
+  if (!(is >> hmin >> c1 >> hmax >> c2 >> n) || c1 != ':' || c2 != ':' || n < 1 || !(hmin > 0) || !(hmax >= hmin))
+    throw std::invalid_argument("--height-range = '" + height_range +
+                                "' is invalid: expected Hmin:Hmax:n with 0 < Hmin <= Hmax [m] and n >= 1");
+  std::vector<double> heights;
+  for (int i = 0; i < n; ++i) heights.push_back(n == 1 ? hmin : hmin + (hmax - hmin) * i / (n - 1));
+  return heights;
+}
+
+// Writes the CSV of --out and its figure (the Python package's plot-stability).
+void write_table(const std::string& out_path, const std::string& csv) {
+  std::ofstream file(out_path);
+  if (!file) throw std::runtime_error("cannot write --out " + out_path);
+  file << csv;
+  file.close();
+  std::fprintf(stderr, "wrote %s\n", out_path.c_str());
+  // The figure (Fig. S2 style) comes from the Python package, next to the
+  // CSV; its path was checked before any computing, so the plot may replace it.
+  const std::string png = figure_path(out_path);
+  if (run_python_module({"plot-stability", out_path, "--out", png, "--overwrite"}) != 0)
+    std::fprintf(stderr, "warning: could not plot %s (the CSV is written)\n", png.c_str());
+}
+
+// Lc against the top body's height for an in-plane pair of different bodies
+// (docs/bodies.md §5): the bottom body stays as configured (strip, half-space or
+// rigid base), the top body's height takes each value of the range, then inf.
+int pair_height_scan(const SimulationConfig& config, const StabilityOptions& o) {
+  const PairSliding pair = pair_sliding_of(config);
+  const auto heights = parse_height_range(o.height_range);
+  const double length = config.geometry.length;
+  const double shortest = 1e-3 * length, longest = 1e3 * length;
+  const auto lc = pair_critical_wavelength_vs_top_height(pair, heights, shortest, longest);
+  const double lc_inf =
+      pair_critical_wavelength_vs_top_height(pair, {std::numeric_limits<double>::infinity()}, shortest, longest)[0];
+  std::ostringstream table, csv, js;
+  table << "# in-plane pair of different bodies: Lc against the top body's height (bottom body fixed); "
+           "top half-space: " << lc_inf << " m\n"
+        << "    H [m]          Lc [m]\n";
+  csv << "height_m,critical_wavelength_m\n";
+  const auto cell = [](double v) { return std::isfinite(v) ? json_number(v) : std::string("nan"); };
+  for (std::size_t i = 0; i < heights.size(); ++i) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%10.5g  %14.8g\n", heights[i], lc[i]);
+    table << buf;
+    csv << json_number(heights[i]) << "," << cell(lc[i]) << "\n";
+  }
+  csv << "inf," << cell(lc_inf) << "\n";
+  js << "{\"heights\": " << json_array(heights) << ", \"critical_wavelength\": " << json_array(lc)
+     << ", \"critical_wavelength_half_space\": " << json_number(lc_inf) << ", \"varied\": \"top\"}";
+  std::cout << (o.json ? js.str() + "\n" : table.str());
+  if (!o.out_path.empty()) write_table(o.out_path, csv.str());
+  return 0;
+}
+
 // An in-plane pair of different bodies (docs/bodies.md §5): the generalised
 // dispersion relation of stability/interface_stability, with the normal-stress
 // coupling and the memory the solver uses.  Per wavelength the fastest unstable
 // root (and how many there are: the pair has no x -> -x symmetry, so waves
 // travelling either way grow at different rates), and the critical wavelength.
 int pair_stability(const SimulationConfig& config, const StabilityOptions& o) {
-  if (!o.height_range.empty())
-    throw std::invalid_argument("--height-range = '" + o.height_range +
-                                "': Lc(H) varies the height of two identical bodies; this config is an in-plane "
-                                "pair of different bodies (bottom.body = \"" +
-                                std::string(kBodyKindNames[static_cast<std::size_t>(config.bottom.body)]) +
-                                "\"): use --wavelength (the output gives the pair's critical wavelength)");
+  if (!o.height_range.empty()) return pair_height_scan(config, o);
   const PairSliding pair = pair_sliding_of(config);
   const auto wavelengths =
       parse_list(o.wavelengths.empty() ? std::to_string(config.geometry.length) : o.wavelengths, "--wavelength");
@@ -107,16 +161,7 @@ int pair_stability(const SimulationConfig& config, const StabilityOptions& o) {
      << ", \"frequency\": " << json_array(f) << ", \"phase_velocity\": " << json_array(c)
      << ", \"unstable_roots\": " << roots_js.str() << ", \"critical_wavelength\": " << json_number(critical) << "}";
   std::cout << (o.json ? js.str() + "\n" : table.str());
-  if (!o.out_path.empty()) {
-    std::ofstream file(o.out_path);
-    if (!file) throw std::runtime_error("cannot write --out " + o.out_path);
-    file << csv.str();
-    file.close();
-    std::fprintf(stderr, "wrote %s\n", o.out_path.c_str());
-    const std::string png = figure_path(o.out_path);
-    if (run_python_module({"plot-stability", o.out_path, "--out", png, "--overwrite"}) != 0)
-      std::fprintf(stderr, "warning: could not plot %s (the CSV is written)\n", png.c_str());
-  }
+  if (!o.out_path.empty()) write_table(o.out_path, csv.str());
   return 0;
 }
 
@@ -135,16 +180,7 @@ int stability(const StabilityOptions& o) {
   const auto sliding = steady_sliding_of(config);
   std::ostringstream table, csv, js;
   if (!height_range.empty()) {
-    // Hmin:Hmax:n, n evenly spaced values including both ends.
-    double hmin, hmax;
-    int n;
-    char c1, c2;
-    std::istringstream is(height_range);
-    if (!(is >> hmin >> c1 >> hmax >> c2 >> n) || c1 != ':' || c2 != ':' || n < 1 || !(hmin > 0) || !(hmax >= hmin))
-      throw std::invalid_argument("--height-range = '" + height_range +
-                                  "' is invalid: expected Hmin:Hmax:n with 0 < Hmin <= Hmax [m] and n >= 1");
-    std::vector<double> heights;
-    for (int i = 0; i < n; ++i) heights.push_back(n == 1 ? hmin : hmin + (hmax - hmin) * i / (n - 1));
+    const std::vector<double> heights = parse_height_range(height_range);
     const auto lc = critical_wavelength_vs_height(sliding, heights);
     table << "# critical wavelength Lc(H); H = inf: " ;
     auto half = sliding;
@@ -180,18 +216,7 @@ int stability(const StabilityOptions& o) {
        << ", \"frequency\": " << json_array(f) << "}";
   }
   std::cout << (json ? js.str() + "\n" : table.str());
-  if (!out_path.empty()) {
-    std::ofstream f(out_path);
-    if (!f) throw std::runtime_error("cannot write --out " + out_path);
-    f << csv.str();
-    f.close();
-    std::fprintf(stderr, "wrote %s\n", out_path.c_str());
-    // The figure (Fig. S2 style) comes from the Python package, next to the
-    // CSV; its path was checked above, so the plot may replace it.
-    const std::string png = figure_path(out_path);
-    if (run_python_module({"plot-stability", out_path, "--out", png, "--overwrite"}) != 0)
-      std::fprintf(stderr, "warning: could not plot %s (the CSV is written)\n", png.c_str());
-  }
+  if (!out_path.empty()) write_table(out_path, csv.str());
   return 0;
 }
 
@@ -203,7 +228,10 @@ Command add_stability_command(CLI::App& app) {
   stab->add_option("config", o->config_path, "TOML config file (material, friction, loading, geometry.height)")->required();
   stab->add_option("--set", o->overrides, "Override a config key: section.key=value (repeatable)");
   stab->add_option("--wavelength", o->wavelengths, "Comma-separated wavelengths [m] (default: geometry.length)");
-  stab->add_option("--height-range", o->height_range, "Hmin:Hmax:n -> Lc for n evenly spaced heights [m] (both ends included)");
+  stab->add_option("--height-range", o->height_range,
+                   "Hmin:Hmax:n -> Lc for n evenly spaced heights [m] (both ends included): the height of both "
+                   "identical strips, or for an in-plane pair of different bodies the top body's height with the "
+                   "bottom body fixed (docs/bodies.md)");
   stab->add_option("--out", o->out_path, "Write the table as CSV");
   stab->add_flag("--json", o->json, "Print JSON instead of a table");
   stab->add_flag("--overwrite", o->overwrite, "Replace an existing --out file and its figure");

@@ -224,6 +224,21 @@ void friction_rule(const SimulationConfig& c) {
       throw ConfigRuleError({}, e.what());
     }
   }
+  // The Linker-Dieterich response divides by the state effect B (f0 b or b).
+  if (c.friction.linker_dieterich > 0.0) {
+    const auto no_state_effect = [](double b) { return !(b > 0.0); };
+    bool refused = !c.friction_along_x.b && no_state_effect(c.friction.b);
+    if (c.friction_along_x.b) {
+      const FrictionNodeValues nodes = resolve_friction_nodes(
+          c.friction, c.friction_along_x, static_cast<std::size_t>(c.geometry.nodes), c.geometry.length / c.geometry.nodes);
+      refused = std::any_of(nodes.b.begin(), nodes.b.end(), no_state_effect);
+    }
+    if (refused)
+      throw ConfigRuleError({"linker_dieterich", "b"},
+                            "friction.linker_dieterich = " + format_config_number(c.friction.linker_dieterich) +
+                                " needs friction.b > 0 (at every node): the state response is scaled by "
+                                "1/B, B = f0 b (paper law) or b");
+  }
 }
 
 void initial_rule(const SimulationConfig& c) {
@@ -495,6 +510,19 @@ constexpr ConfigKey kKeys[] = {
     {.section = "friction", .name = "phi_star", .unit = "s", .noun = "a time phi*",
      .allowed = positive, .generous = {1e-15, true, 1e15, true}, .help = "phi*, reference state",
      .comment = "phi* [s]", .bind = real_member<&C::friction, &FrictionParameters::phi_star>()},
+    // Measured alpha_LD are 0.2-0.6 (Linker & Dieterich 1992; Richardson & Marone
+    // 1999); a value above f0 would make the friction drop as the compression
+    // rises, so the generous range stops at 1.
+    {.section = "friction", .name = "linker_dieterich", .noun = "alpha_LD",
+     .allowed = non_negative, .generous = {0.0, true, 1.0, true},
+     .rule_text = "> 0 needs friction.b > 0",
+     .help = "alpha_LD, the Linker & Dieterich (1992) state response to normal-stress changes: "
+             "d ln(phi)/dt gains -(alpha_LD/B) d ln(sigma_eff)/dt (B = f0 b for the paper law, b for "
+             "the DR forms), so a step of normal stress changes the friction coefficient by "
+             "-alpha_LD ln(sigma ratio) through the state. Acts where sigma varies (in-plane "
+             "dissimilar bodies); 0 = off (docs/bodies.md)",
+     .comment = "alpha_LD [-]; 0 = off (dissimilar in-plane pairs)",
+     .bind = real_member<&C::friction, &FrictionParameters::linker_dieterich>()},
 
     // [state] ---------------------------------------------------------------
     {.section = "state", .name = "law", .type = KeyType::choice,
@@ -637,8 +665,7 @@ constexpr ConfigKey kKeys[] = {
              "mode every step (cost ∝ H/dx per Fourier mode), `block` uses FFT block "
              "convolutions and NUFFT-moved mode states (cost ∝ log²(H/dx), more memory); both "
              "are the same discrete operator to ~1e-13 (docs/performance.md). `auto` takes "
-             "`block` when a Fourier mode has ≥ 128 normal modes. The same for each finite body of an "
-             "in-plane pair of different bodies (its 2x2 operator). Ignored for a half-space",
+             "`block` when a Fourier mode has ≥ 128 normal modes. Ignored for a half-space",
      .comment = "(strip history algorithm; same operator)",
      .choices = names_of<kHistoryAlgorithmNames>,
      .bind = enum_member<&C::time, &TimeConfig::history, kHistoryAlgorithmNames>()},

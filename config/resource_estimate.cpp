@@ -28,6 +28,14 @@ constexpr double kBlockBytesPerMode = 64.0 + 48.0 * 2.0 + 16.0;
 // Half-space: ~300 exponentials per Fourier mode, 8 doubles each, plus a
 // direct window of sampled weights (kernels/half_space_history.hpp).
 constexpr double kHalfSpaceBytesPerFourierMode = 300.0 * 64.0 + 512.0 * 24.0;
+// One body of an in-plane pair of different bodies (kernels/inplane_pair_history.hpp):
+// a finite body's 2x2 modal operator keeps per mode four complex states, its
+// rotation and a 2x2 complex weight (kernels/face_history.hpp); a half-space
+// body ~300 exponentials per Fourier mode with four complex states, the pole
+// and three complex weights each, plus its sampled window (two inputs and
+// three weights per lag; kernels/face_half_space.hpp).
+constexpr double kFaceModalBytesPerMode = 4.0 * 16.0 + 16.0 + 64.0;
+constexpr double kFaceHalfSpaceBytesPerFourierMode = 300.0 * 128.0 + 512.0 * 56.0;
 
 // Wall time per step on one core: a fixed part (bookkeeping, a time-series
 // row), the FFT pair and friction solve per node, and the history operator
@@ -41,6 +49,46 @@ constexpr double kStepSecondsPerNode = 4e-8;
 constexpr double kModalSecondsPerMode = 1.6e-9;     // per normal mode per Fourier mode
 constexpr double kBlockSecondsPerFourierMode = 1.4e-7;
 constexpr double kHalfSpaceSecondsPerFourierMode = 2.4e-7;
+// A finite body of a dissimilar in-plane pair rotates two states per mode (one
+// per input component); a half-space body rotates every exponential's four
+// states every step (no slow blocks; docs/bodies.md §4).
+constexpr double kFaceModalSecondsPerMode = 2.0 * kModalSecondsPerMode;
+constexpr double kFaceHalfSpaceSecondsPerFourierMode = 300.0 * 4.0 * 1e-9;
+
+// One body's history operator at the run's time step.
+struct BodyOperator {
+  double echo_steps = 0.0, modes_per_fourier_mode = 0.0, bytes = 0.0, seconds = 0.0;
+  bool block = false;
+};
+
+// `pair_operator`: the operator of docs/theory.md (modal/block strip or the
+// half-space), as the mirror pair and each antiplane body use it; otherwise an
+// in-plane body's 2x2 operator.
+BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, double fourier_modes,
+                           HistoryAlgorithm history, bool pair_operator, bool allow_block) {
+  BodyOperator b;
+  if (is_half_space(height)) {
+    b.bytes = fourier_modes * (pair_operator ? kHalfSpaceBytesPerFourierMode : kFaceHalfSpaceBytesPerFourierMode);
+    b.seconds =
+        fourier_modes * (pair_operator ? kHalfSpaceSecondsPerFourierMode : kFaceHalfSpaceSecondsPerFourierMode);
+    return b;
+  }
+  const double cs = m.shear_wave_speed(), cd = m.dilatational_wave_speed();
+  b.echo_steps = std::ceil(2.0 * height / cs / dt * (1.0 - 1e-12));
+  b.modes_per_fourier_mode = 0.5 * b.echo_steps * (1.0 + cs / cd);
+  if (!pair_operator) {
+    b.bytes = fourier_modes * b.modes_per_fourier_mode * kFaceModalBytesPerMode;
+    b.seconds = fourier_modes * b.modes_per_fourier_mode * kFaceModalSecondsPerMode;
+    return b;
+  }
+  b.block = allow_block && (history == HistoryAlgorithm::block ||
+                            (history == HistoryAlgorithm::automatic && b.modes_per_fourier_mode >= kBlockThreshold));
+  b.bytes = fourier_modes * b.modes_per_fourier_mode * (b.block ? kBlockBytesPerMode : kModalBytesPerMode) +
+            8.0 * b.echo_steps;
+  b.seconds = b.block ? fourier_modes * kBlockSecondsPerFourierMode
+                      : fourier_modes * b.modes_per_fourier_mode * kModalSecondsPerMode;
+  return b;
+}
 
 
 std::string bytes_text(double bytes) {
@@ -74,29 +122,38 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
   const double dx = std::min(c.geometry.length / c.geometry.nodes,
                              interface_2d ? c.geometry.width / c.geometry.nodes_z : c.geometry.length);
   const double cs = c.material.shear_wave_speed();
-  const double cd = c.material.dilatational_wave_speed();
   const double fourier_modes = (std::floor(c.geometry.nodes / 2.0) + 1.0) * rows_z * (interface_2d ? 2.0 : 1.0);
   const double dt_max = c.time.beta * dx / cs;
   if (is_half_space(c.geometry.height)) {
     e.time_step = dt_max;
-    e.operator_bytes = fourier_modes * kHalfSpaceBytesPerFourierMode;
   } else {
     // As strip_time_step, without its rounding to a whole number of steps
     // (which needs M to fit an integer, the very thing checked here).
-    e.echo_steps = std::ceil(2.0 * c.geometry.height / cs / dt_max * (1.0 - 1e-12));
-    e.time_step = e.echo_steps >= 1.0 ? 2.0 * c.geometry.height / cs / e.echo_steps : dt_max;
-    e.modes_per_fourier_mode = 0.5 * e.echo_steps * (1.0 + cs / cd);
-    e.block_history = !interface_2d && (c.time.history == HistoryAlgorithm::block ||
-                                        (c.time.history == HistoryAlgorithm::automatic &&
-                                         e.modes_per_fourier_mode >= kBlockThreshold));
-    const double per_mode = e.block_history ? kBlockBytesPerMode : kModalBytesPerMode;
-    e.operator_bytes = fourier_modes * e.modes_per_fourier_mode * per_mode + 8.0 * e.echo_steps;
+    const double echo = std::ceil(2.0 * c.geometry.height / cs / dt_max * (1.0 - 1e-12));
+    e.time_step = echo >= 1.0 ? 2.0 * c.geometry.height / cs / echo : dt_max;
+  }
+  // Two bodies (docs/bodies.md): the step follows the faster one; in-plane
+  // each body has its own 2x2 operator, antiplane each a pair operator.
+  const bool elastic_bottom = !interface_2d && c.bottom.body == BodyKind::elastic;
+  const bool per_body = !interface_2d && c.bottom.body != BodyKind::mirror && !c.material.antiplane();
+  const ElasticMaterial bottom = bottom_material(c);
+  if (elastic_bottom && bottom.shear_wave_speed() > cs) e.time_step = c.time.beta * dx / bottom.shear_wave_speed();
+  const BodyOperator top = body_operator(c.material, c.geometry.height, e.time_step, fourier_modes, c.time.history,
+                                         !per_body, !interface_2d);
+  e.echo_steps = top.echo_steps;
+  e.modes_per_fourier_mode = top.modes_per_fourier_mode;
+  e.block_history = top.block;
+  e.operator_bytes = top.bytes;
+  double history_seconds = top.seconds;
+  if (elastic_bottom) {
+    const BodyOperator b =
+        body_operator(bottom, c.bottom.height, e.time_step, fourier_modes, c.time.history, !per_body, true);
+    e.bottom_echo_steps = b.echo_steps;
+    e.bottom_modes_per_fourier_mode = b.modes_per_fourier_mode;
+    e.operator_bytes += b.bytes;
+    history_seconds += b.seconds;
   }
   e.steps = c.time.duration / e.time_step;
-  double history_seconds = fourier_modes * kHalfSpaceSecondsPerFourierMode;
-  if (!is_half_space(c.geometry.height))
-    history_seconds = e.block_history ? fourier_modes * kBlockSecondsPerFourierMode
-                                      : fourier_modes * e.modes_per_fourier_mode * kModalSecondsPerMode;
   e.step_seconds = kStepFixedSeconds + kStepSecondsPerNode * n + history_seconds;
   e.wall_seconds = e.steps * e.step_seconds;
 
@@ -140,6 +197,12 @@ void check_resources(const SimulationConfig& c, const ResourceLimits& limits) {
                       " grid spacings: the strip would carry " + format_short(e.modes_per_fourier_mode) +
                       " normal modes per Fourier mode (time.beta = " + format_short(c.time.beta) +
                       "); allowed at most 1e9 (use geometry.height = \"inf\" for a half-space)");
+  if (e.bottom_modes_per_fourier_mode > 1e9)
+    throw ConfigError("bottom.height = " + format_short(c.bottom.height) + " m is " +
+                      format_short(c.bottom.height / (c.geometry.length / c.geometry.nodes)) +
+                      " grid spacings: the bottom body would carry " + format_short(e.bottom_modes_per_fourier_mode) +
+                      " normal modes per Fourier mode (time.beta = " + format_short(c.time.beta) +
+                      "); allowed at most 1e9 (use bottom.height = \"inf\" for a half-space)");
   const double gib = e.operator_bytes / kGiB;
   if (!(gib <= limits.max_operator_gib)) {
     std::string drivers = is_half_space(c.geometry.height)
@@ -150,6 +213,9 @@ void check_resources(const SimulationConfig& c, const ResourceLimits& limits) {
                                     format_short(e.modes_per_fourier_mode) +
                                     " strip normal modes per Fourier mode, " +
                                     (e.block_history ? "block" : "modal") + " history)";
+    if (e.bottom_modes_per_fourier_mode > 0.0)
+      drivers += ", bottom.height = " + format_short(c.bottom.height) + " m (" +
+                 format_short(e.bottom_modes_per_fourier_mode) + " normal modes per Fourier mode)";
     throw ConfigError("history operator needs ~" + format_short(gib) + " GiB for " + drivers +
                       ": allowed at most " + format_short(limits.max_operator_gib) +
                       " GiB (--max-memory-gib raises the limit)");
@@ -175,7 +241,8 @@ std::string run_header(const SimulationConfig& c) {
                     " on one core (rough estimate) plus the set-up\n";
   const double dx = c.geometry.length / c.geometry.nodes;
   if (is_half_space(c.geometry.height)) {
-    out += "  H = inf (two half-spaces), L = " + format_short(c.geometry.length) + " m, N = " +
+    out += std::string("  H = inf (") + (c.bottom.body == BodyKind::mirror ? "two half-spaces" : "half-space") +
+           "), L = " + format_short(c.geometry.length) + " m, N = " +
            std::to_string(c.geometry.nodes) + " (dx = " + format_short(dx) + " m); history operator ~" +
            bytes_text(e.operator_bytes) + "\n";
   } else {
@@ -183,6 +250,15 @@ std::string run_header(const SimulationConfig& c) {
            ", N = " + std::to_string(c.geometry.nodes) + " (dx = " + format_short(dx) + " m); history operator ~" +
            bytes_text(e.operator_bytes) + " (" + (e.block_history ? "block" : "modal") + ", " +
            format_short(e.modes_per_fourier_mode) + " strip modes per Fourier mode)\n";
+  }
+  if (c.bottom.body == BodyKind::rigid) {
+    out += "  bottom: rigid base\n";
+  } else if (c.bottom.body == BodyKind::elastic) {
+    out += "  bottom: H_b = " + (is_half_space(c.bottom.height) ? std::string("inf (half-space)")
+                                                                  : format_short(c.bottom.height) + " m (" +
+                                                                        format_short(e.bottom_modes_per_fourier_mode) +
+                                                                        " normal modes per Fourier mode)") +
+           ", included in the history operator's memory\n";
   }
   const double slip_per_step = c.loading.driving_velocity * e.time_step;
   out += "  output up to ~" + bytes_text(e.output_bytes) + " (uncompressed estimate); slip per step at v0: " +

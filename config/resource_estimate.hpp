@@ -16,6 +16,11 @@ struct ResourceEstimate {
   double steps = 0.0;                // duration / dt (a double: it may be astronomically large)
   double echo_steps = 0.0;           // M = 2H/(c_s dt) (0 for a half-space)
   double modes_per_fourier_mode = 0.0;  // P ~ (M/2)(1 + c_s/c_d) strip normal modes
+  // A bottom body of its own (bottom.body = "elastic"; docs/bodies.md): its
+  // echo and normal modes, counted like the top body's (0 for a half-space, a
+  // rigid or a mirror bottom).  operator_bytes and step_seconds include it.
+  double bottom_echo_steps = 0.0;
+  double bottom_modes_per_fourier_mode = 0.0;
   bool block_history = false;        // which strip algorithm the run will take
   double operator_bytes = 0.0;       // history operator (state + coefficients + kernels)
   double output_bytes = 0.0;         // uncompressed upper estimate of the HDF5 file

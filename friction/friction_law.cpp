@@ -126,6 +126,15 @@ void validate(const FrictionParameters& friction) {
   require_positive(friction.characteristic_slip, "friction.characteristic_slip", "metres");
   require_positive(friction.v_star, "friction.v_star", "m/s");
   require_positive(friction.phi_star, "friction.phi_star", "seconds");
+  require_non_negative(friction.linker_dieterich, "friction.linker_dieterich");
+  if (friction.linker_dieterich > 0.0 && !(state_log_coefficient(friction) > 0.0))
+    throw std::invalid_argument("friction.linker_dieterich = " + format_double(friction.linker_dieterich) +
+                                " needs friction.b > 0 (the state response divides by the state "
+                                "effect B = " + format_double(state_log_coefficient(friction)) + ")");
+}
+
+double state_log_coefficient(const FrictionParameters& p) {
+  return p.strength_law == StrengthLaw::paper ? p.f0 * p.b : p.b;
 }
 
 void validate_normal_stress(double normal_stress) {

@@ -43,6 +43,13 @@ struct FrictionParameters {
   double characteristic_slip = 5e-7;  // D [m]
   double v_star = 1e-7;               // v* [m/s]
   double phi_star = 3.3e-4;           // phi* [s]
+  // alpha_LD of Linker & Dieterich (1992): where the normal stress changes
+  // (in-plane pairs of different bodies) d ln(phi)/dt gains
+  // -(alpha_LD / B) d ln(sigma_eff)/dt, B = state_log_coefficient; a step of
+  // normal stress then changes the friction coefficient by -alpha_LD ln(sigma
+  // ratio) through the state (docs/bodies.md §4).  0 = off.  The strength and
+  // state-rate functions below do not use it.
+  double linker_dieterich = 0.0;
 };
 
 StrengthLaw parse_strength_law(std::string_view name);  // throws, listing allowed names
@@ -66,6 +73,10 @@ double state_rate_dv(const FrictionParameters& friction, double slip_rate, doubl
 double state_rate_dstate(const FrictionParameters& friction, double slip_rate, double state);
 double steady_state(const FrictionParameters& friction, double slip_rate);  // phi_ss(v)
 double steady_state_friction(const FrictionParameters& friction, double slip_rate);  // f_ss(v)
+// B, the coefficient of ln(phi) in the friction coefficient: f0 b for the paper
+// law (Eq. S1), b for the Dieterich-Ruina forms (for "regularized", inside the
+// asinh: its d f / d ln(phi) tends to b for |v| >> v*).
+double state_log_coefficient(const FrictionParameters& friction);
 
 // phi(t + dt) for a slip rate held constant over the step: exact for both laws,
 // so the update stays accurate (and positive) at large v dt / D.

@@ -1,14 +1,12 @@
 #include "kernels/face_half_space.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
 
+#include "kernels/mode_parallel.hpp"
 #include "kernels/passivity.hpp"
 
 namespace slipstrip {
@@ -167,6 +165,55 @@ std::vector<double> passivity_correction(const ModeDesign& m, double r2, int lag
                            " rounds");
 }
 
+// The entries' exponential sums: near field over [h_min, 2 tau_near_max + 1]
+// (evaluated at every stored lag), far field over [near_field_tau, horizon_tau].
+struct EntrySums {
+  std::array<ExponentialSum, 3> near, far;
+};
+
+EntrySums entry_sums(double r2, double h_min, double tau_near_max, const HalfSpaceOperatorDesign& design) {
+  EntrySums sums;
+  for (FaceEntry e : kFaceEntries) {
+    sums.near[index_of(e)] = half_space_face_exponential_sum(r2, e, h_min, 2.0 * tau_near_max + 1.0, kNearNodesPerPanel);
+    sums.far[index_of(e)] =
+        half_space_face_exponential_sum(r2, e, design.near_field_tau, design.horizon_tau, kFarNodesPerPanel);
+  }
+  return sums;
+}
+
+// One mode's design at h = c_s |k| dt with `window` stored lags, before its
+// passivity correction.
+ModeDesign design_mode(double r2, double h, int window, const EntrySums& sums) {
+  ModeDesign m;
+  m.h = h;
+  m.window = window;
+  for (FaceEntry e : kFaceEntries) {
+    const std::size_t i = index_of(e);
+    m.static_value[i] = h * sums.far[i].static_value;
+    m.lag[i].resize(m.window);
+    for (int j = 1; j <= m.window; ++j) m.lag[i][j - 1] = h * (evaluate(sums.near[i], j * h) - sums.near[i].static_value);
+  }
+  // The coupling's step: its trapezoidal half weight at j = 0 moves to j = 1.
+  m.lag[1][0] += 0.5 * h * half_space_face_initial_value(r2, FaceEntry::coupling);
+  const double shift = m.window * h;
+  for (std::size_t k = 0; k < sums.far[0].rate.size(); ++k) {
+    std::array<complex, 3> w;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < 3; ++i) {
+      w[i] = h * sums.far[i].amplitude[k] * std::exp(sums.far[i].rate[k] * shift);
+      largest = std::max(largest, std::abs(w[i]));
+    }
+    if (largest < kNegligibleAmplitude) continue;
+    m.pole.push_back(std::exp(sums.far[0].rate[k] * h));
+    for (std::size_t i = 0; i < 3; ++i) m.weight[i].push_back(w[i]);
+  }
+  return m;
+}
+
+int window_of(double h, const HalfSpaceOperatorDesign& design) {
+  return std::max(design.corrected_lags, static_cast<int>(std::ceil(design.near_field_tau / h - kWindowSlack)));
+}
+
 }  // namespace
 
 complex half_space_face_entry(double r2, FaceEntry entry, complex p) {
@@ -214,6 +261,32 @@ ExponentialSum half_space_face_exponential_sum(double r2, FaceEntry entry, doubl
       tau_max, nodes_per_panel);
 }
 
+double face_half_space_passive_limit(double r2, const HalfSpaceOperatorDesign& design, double failed) {
+  if (!(failed > 0.0)) throw std::invalid_argument("face_half_space_passive_limit: need failed > 0");
+  const double margin = std::max(design.passivity_margin, kMatrixPassivityMargin);
+  const auto passive = [&](double h) {
+    const int window = window_of(h, design);
+    const ModeDesign m = design_mode(r2, h, window, entry_sums(r2, h, window * h, design));
+    try {
+      (void)passivity_correction(m, r2, design.corrected_lags, margin);
+      return true;
+    } catch (const std::exception&) {
+      return false;
+    }
+  };
+  double hi = failed, lo = 0.5 * failed;
+  while (!passive(lo)) {
+    hi = lo;
+    lo *= 0.5;
+    if (lo < 1e-3 * failed) return 0.0;
+  }
+  while (hi - lo > 1e-3 * hi) {
+    const double mid = 0.5 * (lo + hi);
+    (passive(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
                                            double time_step, const HalfSpaceOperatorDesign& design,
                                            const CancelCheck& cancelled)
@@ -237,65 +310,35 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
   std::vector<int> window(n_modes, 0);
   double tau_near_max = 0.0;
   for (int q = 1; q < n_modes; ++q) {
-    window[q] = std::max(lags_, static_cast<int>(std::ceil(design.near_field_tau / h_[q] - kWindowSlack)));
+    window[q] = window_of(h_[q], design);
     tau_near_max = std::max(tau_near_max, window[q] * h_[q]);
   }
-  std::array<ExponentialSum, 3> near, far;
-  if (n_modes > 1)
-    for (FaceEntry e : kFaceEntries) {
-      near[index_of(e)] = half_space_face_exponential_sum(r2, e, h_[1], 2.0 * tau_near_max + 1.0, kNearNodesPerPanel);
-      far[index_of(e)] =
-          half_space_face_exponential_sum(r2, e, design.near_field_tau, design.horizon_tau, kFarNodesPerPanel);
-    }
+  const EntrySums sums = n_modes > 1 ? entry_sums(r2, h_[1], tau_near_max, design) : EntrySums{};
 
   // Each mode's design (sampled near field, exponentials, passivity correction)
   // is independent: computed in parallel, then laid out flat for the time loop.
-  // `cancelled` may call into Python, so only the calling thread polls it.
   std::vector<ModeDesign> designs(n_modes);
   std::vector<std::vector<double>> corrections(n_modes);
-  std::string failure;
-  std::atomic<bool> cancel_seen{false};
-#pragma omp parallel for schedule(dynamic)
-  for (int q = 1; q < n_modes; ++q) {
-    if (omp_get_thread_num() == 0 && cancelled && !cancel_seen.load(std::memory_order_relaxed) && cancelled())
-      cancel_seen.store(true);
-    if (cancel_seen.load(std::memory_order_relaxed)) continue;
-    const double h = h_[q];
+  const std::string failure = for_each_mode_in_parallel(
+      1, n_modes, cancelled, "the half-space body's operator", [&](int q) {
     ModeDesign& m = designs[q];
-    m.h = h;
-    m.window = window[q];
-    for (FaceEntry e : kFaceEntries) {
-      const std::size_t i = index_of(e);
-      m.static_value[i] = h * far[i].static_value;
-      m.lag[i].resize(m.window);
-      for (int j = 1; j <= m.window; ++j) m.lag[i][j - 1] = h * (evaluate(near[i], j * h) - near[i].static_value);
-    }
-    // The coupling's step: its trapezoidal half weight at j = 0 moves to j = 1.
-    m.lag[1][0] += 0.5 * h * half_space_face_initial_value(r2, FaceEntry::coupling);
-    const double shift = m.window * h;
-    for (std::size_t k = 0; k < far[0].rate.size(); ++k) {
-      std::array<complex, 3> w;
-      double largest = 0.0;
-      for (std::size_t i = 0; i < 3; ++i) {
-        w[i] = h * far[i].amplitude[k] * std::exp(far[i].rate[k] * shift);
-        largest = std::max(largest, std::abs(w[i]));
-      }
-      if (largest < kNegligibleAmplitude) continue;
-      m.pole.push_back(std::exp(far[0].rate[k] * h));
-      for (std::size_t i = 0; i < 3; ++i) m.weight[i].push_back(w[i]);
-    }
+    m = design_mode(r2, h_[q], window[q], sums);
     try {
       corrections[q] = passivity_correction(m, r2, lags_, std::max(design.passivity_margin, kMatrixPassivityMargin));
     } catch (const std::exception& ex) {
       std::ostringstream msg;
-      msg << "half-space body operator (dt = " << dt_ << " s, c_s k dt = " << h << " at mode " << q
+      msg << "half-space body operator (dt = " << dt_ << " s, c_s k dt = " << m.h << " at mode " << q
           << "): no passive correction (" << ex.what() << "); refine the time step (time.beta)";
-#pragma omp critical(slipstrip_face_half_space_setup)
-      if (failure.empty()) failure = msg.str();
+      throw std::invalid_argument(msg.str());
     }
+  });
+  if (!failure.empty()) {
+    // The largest c_s k dt that failed (a failed mode has no correction).
+    double failed_h = 0.0;
+    for (int q = 1; q < n_modes; ++q)
+      if (corrections[q].empty()) failed_h = std::max(failed_h, h_[q]);
+    throw FaceHalfSpaceNotPassive(failure, failed_h);
   }
-  if (cancel_seen.load()) throw SetupCancelled("set-up cancelled during the half-space body's operator");
-  if (!failure.empty()) throw std::invalid_argument(failure);
 
   static_weight_.assign(n_modes, {});
   first_lag_.assign(n_modes + 1, 0);
@@ -325,15 +368,8 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
   ring_y_ = ring_x_;
   running_x_.assign(n_modes, 0.0);
   running_y_ = history_x_ = history_y_ = running_x_;
-  for (std::size_t k = 0; k < pole_.size(); ++k) {
-    pole_re_.push_back(pole_[k].real());
-    pole_im_.push_back(pole_[k].imag());
-    for (std::size_t e = 0; e < 3; ++e) {
-      weight_cos_[e].push_back(2.0 * pole_weight_[k][e].real());
-      weight_sin_[e].push_back(-2.0 * pole_weight_[k][e].imag());
-    }
-  }
-  for (auto& state : far_) state.assign(pole_.size(), 0.0);
+  far_x_.assign(pole_.size(), 0.0);
+  far_conj_x_ = far_y_ = far_conj_y_ = far_x_;
 }
 
 void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<const complex> velocity_y) {
@@ -362,49 +398,19 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
       from_y[1] += w[1] * ring_y_[at];
       from_y[2] += w[2] * ring_y_[at];
     }
-    // Lags W + i: kernel 2 Re(w z^i) = wc Re z^i + ws Im z^i, states
-    // C = sum_i Re(z^i) v_{n+1-W-i}, S = sum_i Im(z^i) v_{n+1-W-i}:
-    // [C; S] <- [[Re z, -Im z], [Im z, Re z]] [C + v_{n-W}; S], per input component.
-    const std::size_t k0 = first_pole_[q], count = first_pole_[q + 1] - k0;
-    const double *zr = pole_re_.data() + k0, *zi = pole_im_.data() + k0;
-    const double *wc0 = weight_cos_[0].data() + k0, *ws0 = weight_sin_[0].data() + k0;
-    const double *wc1 = weight_cos_[1].data() + k0, *ws1 = weight_sin_[1].data() + k0;
-    const double *wc2 = weight_cos_[2].data() + k0, *ws2 = weight_sin_[2].data() + k0;
-    double *cxr = far_[0].data() + k0, *cxi = far_[1].data() + k0, *sxr = far_[2].data() + k0,
-           *sxi = far_[3].data() + k0;
-    double *cyr = far_[4].data() + k0, *cyi = far_[5].data() + k0, *syr = far_[6].data() + k0,
-           *syi = far_[7].data() + k0;
-    const double uxr = old_x.real(), uxi = old_x.imag(), uyr = old_y.real(), uyi = old_y.imag();
-    double x0r = 0.0, x0i = 0.0, x1r = 0.0, x1i = 0.0, y1r = 0.0, y1i = 0.0, y2r = 0.0, y2i = 0.0;
-#pragma omp simd reduction(+ : x0r, x0i, x1r, x1i, y1r, y1i, y2r, y2i)
-    for (std::size_t k = 0; k < count; ++k) {
-      const double a = zr[k], b = zi[k];
-      const double pxr = cxr[k] + uxr, pxi = cxi[k] + uxi, pyr = cyr[k] + uyr, pyi = cyi[k] + uyi;
-      const double ncxr = a * pxr - b * sxr[k], ncxi = a * pxi - b * sxi[k];
-      const double nsxr = b * pxr + a * sxr[k], nsxi = b * pxi + a * sxi[k];
-      const double ncyr = a * pyr - b * syr[k], ncyi = a * pyi - b * syi[k];
-      const double nsyr = b * pyr + a * syr[k], nsyi = b * pyi + a * syi[k];
-      cxr[k] = ncxr;
-      cxi[k] = ncxi;
-      sxr[k] = nsxr;
-      sxi[k] = nsxi;
-      cyr[k] = ncyr;
-      cyi[k] = ncyi;
-      syr[k] = nsyr;
-      syi[k] = nsyi;
-      x0r += wc0[k] * ncxr + ws0[k] * nsxr;
-      x0i += wc0[k] * ncxi + ws0[k] * nsxi;
-      x1r += wc1[k] * ncxr + ws1[k] * nsxr;
-      x1i += wc1[k] * ncxi + ws1[k] * nsxi;
-      y1r += wc1[k] * ncyr + ws1[k] * nsyr;
-      y1i += wc1[k] * ncyi + ws1[k] * nsyi;
-      y2r += wc2[k] * ncyr + ws2[k] * nsyr;
-      y2i += wc2[k] * ncyi + ws2[k] * nsyi;
+    // Lags W + i: kernel 2 Re(w z^i), states sum_i z^i v_{n+1-W-i} (and conj(z)).
+    for (std::size_t k = first_pole_[q]; k < first_pole_[q + 1]; ++k) {
+      const complex z = pole_[k], zc = std::conj(z);
+      far_x_[k] = z * (far_x_[k] + old_x);
+      far_conj_x_[k] = zc * (far_conj_x_[k] + old_x);
+      far_y_[k] = z * (far_y_[k] + old_y);
+      far_conj_y_[k] = zc * (far_conj_y_[k] + old_y);
+      const auto& w = pole_weight_[k];
+      from_x[0] += w[0] * far_x_[k] + std::conj(w[0]) * far_conj_x_[k];
+      from_x[1] += w[1] * far_x_[k] + std::conj(w[1]) * far_conj_x_[k];
+      from_y[1] += w[1] * far_y_[k] + std::conj(w[1]) * far_conj_y_[k];
+      from_y[2] += w[2] * far_y_[k] + std::conj(w[2]) * far_conj_y_[k];
     }
-    from_x[0] += complex(x0r, x0i);
-    from_x[1] += complex(x1r, x1i);
-    from_y[1] += complex(y1r, y1i);
-    from_y[2] += complex(y2r, y2i);
     // [[K^0, -i K^1], [i K^1, K^2]] (k > 0).
     history_x_[q] = from_x[0] - i * from_y[1];
     history_y_[q] = i * from_x[1] + from_y[2];
@@ -449,18 +455,15 @@ FaceMatrix FaceHalfSpaceHistory::symbol(int q, double theta) const {
   return out;
 }
 
-namespace {
-// The far-field states (far_), in their order.
-constexpr const char* kFarStateNames[8] = {"far_c_x_re", "far_c_x_im", "far_s_x_re", "far_s_x_im",
-                                           "far_c_y_re", "far_c_y_im", "far_s_y_re", "far_s_y_im"};
-}  // namespace
-
 void FaceHalfSpaceHistory::save_into(HistoryOperatorState& state, const std::string& prefix) const {
   state.add(prefix + "ring_x", ring_x_);
   state.add(prefix + "ring_y", ring_y_);
   state.add(prefix + "running_x", running_x_);
   state.add(prefix + "running_y", running_y_);
-  for (std::size_t i = 0; i < far_.size(); ++i) state.add(prefix + kFarStateNames[i], far_[i]);
+  state.add(prefix + "far_x", far_x_);
+  state.add(prefix + "far_conj_x", far_conj_x_);
+  state.add(prefix + "far_y", far_y_);
+  state.add(prefix + "far_conj_y", far_conj_y_);
   state.add(prefix + "history_x", history_x_);
   state.add(prefix + "history_y", history_y_);
   state.counters.emplace_back(prefix + "step", step_);
@@ -471,7 +474,10 @@ void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const
   state.copy_to(prefix + "ring_y", std::span<complex>(ring_y_));
   state.copy_to(prefix + "running_x", std::span<complex>(running_x_));
   state.copy_to(prefix + "running_y", std::span<complex>(running_y_));
-  for (std::size_t i = 0; i < far_.size(); ++i) state.copy_to(prefix + kFarStateNames[i], std::span<double>(far_[i]));
+  state.copy_to(prefix + "far_x", std::span<complex>(far_x_));
+  state.copy_to(prefix + "far_conj_x", std::span<complex>(far_conj_x_));
+  state.copy_to(prefix + "far_y", std::span<complex>(far_y_));
+  state.copy_to(prefix + "far_conj_y", std::span<complex>(far_conj_y_));
   state.copy_to(prefix + "history_x", std::span<complex>(history_x_));
   state.copy_to(prefix + "history_y", std::span<complex>(history_y_));
   step_ = state.counter(prefix + "step");
@@ -479,8 +485,7 @@ void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const
 
 std::size_t FaceHalfSpaceHistory::memory_bytes() const {
   return sizeof(complex) * (ring_x_.size() + ring_y_.size() + running_x_.size() + running_y_.size() +
-                            history_x_.size() + history_y_.size() + pole_.size()) +
-         sizeof(double) * (far_.size() + 8) * pole_re_.size() +
+                            4 * far_x_.size() + history_x_.size() + history_y_.size() + pole_.size()) +
          sizeof(pole_weight_[0]) * pole_weight_.size() + sizeof(lag_weight_[0]) * lag_weight_.size() +
          sizeof(static_weight_[0]) * static_weight_.size() + sizeof(correction_[0]) * correction_.size() +
          sizeof(double) * (wavenumber_.size() + h_.size()) +

@@ -28,6 +28,7 @@
 #include <complex>
 #include <cstddef>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,24 @@ struct FaceHalfSpaceModeKernel {
 // HalfSpaceOperatorDesign's corrected_lags, near_field_tau, horizon_tau and
 // passivity_margin.  The modes are designed in parallel (OpenMP); the set-up
 // throws SetupCancelled when `cancelled` says so.
+// Thrown by FaceHalfSpaceHistory when some mode's passivity correction does not
+// exist (the time step is too long for this Poisson ratio); `h` is the largest
+// c_s |k| dt that failed.  An std::invalid_argument with the kernel's message.
+struct FaceHalfSpaceNotPassive : std::invalid_argument {
+  FaceHalfSpaceNotPassive(const std::string& message, double failed_h)
+      : std::invalid_argument(message), h(failed_h) {}
+  double h;
+};
+
+// The largest c_s |k| dt at which a mode's passivity correction exists, for
+// r^2 = c_s^2/c_d^2 and `design`: bisection (to 1e-3 relative) between
+// `failed` (a value where it does not) and the largest smaller value found by
+// halving where it does.  Each trial designs one mode (~0.1 s).  The operator
+// of a run exists when the shortest wavelength's c_s k_max dt is at most this;
+// docs/bodies.md §4 turns it into the bound on time.beta.
+double face_half_space_passive_limit(double speed_ratio_squared, const HalfSpaceOperatorDesign& design,
+                                     double failed);
+
 class FaceHalfSpaceHistory final : public FaceHistory {
  public:
   FaceHalfSpaceHistory(const ElasticMaterial& material, double length, int nodes, double time_step,
@@ -128,14 +147,8 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   // State.
   std::vector<std::complex<double>> ring_x_, ring_y_;  // last W_q inputs of mode q
   std::vector<std::complex<double>> running_x_, running_y_;
-  // The exponentials as push() reads them, one array per real quantity
-  // (contiguous, so the loop over a mode's exponentials vectorises): z, and
-  // per entry e the kernel 2 Re(w z^i) = weight_cos[e] Re z^i + weight_sin[e] Im z^i.
-  std::vector<double> pole_re_, pole_im_;
-  std::array<std::vector<double>, 3> weight_cos_, weight_sin_;
-  // State per exponential and input component (x, y): C = sum_i Re(z^i) v and
-  // S = sum_i Im(z^i) v of the delayed inputs, real and imaginary parts.
-  std::array<std::vector<double>, 8> far_;  // C_re, C_im, S_re, S_im of x, then of y
+  // Per exponential: sum_i z^i v and sum_i conj(z)^i v of the delayed inputs.
+  std::vector<std::complex<double>> far_x_, far_conj_x_, far_y_, far_conj_y_;
   std::vector<std::complex<double>> history_x_, history_y_;
 };
 

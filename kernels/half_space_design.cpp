@@ -1,9 +1,6 @@
 #include "kernels/half_space_design.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -12,6 +9,7 @@
 #include <string>
 
 #include "kernels/half_space_kernel.hpp"
+#include "kernels/mode_parallel.hpp"
 #include "kernels/passivity.hpp"
 
 namespace slipstrip {
@@ -96,50 +94,37 @@ std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& mat
   const double slow_lambda_max = block > 0 ? 2.0 * design.slow_taylor_radius / (block - 1) : -1.0;
 
   std::vector<HalfSpaceModeTerms> terms(n_modes);
-  std::string failure;
-  // `cancelled` may call into Python (the bindings), so only the thread that
-  // called this function polls it; the others see the atomic flag.
-  std::atomic<bool> cancel_seen{false};
-#pragma omp parallel for schedule(dynamic)
-  for (int q = 1; q < n_modes; ++q) {
-    if (omp_get_thread_num() == 0 && cancelled && !cancel_seen.load(std::memory_order_relaxed) && cancelled())
-      cancel_seen.store(true);
-    if (cancel_seen.load(std::memory_order_relaxed)) continue;
-    if (design_of[q] != q) continue;  // copied below from the mode of equal h
-    try {
-      HalfSpaceModeTerms& t = terms[q];
-      const double h = h_of[q];
-      const double scale = mu / cs * h;  // dt mu |k|
-      t.static_weight = scale * static_value;
-      const auto e = half_space_passivity_correction(shape, h, lags, design.passivity_margin);
-      t.correction = e;
-      auto& w = t.lag_weight;
-      w.resize(window[q]);
-      for (int j = 1; j <= window[q]; ++j) {
-        w[j - 1] = scale * (evaluate(near, j * h) - static_value);
-        if (j <= lags) w[j - 1] += mu / cs * e[j - 1];
-      }
-      const double shift_tau = window[q] * h;
-      for (std::size_t m = 0; m < far.rate.size(); ++m) {
-        const std::complex<double> shifted = far.amplitude[m] * std::exp(far.rate[m] * shift_tau);
-        if (std::abs(shifted) < kNegligibleAmplitude) continue;
-        if (-far.rate[m].real() * h <= slow_lambda_max) {
-          t.slow_rate.push_back(far.rate[m]);
-          t.slow_weight.push_back(scale * shifted);
-          // Shear-branch rates have imaginary part exactly 1 and come first
-          // (half_space_exponential_sum), so this counts the shear ones.
-          if (far.rate[m].imag() == 1.0) t.slow_shear = t.slow_rate.size();
-          continue;
-        }
-        t.pole.push_back(std::exp(far.rate[m] * h));
-        t.pole_weight.push_back(scale * shifted);
-      }
-    } catch (const std::exception& ex) {
-#pragma omp critical(slipstrip_half_space_setup)
-      if (failure.empty()) failure = ex.what();
+  const std::string failure = for_each_mode_in_parallel(
+      1, n_modes, cancelled, "the half-space history operator", [&](int q) {
+    if (design_of[q] != q) return;  // copied below from the mode of equal h
+    HalfSpaceModeTerms& t = terms[q];
+    const double h = h_of[q];
+    const double scale = mu / cs * h;  // dt mu |k|
+    t.static_weight = scale * static_value;
+    const auto e = half_space_passivity_correction(shape, h, lags, design.passivity_margin);
+    t.correction = e;
+    auto& w = t.lag_weight;
+    w.resize(window[q]);
+    for (int j = 1; j <= window[q]; ++j) {
+      w[j - 1] = scale * (evaluate(near, j * h) - static_value);
+      if (j <= lags) w[j - 1] += mu / cs * e[j - 1];
     }
-  }
-  if (cancel_seen.load()) throw SetupCancelled("set-up cancelled during the half-space history operator");
+    const double shift_tau = window[q] * h;
+    for (std::size_t m = 0; m < far.rate.size(); ++m) {
+      const std::complex<double> shifted = far.amplitude[m] * std::exp(far.rate[m] * shift_tau);
+      if (std::abs(shifted) < kNegligibleAmplitude) continue;
+      if (-far.rate[m].real() * h <= slow_lambda_max) {
+        t.slow_rate.push_back(far.rate[m]);
+        t.slow_weight.push_back(scale * shifted);
+        // Shear-branch rates have imaginary part exactly 1 and come first
+        // (half_space_exponential_sum), so this counts the shear ones.
+        if (far.rate[m].imag() == 1.0) t.slow_shear = t.slow_rate.size();
+        continue;
+      }
+      t.pole.push_back(std::exp(far.rate[m] * h));
+      t.pole_weight.push_back(scale * shifted);
+    }
+  });
   if (!failure.empty()) {
     std::ostringstream msg;
     msg << "half-space history operator (dt = " << time_step << " s, c_s k_max dt = "

@@ -111,8 +111,9 @@ class RateAndStateLaw final : public InterfaceLaw {
   // Rice 2000; docs/bodies.md).  Node by node with the scalar routines (the
   // batch ones take one sigma for all nodes); the same predictor-corrector as
   // the batch step, with sigma_eff advanced like the state:
-  //   phi_p, sigma_p from (v_old);  v_p = solve(sigma_p, phi_p);
-  //   phi, sigma_eff from ((v_old + v_p)/2);  v = solve(sigma_eff, phi).
+  //   sigma_p, phi_p from (v_old);  v_p = solve(sigma_p, phi_p);
+  //   sigma_eff, phi from ((v_old + v_p)/2);  v = solve(sigma_eff, phi)
+  // (phi after sigma_eff: the Linker-Dieterich response follows sigma_eff).
   // sigma_eff over a step solves d sigma_eff/dt = -r (sigma_eff - sigma(t)), sigma
   // linear in t between the two levels, exactly for the rate r held fixed.
   double relaxed(double effective_old, double sigma_old, double sigma_new, double slip_rate, double dt) const {
@@ -124,6 +125,18 @@ class RateAndStateLaw final : public InterfaceLaw {
     const double decay = std::exp(-x);
     const double ramp = x > 0.0 ? -std::expm1(-x) / x : 1.0;  // (1 - e^-x) / x
     return sigma_new + (effective_old - sigma_old) * decay - (sigma_new - sigma_old) * ramp;
+  }
+
+  // The state over a step with the Linker-Dieterich response (docs/bodies.md §4):
+  // d ln(phi)/dt = g(v, phi)/phi - (alpha/B) d ln(sigma_eff)/dt.  The second
+  // part alone is exact: phi scales by r = (e_new/e_old)^(-alpha/B) over the
+  // step; Strang splitting (sqrt(r), the exact evolve_state, sqrt(r)) keeps the
+  // predictor-corrector second order.  alpha = 0 is evolve_state itself.
+  double evolve_state_with_normal_stress(const FrictionParameters& p, double phi_old, double slip_rate, double dt,
+                                         double effective_old, double effective_new) const {
+    if (p.linker_dieterich == 0.0) return evolve_state(p, phi_old, slip_rate, dt);
+    const double half = std::pow(effective_new / effective_old, -0.5 * p.linker_dieterich / state_log_coefficient(p));
+    return half * evolve_state(p, half * phi_old, slip_rate, dt);
   }
 
   void solve_with_normal_stress(InterfaceFields& fields, double dt, bool initial) {
@@ -143,12 +156,12 @@ class RateAndStateLaw final : public InterfaceLaw {
         const double v_old = fields.previous_slip_rate[i], phi_old = fields.previous_state[i];
         const double s_old = fields.previous_normal_stress[i], s_new = fields.normal_stress[i];
         const double e_old = fields.effective_normal_stress[i];
-        const double phi_p = evolve_state(p, phi_old, v_old, dt);
         const double e_p = relaxed(e_old, s_old, s_new, v_old, dt);
+        const double phi_p = evolve_state_with_normal_stress(p, phi_old, v_old, dt, e_old, e_p);
         const double v_p = solve_slip_rate(p, e_p, eta_, tau, phi_p, v_old);
         const double v_mid = 0.5 * (v_old + v_p);
-        const double phi = evolve_state(p, phi_old, v_mid, dt);
         const double e = relaxed(e_old, s_old, s_new, v_mid, dt);
+        const double phi = evolve_state_with_normal_stress(p, phi_old, v_mid, dt, e_old, e);
         fields.state[i] = phi;
         fields.effective_normal_stress[i] = e;
         fields.slip_rate[i] = solve_slip_rate(p, e, eta_, tau, phi, v_p);

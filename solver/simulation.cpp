@@ -1,15 +1,17 @@
 #include "solver/simulation.hpp"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <iomanip>
+#include <limits>
+#include <numbers>
 #include <numeric>
 #include <sstream>
+#include <string>
 
 #include "kernels/block_strip_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/kernel_cache.hpp"
-#include "kernels/face_block_history.hpp"
 #include "kernels/face_history.hpp"
 #include "kernels/face_half_space.hpp"
 #include "kernels/inplane_pair_history.hpp"
@@ -39,25 +41,6 @@ std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& mater
   return std::make_unique<StripHistory>(material, kernels, cancelled);
 }
 
-// One finite body's 2x2 operator in an in-plane pair of different bodies:
-// modal or block (the same operator, tests/cpp/test_kernels_face_block_history.cpp),
-// chosen by time.history as for the identical pair; `auto` counts the normal
-// modes of the uniform mode, which has the most.
-std::unique_ptr<FaceHistory> make_finite_body_history(const SimulationConfig& config, const ElasticMaterial& m,
-                                                      double height, OuterFace face, double time_step,
-                                                      const CancelCheck& cancelled) {
-  const auto& g = config.geometry;
-  HistoryAlgorithm algorithm = config.time.history;
-  if (algorithm == HistoryAlgorithm::automatic)
-    algorithm = face_discrete_modes(m, height, face, 0.0, time_step).phase.size() >= block_history_threshold
-                    ? HistoryAlgorithm::block
-                    : HistoryAlgorithm::modal;
-  if (algorithm == HistoryAlgorithm::block)
-    return std::make_unique<FaceBlockHistory>(m, height, face, g.length, g.nodes, time_step, FaceBlockDesign{},
-                                              cancelled);
-  return std::make_unique<FaceModalHistory>(m, height, face, g.length, g.nodes, time_step);
-}
-
 // The operator of two identical copies of one body (material, height): the
 // whole history operator of a mirror pair, and each body's "pair-normalised"
 // operator otherwise (kernels/two_body_history.hpp).
@@ -79,6 +62,24 @@ std::unique_ptr<HistoryOperator> make_pair_history(const SimulationConfig& confi
                                           nodes, time_step, nullptr, cancelled);
   return make_strip_history(material, kernels, config.time.history, cancelled);
 }
+// A half-space body's 2x2 operator exists only when the shortest wavelength's
+// c_s k_max dt is at most face_half_space_passive_limit (a function of the
+// Poisson ratio): the bound on time.beta it implies, computed, in one line.
+std::string half_space_time_step_error(const SimulationConfig& config, const ElasticMaterial& m, const char* body,
+                                       double dx, double dt) {
+  const double h_max = m.shear_wave_speed() * std::numbers::pi * dt / dx;  // k_max = pi / dx (Nyquist)
+  const double limit = face_half_space_passive_limit(1.0 / m.wave_speed_ratio_squared(), HalfSpaceOperatorDesign{},
+                                                     h_max);
+  const double beta_max = config.time.beta * limit / h_max;
+  const std::string key = std::string(body) == "top" ? "material.poisson_ratio" : "bottom.poisson_ratio";
+  std::ostringstream msg;
+  msg << "time.beta = " << config.time.beta << " is too large for the " << body << " body, a half-space with "
+      << key << " = " << m.poisson_ratio << " (plane " << (m.plane == PlaneCondition::stress ? "stress" : "strain")
+      << "): its passive 2x2 operator needs c_s k dt <= " << std::setprecision(4) << limit
+      << " at the shortest wavelength, i.e. time.beta <= " << beta_max << " here (docs/bodies.md §4)";
+  return msg.str();
+}
+
 }  // namespace
 
 Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancelled,
@@ -108,17 +109,22 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
     if (rigid) bottom_height_used_ = std::numeric_limits<double>::quiet_NaN();
     // Each body: its modal 2x2 operator (finite height) or the half-space's
     // (kernels/face_half_space.hpp).
-    const auto body_operator = [&](const ElasticMaterial& m, double height,
-                                   OuterFace face) -> std::unique_ptr<FaceHistory> {
-      if (is_half_space(height))
-        return std::make_unique<FaceHalfSpaceHistory>(m, g.length, nodes_, dt_, HalfSpaceOperatorDesign{},
-                                                      cancelled);
-      return make_finite_body_history(config_, m, height, face, dt_, cancelled);
+    const auto body_operator = [&](const ElasticMaterial& m, double height, OuterFace face,
+                                   const char* body) -> std::unique_ptr<FaceHistory> {
+      if (is_half_space(height)) {
+        try {
+          return std::make_unique<FaceHalfSpaceHistory>(m, g.length, nodes_, dt_, HalfSpaceOperatorDesign{},
+                                                        cancelled);
+        } catch (const FaceHalfSpaceNotPassive&) {
+          throw std::invalid_argument(half_space_time_step_error(config_, m, body, dx_, dt_));
+        }
+      }
+      return std::make_unique<FaceModalHistory>(m, height, face, g.length, nodes_, dt_);
     };
-    auto top = body_operator(config_.material, g.height, config_.top.outer_face);
+    auto top = body_operator(config_.material, g.height, config_.top.outer_face, "top");
     throw_if_cancelled(cancelled, "the top body's operator");
     std::unique_ptr<FaceHistory> bottom;
-    if (!rigid) bottom = body_operator(bottom_body, config_.bottom.height, config_.bottom.outer_face);
+    if (!rigid) bottom = body_operator(bottom_body, config_.bottom.height, config_.bottom.outer_face, "bottom");
     auto pair = std::make_unique<InplanePairHistory>(std::move(top), std::move(bottom));
     pair_ = pair.get();
     history_ = std::move(pair);

@@ -71,7 +71,10 @@ LinearisedInterfaceFriction linearise_interface_friction(const PairSliding& p) {
       lin.normal_relaxation_time = r.time;
       break;
   }
-  lin.linker_dieterich = r.linker_dieterich;
+  // d phi = -(alpha phi / (B sigma_eff)) d sigma_eff, linearised at (phi0, sigma0)
+  // and multiplied by tau_phi (where it enters F).
+  if (f.linker_dieterich != 0.0)
+    lin.linker_dieterich = f.linker_dieterich * lin.strength_dstate * phi0 / (state_log_coefficient(f) * s0);
   return lin;
 }
 
@@ -123,10 +126,30 @@ std::vector<complex> pair_unstable_roots(const PairSliding& p, double wavelength
   return pair_characteristic_roots(p, lin, k, pair_search_box(p, lin, k));
 }
 
+namespace {
+
+// Whether F has a zero in the search box at this wavelength, by the argument
+// principle alone.  Near Lc the unstable root approaches Re Lambda = 0, where
+// a strip's poles sit: locating it there (subdividing the box) can fail while
+// the count of the whole box does not (measured: H = 0.1 m on a mu/2 strip,
+// L = 0.617 m).  Identical bodies too go through the series stiffness here (equal
+// to their S to rounding, docs/inplane_bodies.md §3): the identical-pair search
+// with pole removal fails in this box below ~0.02 m and above ~100 m
+// (measured, H = 0.1 m), and a scan over top heights passes through them.
+bool pair_has_unstable_root(const PairSliding& p, double wavelength) {
+  const LinearisedInterfaceFriction lin = linearise_interface_friction(p);
+  const double k = 2.0 * std::numbers::pi / wavelength;
+  const PairSearchBox box = pair_search_box(p, lin, k);
+  const AnalyticFunction g = [&](complex z) { return pair_characteristic_function(p, lin, k, z); };
+  return count_zeros(g, Rectangle{box.min_re, box.max_re, -box.max_im, box.max_im}) > 0;
+}
+
+}  // namespace
+
 double pair_critical_wavelength(const PairSliding& p, double shortest, double longest) {
   if (!(shortest > 0.0 && longest > shortest) || std::isinf(longest))
     throw std::invalid_argument("pair_critical_wavelength: need 0 < shortest < longest < inf");
-  const auto unstable = [&](double wavelength) { return !pair_unstable_roots(p, wavelength).empty(); };
+  const auto unstable = [&](double wavelength) { return pair_has_unstable_root(p, wavelength); };
   constexpr int samples = 64;
   double stable_below = 0.0;
   for (int i = 0; i < samples; ++i) {
@@ -144,6 +167,21 @@ double pair_critical_wavelength(const PairSliding& p, double shortest, double lo
     return hi;
   }
   return std::numeric_limits<double>::quiet_NaN();
+}
+
+std::vector<double> pair_critical_wavelength_vs_top_height(const PairSliding& p, const std::vector<double>& heights,
+                                                           double shortest, double longest) {
+  std::vector<double> lc;
+  lc.reserve(heights.size());
+  for (double h : heights) {
+    if (!(h > 0.0))
+      throw std::invalid_argument("pair stability: top body height = " + std::to_string(h) +
+                                  " m is not allowed; it must be > 0 (or inf)");
+    PairSliding scan = p;
+    scan.top.height = h;
+    lc.push_back(pair_critical_wavelength(scan, shortest, longest));
+  }
+  return lc;
 }
 
 }  // namespace slipstrip

@@ -8,11 +8,14 @@
 // K = K_ser(k, Lambda) the series stiffness of the two bodies.  Friction, linearised
 // at (v0, phi0, sigma0), strength tau = sigma_eff f(v, phi):
 //   tau^ = tau_v v^ + tau_phi phi^ + f0 sigma_eff^,           f0 = tau0 / sigma0,
-//   Lambda phi^ = g_v v^ + g_phi phi^ - (alpha_LD / tau_phi) Lambda sigma_eff^   (Linker-Dieterich),
+//   Lambda phi^ = g_v v^ + g_phi phi^ - (alpha_LD phi0 / (B sigma0)) Lambda sigma_eff^   (Linker-Dieterich),
 //   sigma_eff^ = sigma^ / (1 + Lambda T)                       (Prakash-Clifton / Cochard-Rice),
 // so that
 //   F(Lambda) = K_xx + Lambda [tau_v + tau_phi g_v / (Lambda - g_phi)]
-//             + [f0 - alpha_LD Lambda / (Lambda - g_phi)] K_yx / (1 + Lambda T).
+//             + [f0 - a_LD Lambda / (Lambda - g_phi)] K_yx / (1 + Lambda T),
+// a_LD = alpha_LD tau_phi phi0 / (B sigma0), B = state_log_coefficient: the
+// linearisation of the solver's d ln(phi)/dt = ... - (alpha_LD/B) d ln(sigma_eff)/dt
+// (laws/law_rate_and_state.cpp); a_LD = alpha_LD for the paper and DR laws.
 // For identical bodies K_yx = 0 and K_xx = S(k, Lambda; H): F is then the function of
 // stability/linear_stability.hpp, and pair_characteristic_roots uses that very
 // function (the roots are today's, bit for bit).
@@ -28,14 +31,13 @@ namespace slipstrip {
 //   instantaneous : sigma_eff = sigma (ill-posed for many bimaterial pairs);
 //   slip          : d sigma_eff/dt = -((|v| + v*) / slip) (sigma_eff - sigma)  (Cochard & Rice 2000);
 //   time          : d sigma_eff/dt = -(sigma_eff - sigma) / time              (Prakash-Clifton, fixed time).
-// linker_dieterich = alpha of Linker & Dieterich (1992): a step of normal stress
-// changes the friction coefficient at once by -alpha d sigma / sigma through the state.
+// The Linker & Dieterich (1992) state response is friction.linker_dieterich
+// (FrictionParameters): it follows sigma_eff, as the strength does.
 enum class NormalStressResponse { instantaneous, slip, time };
 struct NormalStressRegularisation {
   NormalStressResponse kind = NormalStressResponse::instantaneous;
   double slip = 0.0;  // L_sigma [m]
   double time = 0.0;  // t_sigma [s]
-  double linker_dieterich = 0.0;
 };
 
 struct PairSliding {
@@ -55,7 +57,7 @@ struct LinearisedInterfaceFriction {
   double state_rate_dstate = 0.0;  // g_phi   [1/s]
   double friction_coefficient = 0.0;     // f0 = d tau / d sigma_eff at steady state
   double normal_relaxation_time = 0.0;   // T [s] (0: instantaneous)
-  double linker_dieterich = 0.0;         // alpha_LD
+  double linker_dieterich = 0.0;         // a_LD = alpha_LD tau_phi phi0 / (B sigma0)
 };
 LinearisedInterfaceFriction linearise_interface_friction(const PairSliding& sliding);
 
@@ -99,5 +101,14 @@ std::vector<std::complex<double>> pair_unstable_roots(const PairSliding& sliding
 // the last stable and the first unstable of 64 log-spaced wavelengths.  NaN
 // when every sampled wavelength is stable, `shortest` when all are unstable.
 double pair_critical_wavelength(const PairSliding& sliding, double shortest, double longest);
+
+// Lc(H) of a pair (docs/bodies.md §5): the top body's height set to each of
+// `heights` [m] (inf: a top half-space), the bottom body kept as given; each
+// Lc by pair_critical_wavelength over [shortest, longest].  The scan a
+// slider-on-base experiment asks (how thick a slider must be), defined for
+// every bottom body: a strip, a half-space or a rigid base.
+std::vector<double> pair_critical_wavelength_vs_top_height(const PairSliding& sliding,
+                                                           const std::vector<double>& heights, double shortest,
+                                                           double longest);
 
 }  // namespace slipstrip

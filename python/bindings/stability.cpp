@@ -11,6 +11,7 @@
 #include "stability/steady_sliding.hpp"
 #include "config/simulation_config.hpp"
 #include "friction/friction_law.hpp"
+#include "stability/interface_stability.hpp"
 #include "stability/linear_stability.hpp"
 #include "kernels/strip_response.hpp"
 
@@ -90,6 +91,32 @@ void bind_stability(py::module_& m) {
         return slipstrip::critical_wavelength_vs_height(steady_sliding_of(config), heights);
       },
       py::arg("config"), py::arg("heights"));
+  // In-plane pairs of different bodies (stability/interface_stability.hpp), the
+  // problem read off the config by pair_sliding_of as `slipstrip stability` does.
+  m.def(
+      "_pair_unstable_roots",
+      [](const SimulationConfig& config, double wavelength) {
+        const auto pair = slipstrip::pair_sliding_of(config);
+        py::gil_scoped_release release;
+        return slipstrip::pair_unstable_roots(pair, wavelength);
+      },
+      py::arg("config"), py::arg("wavelength"));
+  m.def(
+      "_pair_critical_wavelength_vs_top_height",
+      [](const SimulationConfig& config, const std::vector<double>& heights, double shortest, double longest) {
+        const auto pair = slipstrip::pair_sliding_of(config);
+        py::gil_scoped_release release;
+        return slipstrip::pair_critical_wavelength_vs_top_height(pair, heights, shortest, longest);
+      },
+      py::arg("config"), py::arg("heights"), py::arg("shortest"), py::arg("longest"));
+  m.def(
+      "_pair_critical_wavelength",
+      [](const SimulationConfig& config, double shortest, double longest) {
+        const auto pair = slipstrip::pair_sliding_of(config);
+        py::gil_scoped_release release;
+        return slipstrip::pair_critical_wavelength(pair, shortest, longest);
+      },
+      py::arg("config"), py::arg("shortest"), py::arg("longest"));
   m.def(
       "_quasi_static_critical_wavelength",
       [](const SimulationConfig& config) {

@@ -52,7 +52,8 @@ __all__ = [
     "Config", "ConfigError", "ConfigWarning", "ElasticMaterial", "LocalSolveFailure", "LockHeldError",
     "OutputPathError", "RunFile", "RunResult",
     "Simulation", "SimulationError", "characteristic_roots", "critical_wavelength",
-    "critical_wavelength_vs_height", "detect_events", "detect_events_in_file", "detect_events_into_file", "growth_rates",
+    "critical_wavelength_vs_height", "is_inplane_pair", "pair_critical_wavelength", "pair_stability",
+    "pair_unstable_roots", "detect_events", "detect_events_in_file", "detect_events_into_file", "growth_rates",
     "half_space_response", "linearise_friction", "load_config", "most_unstable_root", "open_run",
     "quasi_static_critical_wavelength", "read_event_catalog", "read_seas", "read_slip_sampling_info", "resume",
     "run", "SeasFile",
@@ -163,9 +164,64 @@ def critical_wavelength(config, lower: float, upper: float, relative_tolerance: 
 
 
 def critical_wavelength_vs_height(config, heights: Iterable[float] | float) -> np.ndarray:
-    """Lc(H) [m] for each strip height H [m] (inf allowed)."""
+    """Lc(H) [m] for each height H [m] (inf allowed): the height of both identical
+    strips, or, for an in-plane pair of different bodies, the top body's height
+    with the bottom body fixed (as `slipstrip stability --height-range`;
+    pair_critical_wavelength's search range, docs/bodies.md §5)."""
     h = np.atleast_1d(np.asarray(heights, dtype=float))
-    return np.asarray(_slipstrip._critical_wavelength_vs_height(load_config(config), h.tolist()))
+    c = load_config(config)
+    if is_inplane_pair(c):
+        length = c.length
+        return np.asarray(_slipstrip._pair_critical_wavelength_vs_top_height(c, h.tolist(), 1e-3 * length,
+                                                                             1e3 * length))
+    return np.asarray(_slipstrip._critical_wavelength_vs_height(c, h.tolist()))
+
+
+# --- in-plane pairs of different bodies (stability/interface_stability.hpp) --------
+# The generalised dispersion relation with the normal-stress coupling and the
+# memory the solver uses (docs/bodies.md §5); the numbers of `slipstrip stability`.
+
+def is_inplane_pair(config) -> bool:
+    """True for an in-plane config whose bottom body is not the mirror image of the
+    top one (bottom.body = "elastic" or "rigid"): the pair functions below apply."""
+    d = load_config(config).as_dict()
+    return d["bottom"]["body"] != "mirror" and d["material"]["plane"] != "antiplane"
+
+
+def pair_unstable_roots(config, wavelength: float) -> np.ndarray:
+    """The unstable roots Lambda [1/s] at one wavelength [m], fastest first (empty
+    when steady sliding is stable there).  k = 2 pi / wavelength > 0: a root
+    travels along x at -Im(Lambda)/k."""
+    return np.asarray(_slipstrip._pair_unstable_roots(load_config(config), float(wavelength)), dtype=complex)
+
+
+def pair_critical_wavelength(config, shortest: float | None = None, longest: float | None = None) -> float:
+    """Lc [m]: the shortest unstable wavelength in [shortest, longest] (default
+    [1e-3, 1e3] x geometry.length, as the CLI), to 1e-6 relative; NaN if none."""
+    c = load_config(config)
+    length = c.length
+    return _slipstrip._pair_critical_wavelength(c, 1e-3 * length if shortest is None else float(shortest),
+                                                1e3 * length if longest is None else float(longest))
+
+
+def pair_stability(config, wavelengths: Iterable[float] | float | None = None) -> dict:
+    """What `slipstrip stability CONFIG --json` prints for an in-plane pair of
+    different bodies, per wavelength [m] (default geometry.length): growth_rate
+    (Re Lambda of the fastest unstable root, NaN if stable) [1/s], frequency
+    (|Im Lambda|) [rad/s], phase_velocity (-Im Lambda / k) [m/s], unstable_roots
+    (all of them, complex), and critical_wavelength [m]."""
+    c = load_config(config)
+    w = np.atleast_1d(np.asarray(c.length if wavelengths is None else wavelengths, dtype=float))
+    roots = [pair_unstable_roots(c, x) for x in w]
+    fastest = np.array([r[0] if len(r) else complex(np.nan, np.nan) for r in roots])
+    return {
+        "wavelength": w,
+        "growth_rate": fastest.real,
+        "frequency": np.abs(fastest.imag),
+        "phase_velocity": -fastest.imag * w / (2.0 * np.pi),
+        "unstable_roots": roots,
+        "critical_wavelength": pair_critical_wavelength(c),
+    }
 
 
 def quasi_static_critical_wavelength(config) -> float:

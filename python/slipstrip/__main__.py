@@ -9,6 +9,7 @@
   export   RUN.h5 --seas DIR [--overwrite]  (slipstrip.export.main: SEAS-style station files)
   pulse-episodes  RUN.h5 [--json F] [--plot PNG]  (slipstrip.episodes.main: the pulse criterion window by window)
   trajectory-divergence  A.h5 B.h5 [...] [--json F] [--plot PNG]  (slipstrip.divergence.main: when two runs part)
+  rupture-fronts  RUN.h5 [RUN2.h5 ...] [--window D0,D1] [--json F] [--plot PNG]  (slipstrip.fronts.main: front speeds vs Rayleigh speeds)
 
 Each command parses its own arguments (`python3 -m slipstrip <command> -h`).
 """
@@ -104,6 +105,7 @@ COMMANDS = {
     "export": lambda argv: _delegate("export", argv),
     "pulse-episodes": lambda argv: _delegate("episodes", argv),
     "trajectory-divergence": lambda argv: _delegate("divergence", argv),
+    "rupture-fronts": lambda argv: _delegate("fronts", argv),
 }
 
 

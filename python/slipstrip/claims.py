@@ -10,7 +10,8 @@ paper does not claim (e.g. where the large-event peak of p(T) lies relative to
 the 2H/c_s arrows); they are listed apart and not counted.
 
 `words` quotes the paper (LaTeX turned into plain text, ellipses mark cuts);
-`value` is the number or statement a verdict compares with; `group` joins
+`value` is the number or statement a verdict compares with; `height` is the
+strip height the paper states an Lc number at; `group` joins
 claims that are one computation (every Lc number is one linear-stability
 computation with the reading's material), so that the reading conclusion
 counts them once.
@@ -29,6 +30,7 @@ class Claim:
     words: str        # the paper's words
     value: object = None   # number or short statement the verdict uses
     group: str = ""        # claims that are one computation (the Lc numbers) share a group
+    height: float | None = None  # [m] the strip height H the paper states the claim at (the Lc numbers)
 
     # The report and its older callers read these two names.
     @property
@@ -224,19 +226,19 @@ CLAIMS: tuple[Claim, ...] = (
       "its reference value"),
     # ---------------------------------------------------------------- Lc(H)
     C("Lc_01", S_LC, "Lc(H = 0.1 m), Table S1 friction", "main text (Fig. 5 discussion); Fig. S2",
-      "for the reference parameters of Table S1 ... (with H = 0.1 m ...) one has Lc(H) ≃ 0.35 m", 0.35, group="Lc"),
+      "for the reference parameters of Table S1 ... (with H = 0.1 m ...) one has Lc(H) ≃ 0.35 m", 0.35, group="Lc", height=0.1),
     C("Lc_over_H_01", S_LC, "Lc/H at H = 0.1 m", "main text (Fig. 5 discussion)",
-      "This corresponds to Lc(H)/H ≃ 3.5", 3.5, group="Lc"),
+      "This corresponds to Lc(H)/H ≃ 3.5", 3.5, group="Lc", height=0.1),
     C("Lc_ratio_005", S_LC, "Lc(H = 0.05 m) / Lc(inf)", "supplement, Sect. 'Lc(H)'",
-      "Lc varies from ≈ 65% of Lc(H → ∞) (with H = 0.05 m)", 0.65, group="Lc"),
+      "Lc varies from ≈ 65% of Lc(H → ∞) (with H = 0.05 m)", 0.65, group="Lc", height=0.05),
     C("Lc_ratio_01", S_LC, "Lc(H = 0.1 m) / Lc(inf)", "supplement, Sect. 'Lc(H)'",
-      "with H = 0.1 m, the critical nucleation length corresponds to ≈ 80% of Lc(H → ∞)", 0.80, group="Lc"),
+      "with H = 0.1 m, the critical nucleation length corresponds to ≈ 80% of Lc(H → ∞)", 0.80, group="Lc", height=0.1),
     C("Lc_ratio_02", S_LC, "Lc(H = 0.2 m) / Lc(inf)", "supplement, Sect. 'Lc(H)'",
-      "to almost ≈ 100% of Lc(H → ∞) (with H = 0.2 m)", 1.00, group="Lc"),
+      "to almost ≈ 100% of Lc(H → ∞) (with H = 0.2 m)", 1.00, group="Lc", height=0.2),
     C("Lc5_01", S_LC, "Lc(H = 0.1 m), Fig. 5 friction", "main text (Fig. 5 discussion)",
-      "the smaller |df_ss(v0)/dlog(v)| in Fig. 5 corresponds to Lc(H) ≃ 0.7 m, leading to Lc(H)/H ≃ 7", 0.7, group="Lc"),
+      "the smaller |df_ss(v0)/dlog(v)| in Fig. 5 corresponds to Lc(H) ≃ 0.7 m, leading to Lc(H)/H ≃ 7", 0.7, group="Lc", height=0.1),
     C("Lc5_02", S_LC, "Lc(H = 0.2 m), Fig. 5 friction", "main text (Fig. 5 discussion)",
-      "In this case, we found Lc(H) ≃ 0.9 m, leading to Lc(H)/H ≃ 4.5", 0.9, group="Lc"),
+      "In this case, we found Lc(H) ≃ 0.9 m, leading to Lc(H)/H ≃ 4.5", 0.9, group="Lc", height=0.2),
     C("Lc_over_dx", S_LC, "Lc/Δx = O(100) at Δx = 2.5 mm", "supplement, Sect. 'Mesh discretization'",
       "we set Δx = 2.5×10^-3 m such that the nucleation length is discretized with Lc/Δx = O(100) elements", 100.0, group="Lc"),
     C("pz_formula", S_LC, "process zone estimate μD/(bσ0(1-ν)) = 9.5×10^-2 m", "supplement, Sect. 'Mesh discretization'",
@@ -288,7 +290,7 @@ MEASUREMENTS: tuple[Claim, ...] = (
       "not quantified in the paper (arrows at 2H/c_s)"),
     C("s7_peak_position", S_FIG3CD, "large-event peak of p(u) against the S7 arrows 3 v0 2H/c_s", "Fig. S7 caption",
       "the arrow indicates a slip scale η v0 2H/c_s, corresponding to a characteristic slip accumulated during the "
-      "reflection timescale (... we set η = 3)"),
+      "reflection timescale (... we set η = 3)", 3.0),
     C("lognormal_u", S_FIG1, "large events: u log-normal", "not claimed (the paper claims it for T and M0)",
       "the paper shows log-normal fits of p(T) and p(M0) only"),
     C("k0_mode", S_LC, "uniform (k = 0) mode of steady sliding, H = 0.1 m", "not discussed in the paper",

@@ -318,11 +318,14 @@ def first_event(path, alpha: float, rows_per_read: int = 512, max_values: int = 
 # Tip (process) zone of a propagating rupture
 # ---------------------------------------------------------------------------
 
+TIP_ZONE_DROP = 0.9  # the tip zone ends where the shear stress has made this fraction of its drop
+
+
 def tip_zone(x, shear_stress, slip, slip_rate, front: int, direction: int, D: float,
              v_threshold: float, ahead: int = 20) -> dict:
     """Size of the zone at a rupture tip over which the strength breaks down:
     from the node of peak shear stress at the tip or up to `ahead` nodes ahead
-    of it, back to the first node where the shear stress has dropped by 90 %
+    of it, back to the first node where the shear stress has dropped by TIP_ZONE_DROP
     of the way from that peak to its minimum over the slipping region behind
     the tip (nodes above v_threshold, from the tip back).  `front` is the tip
     node (outermost node above v_threshold), `direction` +1 for a tip moving to
@@ -345,7 +348,7 @@ def tip_zone(x, shear_stress, slip, slip_rate, front: int, direction: int, D: fl
     drop = float(tau[i_peak]) - tmin
     if drop <= 0:
         return {"size": math.nan, "peak": float(tau[i_peak]), "drop": drop}
-    level = tau[i_peak] - 0.9 * drop
+    level = tau[i_peak] - TIP_ZONE_DROP * drop
     # Walk back from the peak (through the tip into the slipping region).
     for k in range(0, n // 2):
         i = (i_peak - direction * k) % n

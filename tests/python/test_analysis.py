@@ -312,7 +312,8 @@ def test_power_law_of_few_events_is_cautioned(n_small, cautioned):
     assert bool(caution) == cautioned == (fitted < analysis.POWER_LAW_CAUTION_EVENTS)
     if cautioned:
         assert f"only {fitted} events" in caution[0]
-        lines = analysis.format_summary(dict(_summary_stub(), **analysis._public(res))).splitlines()
+        public = {k: v for k, v in res.items() if not k.startswith("_")}  # as analyze() passes it
+        lines = analysis.format_summary(dict(_summary_stub(), **public)).splitlines()
         assert any(l.startswith("caution: the power law of u") for l in lines)
 
 

@@ -105,25 +105,39 @@ def test_interrupted_twice_and_resumed_equals_uninterrupted(cli, tmp_path, case,
     first = rng.randrange(1, total // 2)
     second = rng.randrange(first + 1, total)
     out = tmp_path / "resumed.h5"
-    restart = Path(str(out) + ".restart")
 
-    r = run_cli(cli, "run", QUICKSTART, *args, "--out", out, "--quiet", "--stop-after-steps", first)
+    def after_first_stop(restart):
+        with h5py.File(out, "r") as f, h5py.File(restart, "r") as c:
+            assert c.attrs["config"] == f.attrs["config"]
+        if case == "modal strip" and sampling:
+            # An event catalog of the interrupted file describes a shorter record:
+            # the resume drops it (an uninterrupted run has none).
+            r = run_cli(cli, "events", out)
+            # Written either way; exit 1 if this short record keeps no event.
+            assert r.returncode == 0 or (r.returncode == 1 and "0 events kept" in r.stderr), r.stderr
+            with h5py.File(out, "r") as f:
+                assert "events" in f
+
+    stop_twice_and_resume(cli, QUICKSTART, args, out, first, second, after_first_stop)
+    print(f"{case}, sampling={sampling}: {total} steps, interrupted after {first} and {second}")
+    assert_files_identical(reference, out)
+
+
+def stop_twice_and_resume(cli, config, args, out, first, second, after_first_stop=None):
+    """Runs `slipstrip run config args --out out` stopped after step `first`
+    (--stop-after-steps: exit 143 as SIGTERM, status "interrupted", a restart
+    point at that step), calls after_first_stop(restart) if given, resumes it
+    and stops it again after step `second`, then resumes it to the end, which
+    removes the restart point."""
+    restart = Path(str(out) + ".restart")
+    r = run_cli(cli, "run", config, *args, "--out", out, "--quiet", "--stop-after-steps", first)
     assert r.returncode == 143, r.stderr  # as SIGTERM
     assert restart.is_file() and "restart point" in r.stderr
-    with h5py.File(out, "r") as f:
+    with h5py.File(out, "r") as f, h5py.File(restart, "r") as c:
         assert f.attrs["status"] == "interrupted"
-        with h5py.File(restart, "r") as c:
-            assert c["simulation"].attrs["step_index"] == first
-            assert c.attrs["config"] == f.attrs["config"]
-
-    if case == "modal strip" and sampling:
-        # An event catalog of the interrupted file describes a shorter record:
-        # the resume drops it (an uninterrupted run has none).
-        r = run_cli(cli, "events", out)
-        # Written either way; exit 1 if this short record keeps no event.
-        assert r.returncode == 0 or (r.returncode == 1 and "0 events kept" in r.stderr), r.stderr
-        with h5py.File(out, "r") as f:
-            assert "events" in f
+        assert c["simulation"].attrs["step_index"] == first
+    if after_first_stop is not None:
+        after_first_stop(restart)
     r = run_cli(cli, "run", "--resume", out, "--quiet", "--stop-after-steps", second)
     assert r.returncode == 143, r.stderr
     assert f"resumed from step {first}" in r.stderr
@@ -131,8 +145,6 @@ def test_interrupted_twice_and_resumed_equals_uninterrupted(cli, tmp_path, case,
     assert r.returncode == 0, r.stderr
     assert f"resumed from step {second}" in r.stderr
     assert not restart.exists()
-    print(f"{case}, sampling={sampling}: {total} steps, interrupted after {first} and {second}")
-    assert_files_identical(reference, out)
 
 
 def wait_for(predicate, timeout, what):

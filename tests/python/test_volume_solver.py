@@ -12,6 +12,7 @@ checked against the committed reference station files (N = 1280) within 1.5 x
 the measured difference, which is 3 x the published error estimate.
 """
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -245,3 +246,66 @@ def test_new_arguments_are_checked(exe, tmp_path):
     np.full(40, -1.0).tofile(bad)
     p = subprocess.run(base + [f"initial_state={bad}"], capture_output=True, text=True)
     assert p.returncode == 2 and "node 0" in p.stderr
+
+
+def _volume_args(exe, config, nx, tmp, duration, **extra):
+    """The solver's arguments for `config` with every output in directory `tmp`."""
+    p = read_config(config)
+    p.pop("shear_wave_speed")
+    p.update(nx=nx, duration=duration, stations="0.5,0.75", out=str(tmp / "st.txt"), output_every=3,
+             final_profile=str(tmp / "prof.txt"), snapshot_file=str(tmp / "snap.bin"), snapshot_interval=5e-5,
+             timeseries_file=str(tmp / "ts.bin"), timeseries_interval=1e-5, **extra)
+    return [str(exe)] + [f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}" for k, v in p.items()]
+
+
+@pytest.mark.parametrize("case,threads", [("mirror", 1), ("mirror", 2), ("bimaterial", 1)])
+def test_checkpoint_resume_is_bitwise(exe, tmp_path, case, threads):
+    """A run halted at a checkpoint and resumed writes exactly the files of an
+    uninterrupted run (stations, snapshots, time series, final profile): the
+    checkpoint holds every field a later step reads, and the outputs are cut back
+    to their size at the checkpoint before they are appended to."""
+    config = CONFIG if case == "mirror" else REPO / "configs" / "benchmarks" / "strip_pulse_bimaterial.toml"
+    env = {**os.environ, "OMP_NUM_THREADS": str(threads)}
+    names = ("st.txt", "prof.txt", "snap.bin", "ts.bin")
+    whole, parts = tmp_path / "whole", tmp_path / "parts"
+    whole.mkdir(), parts.mkdir()
+    p = subprocess.run(_volume_args(exe, config, 80, whole, 1e-3), capture_output=True, text=True, env=env)
+    assert p.returncode == 0, p.stderr
+    ck = f"checkpoint={parts / 'ck.bin'}"
+    p = subprocess.run(_volume_args(exe, config, 80, parts, 1e-3) + [ck, "checkpoint_steps=100",
+                                                                     "halt_after_steps=250"],
+                       capture_output=True, text=True, env=env)
+    assert p.returncode == 3 and "halted after step 250" in p.stderr
+    assert not (parts / "prof.txt").exists()
+    # what a killed run leaves: output written after the checkpoint (here: junk appended)
+    with open(parts / "snap.bin", "ab") as f:
+        f.write(b"\0" * 100)
+    p = subprocess.run(_volume_args(exe, config, 80, parts, 1e-3) + [ck, "resume=1"], capture_output=True,
+                       text=True, env=env)
+    assert p.returncode == 0, p.stderr
+    for name in names:
+        assert (whole / name).read_bytes() == (parts / name).read_bytes(), name
+    # a checkpoint of another run is refused
+    p = subprocess.run(_volume_args(exe, config, 40, parts, 1e-3) + [ck, "resume=1"], capture_output=True,
+                       text=True, env=env)
+    assert p.returncode == 2 and "other arguments" in p.stderr
+
+
+def test_run_file_resumes_from_its_checkpoint(exe, tmp_path):
+    """volume.py: a run halted at a checkpoint gives an 'interrupted' run file;
+    resume_run continues it to the end, and the run file equals the uninterrupted
+    run's in every snapshot and time-series dataset."""
+    from slipstrip import runfile
+    from volume import resume_run, run_to_file
+    kw = dict(duration=1e-3, snapshot_interval=5e-5, exe=exe)
+    whole = run_to_file(CONFIG, tmp_path / "whole.h5", 80, **kw)
+    part = run_to_file(CONFIG, tmp_path / "part.h5", 80, checkpoint_interval=3600.0, halt_after_steps=300, **kw)
+    assert runfile.read_status(part) == "interrupted"
+    assert (tmp_path / "part.h5.checkpoint.bin").exists()
+    resume_run(part, exe=exe)
+    assert runfile.read_status(part) == "completed"
+    assert not (tmp_path / "part.h5.checkpoint.bin").exists()          # removed with the raw records
+    with runfile.open_h5(whole) as a, runfile.open_h5(part) as b:
+        for group in ("snapshots", "timeseries"):
+            for name in a[group]:
+                assert np.array_equal(a[f"{group}/{name}"][:], b[f"{group}/{name}"][:]), (group, name)

@@ -1,7 +1,9 @@
 """Python driver of the independent volume solver `slipstrip_volume`.
 
 The solver itself is tools/volume_solver/volume_solver.cpp (a staggered-grid
-finite-difference scheme of one elastic strip; see docs/benchmarks/volume_solver.md).
+finite-difference scheme of one elastic strip, or of a top and a bottom body of their
+own heights and materials, or a strip on a rigid base, in-plane or antiplane; see
+docs/benchmarks/volume_solver.md and docs/benchmarks/volume_bodies.md).
 This module reads a slipstrip TOML config with the standard library's tomllib
 (not with slipstrip's config code: the oracle shares only the friction law with
 the product), turns it into the solver's key=value arguments, runs it and
@@ -17,6 +19,8 @@ pulse-episodes` and `trajectory-divergence` and the analysis read it unchanged:
 
     /usr/bin/python3 tools/volume_solver/volume.py run configs/fig5.toml --nx 1600 --out RUN.h5
     /usr/bin/python3 tools/volume_solver/volume.py convert RUN.h5     # after an interrupted run
+    /usr/bin/python3 tools/volume_solver/volume.py run ... --checkpoint-interval 600   # restartable
+    /usr/bin/python3 tools/volume_solver/volume.py resume RUN.h5      # after a kill: from the last checkpoint
 
 Noise and sinusoidal initial perturbations are not re-implemented: phi(x, 0) is
 taken from slipstrip's own initial-state code (the pybind11 module), which is
@@ -41,6 +45,8 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
 EXE_NAME = "slipstrip_volume"
+# the columns per station of the solver's station file (and of final_profile after x)
+STATION_FIELDS = ("slip", "slip_rate", "shear_stress", "state", "normal_stress", "effective_normal_stress")
 
 
 def find_executable() -> Path | None:
@@ -84,6 +90,7 @@ def read_config(path, overrides: dict | None = None, *, allow_slipstrip_initial:
     supplies phi(x, 0) with initial_state_from_slipstrip)."""
     c = path if isinstance(path, dict) else load_table(path, overrides)
     g, m, lo = c.get("geometry", {}), c.get("material", {}), c.get("loading", {})
+    bo, top = c.get("bottom", {}), c.get("top", {})
     fr, st = c.get("friction", {}), c.get("state", {})
     it, ini, tm = c.get("interface", {}), c.get("initial", {}), c.get("time", {})
     nu = m.get("poisson_ratio", 0.33)
@@ -103,10 +110,15 @@ def read_config(path, overrides: dict | None = None, *, allow_slipstrip_initial:
                          "(noise and sine: volume.py run, which takes phi(x, 0) from slipstrip)")
     if it.get("load_pulse_amplitude", 0.0) and it.get("profile", "ramp") != "bump":
         raise ValueError("the volume solver implements the sin^4 'bump' load pulse only")
+    H = g.get("height", 0.1)
+    bottom = _bottom_body(bo, top, H, mu, nu, rho)
     return {
-        "length": L, "height": g.get("height", 0.1),
+        "length": L, "height": H,
         "shear_modulus": mu, "poisson_ratio": nu, "density": rho,
         "plane": m.get("plane", "strain"),
+        **bottom,
+        "normal_stress_slip": it.get("normal_stress_slip", 0.0),
+        "normal_stress_time": it.get("normal_stress_time", 0.0),
         "driving_velocity": lo.get("driving_velocity", 2e-3),
         "normal_stress": lo.get("normal_stress", 1e6),
         "law": fr.get("law", "paper"), "f0": fr.get("f0", 0.28), "a": fr.get("a", 0.005),
@@ -125,15 +137,41 @@ def read_config(path, overrides: dict | None = None, *, allow_slipstrip_initial:
     }
 
 
+def _bottom_body(bo: dict, top: dict, H: float, mu: float, nu: float, rho: float) -> dict:
+    """The solver's bottom_* arguments from [bottom] (docs/bodies.md section 1): a mirror
+    image of the top body, another elastic strip (keys not given are the top body's), or
+    rigid.  Half-spaces and clamped outer faces are refused (the grid is finite and its
+    outer faces are driven)."""
+    kind = bo.get("body", "mirror")
+    if kind not in ("mirror", "elastic", "rigid"):
+        raise ValueError(f"bottom.body = {kind!r}: allowed are mirror, elastic, rigid")
+    for face in (top.get("outer_face", "driven"), bo.get("outer_face", "driven")):
+        if face != "driven":
+            raise ValueError(f"outer_face = {face!r}: the volume solver implements driven outer faces only")
+    if kind == "rigid":
+        return {"bottom": "rigid"}
+    nu_b = bo.get("poisson_ratio", nu)
+    mu_b = bo["shear_modulus"] if "shear_modulus" in bo else (
+        bo["youngs_modulus"] / (2 * (1 + nu_b)) if "youngs_modulus" in bo else mu)
+    H_b = bo.get("height", H)
+    if isinstance(H_b, str) or not math.isfinite(H_b):
+        raise ValueError("bottom.height = inf: the volume solver's bodies are finite strips")
+    if kind == "mirror":
+        return {"bottom": "mirror"}
+    return {"bottom": "elastic", "bottom_height": float(H_b), "bottom_shear_modulus": float(mu_b),
+            "bottom_poisson_ratio": float(nu_b), "bottom_density": float(bo.get("density", rho))}
+
+
 def run_volume(config, nx: int, stations, *, dt: float | None = None, cfl: float | None = None,
                duration: float | None = None, output_every: int = 1, exe=None,
                final_profile: bool = False, threads: int | None = None) -> dict:
     """Run slipstrip_volume on `config` (a TOML path or a read_config() dict).
 
-    nx: cells along the period (h = L/nx; H/h must be whole).  dt: time step [s]
-    (default: cfl h / c_d with cfl = 0.5).  Returns a dict: time [nt], and
-    slip, slip_rate, shear_stress, state [nt, n_stations]; `wall_seconds`; with
-    final_profile, `profile` = dict of x, slip, slip_rate, shear_stress, state at the end.
+    nx: cells along the period (h = L/nx; H/h and H_b/h must be whole).  dt: time step [s]
+    (default: cfl h / c with cfl = 0.5 and c the fastest wave speed of the grid).
+    Returns a dict: time [nt], and slip, slip_rate, shear_stress, state, normal_stress,
+    effective_normal_stress [nt, n_stations]; `wall_seconds`; with final_profile,
+    `profile` = dict of those fields and x at the end.
     threads: OMP_NUM_THREADS of the run (default: inherited); results do not depend on it."""
     p = dict(config) if isinstance(config, dict) else read_config(config)
     if duration is not None:
@@ -166,14 +204,13 @@ def run_volume(config, nx: int, stations, *, dt: float | None = None, cfl: float
             raise RuntimeError(f"{EXE_NAME} failed ({proc.returncode}): {proc.stderr.strip()}")
         header = [ln for ln in out.read_text().splitlines()[:3]]
         data = np.loadtxt(out, ndmin=2)
-        result = {"time": data[:, 0], "slip": data[:, 1::4], "slip_rate": data[:, 2::4],
-                  "shear_stress": data[:, 3::4], "state": data[:, 4::4],
+        result = {"time": data[:, 0],
+                  **{name: data[:, 1 + k::len(STATION_FIELDS)] for k, name in enumerate(STATION_FIELDS)},
                   "stations": np.asarray(stations, float), "header": header,
                   "wall_seconds": wall}
         if final_profile:
             q = np.loadtxt(prof, ndmin=2)
-            result["profile"] = {"x": q[:, 0], "slip": q[:, 1], "slip_rate": q[:, 2],
-                                 "shear_stress": q[:, 3], "state": q[:, 4]}
+            result["profile"] = {"x": q[:, 0], **{name: q[:, 1 + k] for k, name in enumerate(STATION_FIELDS)}}
     return result
 
 
@@ -227,7 +264,8 @@ def _paths(out) -> dict:
     out = Path(out)
     return {name: out.with_name(out.name + suffix) for name, suffix in (
         ("snapshots", ".snapshots.bin"), ("timeseries", ".timeseries.bin"), ("initial", ".initial_state.bin"),
-        ("stations", ".stations.txt"), ("meta", ".meta.json"), ("log", ".log"))}
+        ("stations", ".stations.txt"), ("meta", ".meta.json"), ("log", ".log"),
+        ("checkpoint", ".checkpoint.bin"))}
 
 
 def _parse_value(text: str):
@@ -241,13 +279,16 @@ def _parse_value(text: str):
 def run_to_file(config, out, nx: int, *, overrides: dict | None = None, cfl: float | None = None,
                 dt: float | None = None, duration: float | None = None, snapshot_interval: float | None = None,
                 timeseries_interval: float | None = None, progress: float = 0.0, exe=None,
-                keep_raw: bool = False) -> Path:
+                keep_raw: bool = False, checkpoint_interval: float = 0.0, halt_after_steps: int = 0) -> Path:
     """Run slipstrip_volume on `config` (a TOML path; overrides {"section.key": value})
     and write the run file `out` (HDF5, slipstrip's layout).  The snapshot and
     time-series intervals default to the config's [output] values.  While it runs,
     the raw records are out.snapshots.bin and out.timeseries.bin; convert(out)
     turns them into the run file (done here at the end, or by hand after an
-    interruption).  Returns the path of the run file."""
+    interruption).  checkpoint_interval > 0: a checkpoint out.checkpoint.bin every
+    that many wall seconds, from which resume_run(out) continues a killed run;
+    halt_after_steps > 0: stop with a checkpoint after that step (the run file is
+    then 'interrupted' until resume_run).  Returns the path of the run file."""
     import time as _time
     overrides = dict(overrides or {})
     table = load_table(config, overrides)
@@ -276,20 +317,57 @@ def run_to_file(config, out, nx: int, *, overrides: dict | None = None, cfl: flo
         p["dt"] = float(dt)
     if cfl is not None:
         p["cfl"] = float(cfl)
+    if checkpoint_interval > 0 or halt_after_steps > 0:
+        p["checkpoint"] = str(paths["checkpoint"])
+        if checkpoint_interval > 0:
+            p["checkpoint_interval"] = float(checkpoint_interval)
     args = [str(exe)] + [f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}" for k, v in p.items()]
-    meta = {"config": str(config), "overrides": overrides, "table": table, "arguments": args[1:],
+    if halt_after_steps > 0:  # not in the saved arguments: resume_run runs to the end
+        args.append(f"halt_after_steps={int(halt_after_steps)}")
+    meta = {"config": str(config), "overrides": overrides, "table": table,
+            "arguments": [a for a in args[1:] if not a.startswith("halt_after_steps=")],
             "nx": int(nx), "duration": p["duration"],
             "start_time": _time.strftime(DATE_FORMAT, _time.gmtime())}
     paths["meta"].write_text(json.dumps(meta, indent=1))
+    return _execute(args, out, meta, keep_raw, "w")
+
+
+HALTED = 3  # the solver's exit code after halt_after_steps (a checkpoint was written)
+
+
+def _execute(args, out, meta: dict, keep_raw: bool, log_mode: str) -> Path:
+    """Run the solver with `args`, record how it ended in the meta file and convert."""
+    import time as _time
+    paths = _paths(out)
     t0 = _time.perf_counter()
-    with open(paths["log"], "w") as log:
+    with open(paths["log"], log_mode) as log:
         proc = subprocess.run(args, stdout=log, stderr=subprocess.STDOUT)
-    meta.update(returncode=proc.returncode, wall_seconds=_time.perf_counter() - t0,
+    meta.update(returncode=proc.returncode, wall_seconds=meta.get("wall_seconds", 0.0) + _time.perf_counter() - t0,
                 end_time=_time.strftime(DATE_FORMAT, _time.gmtime()))
     paths["meta"].write_text(json.dumps(meta, indent=1))
-    if proc.returncode != 0:
+    if proc.returncode not in (0, HALTED):
         raise RuntimeError(f"{EXE_NAME} failed ({proc.returncode}): {paths['log'].read_text().strip()[-2000:]}")
+    if proc.returncode == HALTED:
+        return convert(out, keep_raw=True)       # 'interrupted'; resume_run continues it
+    if not keep_raw and paths["checkpoint"].exists():
+        paths["checkpoint"].unlink()
     return convert(out, keep_raw=keep_raw)
+
+
+def resume_run(out, exe=None, keep_raw: bool = False) -> Path:
+    """Continue the run of `out` (started by run_to_file with a checkpoint interval, then
+    killed or halted) from its last checkpoint, to the end, and write the run file.  The
+    outputs are cut back to the checkpoint, so the result is the uninterrupted run's."""
+    paths = _paths(out)
+    meta = json.loads(paths["meta"].read_text())
+    arguments = meta["arguments"]
+    if not any(a.startswith("checkpoint=") for a in arguments) or not paths["checkpoint"].exists():
+        raise FileNotFoundError(f"{out}: no checkpoint to resume from (run with a checkpoint interval)")
+    exe = Path(exe) if exe else find_executable()
+    if exe is None or not exe.is_file():
+        raise FileNotFoundError(f"{EXE_NAME} not built: cmake --build build --target {EXE_NAME}")
+    meta["resumed"] = meta.get("resumed", 0) + 1
+    return _execute([str(exe)] + arguments + ["resume=1"], out, meta, keep_raw, "a")
 
 
 def _grid_numbers(arguments: list[str]) -> dict:
@@ -298,16 +376,28 @@ def _grid_numbers(arguments: list[str]) -> dict:
     have written it yet)."""
     a = dict(item.split("=", 1) for item in arguments)
     L, H, nx = float(a["length"]), float(a["height"]), int(a["nx"])
+    plane = a.get("plane", "strain")
+
+    def speeds(mu, nu, rho):
+        lam = 2 * mu * nu / (1 - nu) if plane == "stress" else 2 * mu * nu / (1 - 2 * nu)
+        return math.sqrt(mu / rho), math.sqrt((lam + 2 * mu) / rho)
+
     mu, nu, rho = float(a["shear_modulus"]), float(a["poisson_ratio"]), float(a["density"])
-    lam = 2 * mu * nu / (1 - 2 * nu) if a.get("plane", "strain") == "strain" else 2 * mu * nu / (1 - nu)
     h = L / nx
-    cs, cd = math.sqrt(mu / rho), math.sqrt((lam + 2 * mu) / rho)
+    cs, cd = speeds(mu, nu, rho)
+    c_max = cs if plane == "antiplane" else cd
+    if a.get("bottom", "mirror") == "elastic":
+        cs_b, cd_b = speeds(float(a["bottom_shear_modulus"]), float(a["bottom_poisson_ratio"]),
+                            float(a["bottom_density"]))
+        c_max = max(c_max, cs_b if plane == "antiplane" else cd_b)
     dt = float(a.get("dt", 0.0))
     if dt <= 0:
-        dt = float(a.get("cfl", 0.5)) * h / cd
+        dt = float(a.get("cfl", 0.5)) * h / c_max
     t_end = float(a["duration"])
     dt = t_end / round(t_end / dt)
-    return {"nx": nx, "ny": int(round(H / h)), "h": h, "dt": dt, "courant_cd": cd * dt / h, "c_s": cs, "c_d": cd}
+    ny_b = int(round(float(a["bottom_height"]) / h)) if a.get("bottom", "mirror") == "elastic" else 0
+    return {"nx": nx, "ny": int(round(H / h)), "ny_bottom": ny_b, "h": h, "dt": dt, "courant_cd": cd * dt / h,
+            "courant_max": c_max * dt / h, "c_s": cs, "c_d": cd}
 
 
 def convert(out, keep_raw: bool = True) -> Path:
@@ -330,8 +420,8 @@ def convert(out, keep_raw: bool = True) -> Path:
     table.setdefault("geometry", {})["nodes"] = nx
     # The time step is the volume solver's, not slipstrip's beta dx / c_s.
     table["time"] = {"duration": float(meta["duration"]), "time_step": dt}
-    table["volume_solver"] = {"nx": nx, "ny": ny, "cell_size": h, "time_step": dt,
-                              "courant_cd": hdr["courant_cd"],
+    table["volume_solver"] = {"nx": nx, "ny": ny, "ny_bottom": hdr["ny_bottom"], "cell_size": h, "time_step": dt,
+                              "courant_cd": hdr["courant_cd"], "courant_max": hdr["courant_max"],
                               "courant_cs": hdr["c_s"] * dt / h, "arguments": " ".join(meta["arguments"])}
     snaps = np.fromfile(paths["snapshots"], dtype=np.float64) if paths["snapshots"].exists() else np.empty(0)
     rec = 1 + len(SNAPSHOT_FIELDS) * nx
@@ -393,11 +483,18 @@ def main(argv: list[str]) -> int:
     r.add_argument("--timeseries-interval", type=float)
     r.add_argument("--progress", type=float, default=60.0, help="seconds between progress lines in OUT.log")
     r.add_argument("--keep-raw", action="store_true")
+    r.add_argument("--checkpoint-interval", type=float, default=0.0,
+                   help="wall seconds between checkpoints (OUT.checkpoint.bin; `resume OUT` continues)")
+    u = sub.add_parser("resume", help="continue OUT from its last checkpoint to the end")
+    u.add_argument("out")
     c = sub.add_parser("convert", help="write OUT from OUT.snapshots.bin etc. (e.g. after an interruption)")
     c.add_argument("out")
     a = ap.parse_args(argv)
     if a.command == "convert":
         print(convert(a.out))
+        return 0
+    if a.command == "resume":
+        print(resume_run(a.out))
         return 0
     overrides = {}
     for item in a.set:
@@ -407,7 +504,7 @@ def main(argv: list[str]) -> int:
         overrides[k] = _parse_value(v)
     path = run_to_file(a.config, a.out, a.nx, overrides=overrides, cfl=a.cfl, dt=a.dt, duration=a.duration,
                        snapshot_interval=a.snapshot_interval, timeseries_interval=a.timeseries_interval,
-                       progress=a.progress, keep_raw=a.keep_raw)
+                       progress=a.progress, keep_raw=a.keep_raw, checkpoint_interval=a.checkpoint_interval)
     print(path)
     return 0
 

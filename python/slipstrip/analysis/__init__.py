@@ -36,7 +36,7 @@ from .statistics import (  # noqa: F401
     SPANNING_FRACTION, STATIONARITY_BLOCKS, STATIONARITY_LEVEL, STATIONARITY_PERMUTATIONS, TRANSIENT_BATCHES,
     TRANSIENT_MAX_FRACTION, block_permutation_stationarity, catalog_statistics, exponent_xmin_sweep,
     fit_lognormal, fit_power_law, log_binned_pdf, mser_truncation, normalised_observables, slip_fractions,
-    stationarity, stationary_part, subset_catalog, transient_cut, _public,
+    stationarity, stationary_part, subset_catalog, transient_cut,
 )
 from .criteria import (  # noqa: F401
     NodalSlipGroups, PULSE_EPISODE_WINDOW_TRANSITS, PULSE_LATE_FRACTION, PULSE_MAX_CV,
@@ -47,7 +47,7 @@ from .criteria import (  # noqa: F401
 )
 from .figures import (  # noqa: F401
     plot_event_fields, plot_event_map, plot_pdf_comparison, plot_pdfs, plot_space_slip, plot_space_time,
-    slip_rate_space_slip, _plt,
+    slip_rate_space_slip,
 )
 from .command import (  # noqa: F401
     EmptyCatalog, FIGURE_NAMES, SENSITIVITY_ALPHAS, analysis_outputs, analyze, empty_catalog_reason,

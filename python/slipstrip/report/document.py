@@ -13,7 +13,7 @@ from .. import analysis as an
 from ..claims import CLAIMS, MEASUREMENTS
 from .measurements import _finite
 from .runs import REPO, RUNS, material_label
-from .verdicts import FACTOR_RULE, MAJORITY, RELATIVE_RULE, SIGMA_RULE, fmt, verdict_class
+from .verdicts import FACTOR_RULE, LOGNORMAL_LEVEL, MAJORITY, RELATIVE_RULE, SIGMA_RULE, fmt, verdict_class
 
 
 def reading_conclusion(reports: dict) -> list[str]:
@@ -104,7 +104,7 @@ def markdown(reports: dict, command: str, rundirs: dict) -> str:
             f"order O(x) within a factor √10; a property the paper shows on one example event (Fig. 2) agrees if it "
             f"holds for more than {MAJORITY:.0%} of the events of that kind, or, for the hedged \"coincide\" claims, "
             f"if it holds more often than by chance by {SIGMA_RULE:g} σ; other qualitative claims use the test stated "
-            "in the row. Log-normality: parametric-bootstrap KS test at 5 %.",
+            f"in the row. Log-normality: parametric-bootstrap KS test at {LOGNORMAL_LEVEL:.0%}.",
             "* The paper's exponents are power laws drawn as guides to the eye, without a fit range: a guide agrees "
             "if its slope lies within the exponents of our fits with x_min from 1/4 to 4 times the KS-optimal one, "
             f"widened by {SIGMA_RULE:g} σ (`analysis.exponent_xmin_sweep`); the verdict also gives the KS-optimal "

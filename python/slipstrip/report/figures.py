@@ -9,13 +9,14 @@ import numpy as np
 
 from .. import analysis as an
 from .. import plots
+from ..plots import plt
+from ..claims import BY_ID as PAPER
 from .measurements import _finite
 from .runs import FIG3_FAMILY
 
 
 def space_slip_figure(delta_over_D, v_over_v0):
     """v(x, delta)/v0 over x/L and delta/D (Fig. 1b): rows at delta_over_D."""
-    plt = an._plt()
     fig, ax = plt.subplots(figsize=(4.6, 3.8))
     n = v_over_v0.shape[1]
     im = plots.draw_log_rate(ax, np.arange(n) / n, delta_over_D, v_over_v0, 1.0, floor=-4.0, max_cells=500)
@@ -28,7 +29,6 @@ def space_slip_figure(delta_over_D, v_over_v0):
 def event_figure(run, ex):
     """v(x, t)/v0 of one event (from the slip sampling), its slip, and the shear
     stress and state before (black) and after (green) it, arrest edges marked."""
-    plt = an._plt()
     info = run.info
     fig, axes = plt.subplots(1, 4, figsize=(16, 3.4), gridspec_kw={"wspace": 0.45})
     x = ex["x"] / info.L  # unwrapped: may pass 1 when the window crosses the periodic boundary
@@ -52,7 +52,6 @@ def nucleation_figure(name, t, x, v, run, ws, ev, tau):
     """Space-time map of a controlled nucleation (Fig. 3a/b), with the lines of
     c_R, c_s and c_d from the nucleation point, a bar of 2H/c_s (and of H for
     fig3b)."""
-    plt = an._plt()
     L, cs = run.info.L, run.info.c_s
     fig, ax = plt.subplots(figsize=(4.6, 3.8))
     im = plots.draw_log_rate(ax, np.asarray(x) / L, t * cs / L, v, run.info.v0, floor=-2.0, max_cells=500)
@@ -79,17 +78,17 @@ def nucleation_figure(name, t, x, v, run, ws, ev, tau):
 
 def pT_figure(fam):
     """p(T) and p(u/D) of the kept events of the H and c_s families (Figs.
-    3c/3d, S7), arrows at 2H/c_s and 3 v0 2H/c_s, dotted lines at the
+    3c/3d, S7), arrows at 2H/c_s and eta v0 2H/c_s (eta of the Fig. S7 caption), dotted lines at the
     large-event peaks; None when no run has a PDF to draw."""
-    plt = an._plt()
     fig, axes = plt.subplots(2, 2, figsize=(9, 7))
     groups = ((("fig3c_H005", "reference", "fig3c_H02"), "H family"),
               (("fig3d_rho300", "reference", "fig3d_rho4800"), "c_s family"))
     drawn = False
+    eta = PAPER["s7_peak_position"].value
     for col, (names, title) in enumerate(groups):
         for row, (key, arrow, xlabel) in enumerate((("T", lambda s: s["tau"], "T [s]  (arrows: 2H/c_s)"),
-                                                    ("u", lambda s: 3 * s["run"].info.v0 * s["tau"] / s["run"].info.D,
-                                                     "u/D  (arrows: 3 v0 2H/c_s, Fig. S7)"))):
+                                                    ("u", lambda s: eta * s["run"].info.v0 * s["tau"] / s["run"].info.D,
+                                                     f"u/D  (arrows: {eta:g} v0 2H/c_s, Fig. S7)"))):
             ax = axes[row, col]
             for i, n in enumerate(names):
                 s = fam[n]
@@ -120,7 +119,6 @@ def pT_figure(fam):
 
 def tpeak_fit_figure(fam, fit):
     """T_peak of the large events against 2H/c_s, with the power-law fit."""
-    plt = an._plt()
     fig, ax = plt.subplots(figsize=(4.2, 3.4))
     for i, n in enumerate(FIG3_FAMILY):
         s = fam[n]
@@ -139,7 +137,6 @@ def tpeak_fit_figure(fam, fit):
 def fig5_figure(t, x, v, run, episodes, onset):
     """Space-time map of the whole Fig. 5 run; a red bar at the right edge over
     the windows where the pulse criterion holds, the criterion's onset dashed."""
-    plt = an._plt()
     fig, ax = plt.subplots(figsize=(4.6, 3.8))
     im = plots.draw_log_rate(ax, np.asarray(x) / run.info.L, t / run.length_transit_time, v, run.info.v0,
                              floor=-2.0, max_cells=500)
@@ -156,15 +153,18 @@ def fig5_figure(t, x, v, run, episodes, onset):
     return fig
 
 
+FIG5_ZOOM_TRANSITS = 10.0  # [L/c_s] the length of each panel of fig5_zoom_figure
+
+
 def fig5_zoom_figure(t, x, v, run, episodes):
-    """10 L/c_s in the middle of the longest pulse stretch (if any) and the last
-    10 L/c_s of the Fig. 5 run, on one colour scale."""
-    plt = an._plt()
+    """FIG5_ZOOM_TRANSITS L/c_s in the middle of the longest pulse stretch (if
+    any) and the last FIG5_ZOOM_TRANSITS L/c_s of the Fig. 5 run, on one colour scale."""
     zooms = []
+    span = FIG5_ZOOM_TRANSITS * run.length_transit_time
     if episodes and _finite(episodes["longest_start"]):
         mid = 0.5 * (episodes["longest_start"] + episodes["longest_end"])
-        zooms.append(("pulse stretch", mid - 5 * run.length_transit_time, mid + 5 * run.length_transit_time))
-    zooms.append(("end of the run", t[-1] - 10 * run.length_transit_time, t[-1]))
+        zooms.append(("pulse stretch", mid - 0.5 * span, mid + 0.5 * span))
+    zooms.append(("end of the run", t[-1] - span, t[-1]))
     fig, axes = plt.subplots(1, len(zooms), figsize=(4.2 * len(zooms), 3.6), squeeze=False)
     im = None
     for ax, (label, t0, t1) in zip(axes[0], zooms):

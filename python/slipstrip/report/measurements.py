@@ -13,13 +13,30 @@ from .. import analysis as an
 from .. import hierarchy as hi
 from .. import runfile
 from .. import transition
+from ..claims import BY_ID as PAPER
 from .runs import Run, catalog_of
+from .verdicts import _finite, within_factor
 
 
 N_BOOTSTRAP = 200
 FRONT_MIN_RATE = 3.0    # slip-rate threshold of the Fig. 3a/b fronts: >= 3 v0 and sqrt(v0 v_peak)
 FIG2_T_BEGIN = 10.0     # [L/c_s] the Fig. 2 event analysis starts after the first 10 transits
 EDGE_TOLERANCE = 4      # [nodes] an arrest edge "coincides" with a stress extremum within 4 dx (1 cm)
+# The report's own criteria (not the paper's numbers: those are claims.CLAIMS
+# values); the rows print these constants, so text and computation agree.
+FAST_SLIP_RATE = 10.0   # [v0] "rapid" slip (Fig. 1b patches) and the first burst of a run
+STICK_SLIP_RATE = 0.1   # [v0] "sticking" (Fig. 1b white lines)
+MIN_SIDE_FRACTION = 0.1  # bilateral growth: the nucleation node at least this fraction of L_s inside both edges
+CRACK_MIN_R2 = 0.9      # crack-like slip: R^2 of the fit of A sqrt(h^2 - (x - x_c)^2) to the event's slip
+QUIET_FRACTION = 0.1    # snapshots bracket an event if nothing near it slipped more than this fraction of its slip
+AGED_MIN_FRACTION = 0.9  # contact aging outside an event: phi grew at this fraction of the nodes that stuck
+SMALL_EVENT_MIN_U = 0.2  # [D] events-2-3-like: small events with u at least this
+FIXED_EXTENT_FRACTION = 0.8  # fixed extent: slip zone at half the duration >= this fraction of the final one
+PRECEDING_TRANSITS = 2.0  # [L/c_s] event 4: arrest edges of large events this long before the event
+NUCLEATION_RADIUS_H = 0.5  # [H] event 4: nucleated within this distance of such an arrest edge
+EVENT5_MIN_EXTENT_H = 4.0  # [H] event-5-like: large events at least this long
+PULSE_FRONT_WINDOW = (0.25, 0.45)  # [L] pulses counted while both fronts are this far from x0
+TIP_FRONT_WINDOW = (0.05, 0.4)     # [L] tip zones measured while a front is this far from x0
 
 
 def wave_speeds(config: dict) -> dict:
@@ -36,13 +53,6 @@ def wave_speeds(config: dict) -> dict:
     # Rayleigh equation in xi = (c_R/c_s)^2: (2 - xi)^2 = 4 sqrt(1 - xi) sqrt(1 - k2 xi).
     xi = brentq(lambda q: (2 - q) ** 2 - 4 * math.sqrt(1 - q) * math.sqrt(1 - k2 * q), 1e-6, 1 - 1e-12)
     return {"c_s": cs, "c_d": cd, "c_R": cs * math.sqrt(xi)}
-
-
-def _finite(x) -> bool:
-    try:
-        return x is not None and math.isfinite(float(x))
-    except (TypeError, ValueError):
-        return False
 
 
 def combined_error(fit_err: float, boot_err: float) -> float:
@@ -218,10 +228,11 @@ def nucleation_event(time, x, slip_rate, v0: float, x0: float, L: float, c_d: fl
     out["front_speeds"] = speeds
     out["front_speed"] = float(np.mean(speeds)) if speeds else math.nan
     out["front_speed_err"] = (float(max(max(errs), 0.5 * abs(speeds[0] - speeds[-1]))) if speeds else math.nan)
-    # Pulses: snapshots where x0 no longer slips and the fronts are 25-45 % of L away.
+    # Pulses: snapshots where x0 no longer slips and the fronts are in PULSE_FRONT_WINDOW.
     counts, widths = [], []
+    near, far = PULSE_FRONT_WINDOW
     for (tk, rk, lk, pulses) in rows:  # lk: most negative offset
-        if pulses and min(rk, -lk) >= 0.25 * L and max(rk, -lk) <= 0.45 * L:
+        if pulses and min(rk, -lk) >= near * L and max(rk, -lk) <= far * L:
             counts.append(len(pulses))
             widths.extend(pulses)
     out["n_pulses"] = int(np.median(counts)) if counts else 0
@@ -245,7 +256,7 @@ def friction_steady_state(fr: dict, v0: float) -> dict:
 
 def tip_zones_of_run(run, t, x, v, ev, x0) -> dict:
     """Tip-zone sizes (hierarchy.tip_zone) at both fronts of a nucleated rupture, in
-    every snapshot with the fronts 0.05-0.4 L from x0."""
+    every snapshot with a front TIP_FRONT_WINDOW (in L) from x0."""
     n = v.shape[1]
     dx = run.info.L / n
     i0 = int(np.argmin(np.abs(((np.asarray(x) - x0 + run.info.L / 2) % run.info.L) - run.info.L / 2)))
@@ -256,7 +267,7 @@ def tip_zones_of_run(run, t, x, v, ev, x0) -> dict:
             k = int(np.argmin(np.abs(t - tk)))
             tau = tau_ds[k]
             for off, direction in ((r, 1), (-l, -1)):
-                if not (0.05 * run.info.L <= abs(off) <= 0.4 * run.info.L):
+                if not (TIP_FRONT_WINDOW[0] * run.info.L <= abs(off) <= TIP_FRONT_WINDOW[1] * run.info.L):
                     continue
                 front = (i0 + int(round(off / dx))) % n
                 z = hi.tip_zone(x, tau, slip_ds[k], v[k], front, direction, run.info.D, ev["v_th"])
@@ -266,12 +277,12 @@ def tip_zones_of_run(run, t, x, v, ev, x0) -> dict:
 
 
 def burst_onset(run) -> dict:
-    """First time the largest slip rate exceeds 10 v0 (time series), and whether
+    """First time the largest slip rate exceeds FAST_SLIP_RATE v0 (time series), and whether
     the slip rate is then uniform along x (nearest snapshot: spread of log10 v
     over the nodes < 0.01, i.e. the k = 0 mode, not a localised burst)."""
     with runfile.open_h5(run.path) as f:
         t, vmax = f["timeseries/time"][:], f["timeseries/max_slip_rate"][:]
-        above = np.flatnonzero(vmax > 10 * run.info.v0)
+        above = np.flatnonzero(vmax > FAST_SLIP_RATE * run.info.v0)
         out = {"t": float(t[above[0]]) if above.size else math.nan, "duration": float(t[-1]) if t.size else math.nan,
                "max_deviation": float(np.max(np.abs(vmax / run.info.v0 - 1))) if t.size else math.nan}
         if above.size and "snapshots" in f and f["snapshots/time"].shape[0]:
@@ -308,8 +319,9 @@ def example_event(run, kept, obs) -> dict | None:
 def fig2_hierarchy(run, catalog) -> dict:
     """The Fig. 2 measurements over every event of the kind the paper shows
     (see the report's rows): event-1-like (large, arrested, single cluster),
-    events-2-3-like (small with 0.2 D <= u < D), event-4-like (large events and
-    earlier arrest edges) and event-5-like (large, extent >= 4H)."""
+    events-2-3-like (small with SMALL_EVENT_MIN_U D <= u < D), event-4-like (large
+    events and earlier arrest edges) and event-5-like (large, extent >=
+    EVENT5_MIN_EXTENT_H H)."""
     info = run.info
     n, L, D, v0, H = info.n_nodes, info.L, info.D, info.v0, info.H
     dx = L / n
@@ -354,16 +366,16 @@ def fig2_hierarchy(run, catalog) -> dict:
         pos = (i_s - a) % n
         side = min(pos, ext - 1 - pos) / ext if pos < ext else -1.0
         e1["sides"].append(side)
-        e1["bilateral"] += side >= 0.1
+        e1["bilateral"] += side >= MIN_SIDE_FRACTION
         vm = float(k["max_slip_rate"][i]) / v0
         e1["vmax"].append(vm)
-        e1["vmax_ok"] += vm > 10
+        e1["vmax_ok"] += vm > PAPER["fig2_event1_vmax"].value
         e1["T_tau"].append(T[i] / tau)
-        e1["duration_ok"] += 0.5 <= T[i] / tau <= 2.0
+        e1["duration_ok"] += within_factor(T[i] / tau)
         nodes = (a + np.arange(ext)) % n
         fit = hi.crack_fit(np.arange(ext) * dx, slip[nodes])
         e1["r2"].append(fit["r2"])
-        e1["crack_ok"] += _finite(fit["r2"]) and fit["r2"] >= 0.9
+        e1["crack_ok"] += _finite(fit["r2"]) and fit["r2"] >= CRACK_MIN_R2
         edges_by_event.append((t1, [(a - 1) % n, (b + 1) % n]))
         # Fields before and after: the snapshots bracketing the event, if nothing else slipped near it meanwhile.
         if snap_t.size:
@@ -375,7 +387,7 @@ def fig2_hierarchy(run, catalog) -> dict:
                 # of the event's largest slip (creep and tiny events only): the snapshots show
                 # the fields the event met and left.
                 near = (a - ext // 2 + np.arange(2 * ext)) % n
-                small_ = 0.1 * float(slip.max())
+                small_ = QUIET_FRACTION * float(slip.max())
                 quiet_before = np.all(_event_slip(hist, snap_t[ib], t0, near) <= small_)
                 quiet_after = np.all(_event_slip(hist, t1, snap_t[ia], near) <= small_)
                 if quiet_before and quiet_after:
@@ -408,7 +420,7 @@ def fig2_hierarchy(run, catalog) -> dict:
                     if still.size:
                         aged = float(np.mean(pa[still] > pb[still]))
                         fields["aged"].append(aged)
-                        fields["aging_ok"] += aged >= 0.9
+                        fields["aging_ok"] += aged >= AGED_MIN_FRACTION
                     if example is None or ext > example["ext"]:
                         lo_ = a - ext // 2
                         idx = (lo_ + np.arange(2 * ext)) % n
@@ -426,7 +438,7 @@ def fig2_hierarchy(run, catalog) -> dict:
                   aged_fraction=float(np.mean(fields["aged"])) if fields["aged"] else math.nan)
     out.update(event1=e1, fields=fields, example=example)
     # -- events-2-3-like ---------------------------------------------------------
-    e23_idx = np.flatnonzero(sel & (u >= 0.2) & (u < 1) & (ncl == 1) & (T > 0))
+    e23_idx = np.flatnonzero(sel & (u >= SMALL_EVENT_MIN_U) & (u < 1) & (ncl == 1) & (T > 0))
     e23 = {"n": 0, "nonprop": 0, "crack": 0, "fixed": 0, "all": 0}
     for i in e23_idx[:2000]:
         t0, t1 = float(k["t_start"][i]), float(k["t_start"][i] + T[i])
@@ -442,9 +454,9 @@ def fig2_hierarchy(run, catalog) -> dict:
         nodes = (a + np.arange(ext)) % n
         nonprop = Ls[i] / T[i] > cd
         fit = hi.crack_fit(np.arange(ext) * dx, slip[nodes])
-        crack = _finite(fit["r2"]) and fit["r2"] >= 0.9
+        crack = _finite(fit["r2"]) and fit["r2"] >= CRACK_MIN_R2
         half = _event_slip(hist, t0, 0.5 * (t0 + t1))
-        fixed = np.count_nonzero(half[nodes] >= dth) >= 0.8 * np.count_nonzero(slip[nodes] >= dth)
+        fixed = np.count_nonzero(half[nodes] >= dth) >= FIXED_EXTENT_FRACTION * np.count_nonzero(slip[nodes] >= dth)
         e23["nonprop"] += nonprop
         e23["crack"] += crack
         e23["fixed"] += fixed
@@ -454,10 +466,10 @@ def fig2_hierarchy(run, catalog) -> dict:
     big = np.flatnonzero(sel & (u >= 1))
     e4 = {"n": 0, "near": 0, "null": math.nan}
     nulls = []
-    radius = max(1, int(round(0.5 * H / dx)))
+    radius = max(1, int(round(NUCLEATION_RADIUS_H * H / dx)))
     for i in big:
         t0 = float(k["t_start"][i])
-        edges = [e for (t_end, es) in edges_by_event if t0 - 2 * L / info.c_s <= t_end <= t0 for e in es]
+        edges = [e for (t_end, es) in edges_by_event if t0 - PRECEDING_TRANSITS * L / info.c_s <= t_end <= t0 for e in es]
         if not edges:
             continue
         e4["n"] += 1
@@ -470,7 +482,7 @@ def fig2_hierarchy(run, catalog) -> dict:
     e4["null"] = float(np.mean(nulls)) if nulls else math.nan
     out["event4"] = e4
     # -- event-5-like: bilateral stage then two pulses -----------------------------
-    e5_idx = np.flatnonzero(sel & (u >= 1) & (Ls >= 4 * H))
+    e5_idx = np.flatnonzero(sel & (u >= 1) & (Ls >= EVENT5_MIN_EXTENT_H * H))
     e5 = {"n": 0, "center_ok": 0, "two_pulses": 0, "pulses_ok": 0, "center": [], "widths": []}
     for i in e5_idx[:200]:
         t0, t1 = float(k["t_start"][i]), float(k["t_start"][i] + T[i])
@@ -486,12 +498,12 @@ def fig2_hierarchy(run, catalog) -> dict:
         dt = grid[1] - grid[0]
         c = bp["center_steps"] * dt / tau
         e5["center"].append(c)
-        e5["center_ok"] += 0.5 <= c <= 2.0
+        e5["center_ok"] += within_factor(c)
         w = bp["pulse_width_nodes"] * dx / H if _finite(bp["pulse_width_nodes"]) else math.nan
         if bp["n_pulses"] == 2:
             e5["two_pulses"] += 1
             e5["widths"].append(w)
-            e5["pulses_ok"] += _finite(w) and 0.5 <= w <= 2.0
+            e5["pulses_ok"] += within_factor(w)
     e5.update(median_center_tau=float(np.median(e5["center"])) if e5["center"] else math.nan,
               median_width_H=float(np.median(e5["widths"])) if e5["widths"] else math.nan)
     out["event5"] = e5

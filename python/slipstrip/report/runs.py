@@ -51,7 +51,12 @@ def fig5_volume_solver_text(path: Path = FIG5_VOLUME_SOLVER_JSON) -> str:
     except (OSError, ValueError):
         return ""
     windows = summary["windows"]
-    return (f"; a volume discretisation at the paper's mesh (tools/volume_solver, 2.5 mm cells) gives "
+    # The cell size: the interface nodes of the volume mesh along configs/fig5.toml's L.
+    cells = ""
+    if summary.get("nodes"):
+        length = tomllib.loads((REPO / "configs" / "fig5.toml").read_text())["geometry"]["length"]
+        cells = f", {1e3 * float(length) / summary['nodes']:g} mm cells"
+    return (f"; a volume discretisation at the paper's mesh (tools/volume_solver{cells}) gives "
             f"a pulse in {summary['pulse_windows']} of {len(windows)} windows over "
             f"{summary['duration_transits']:.0f} L/c_s (fig5_resolution.md)")
 

@@ -16,19 +16,46 @@ from .. import analysis as an
 from .. import hierarchy as hi
 from .. import runfile
 from ..claims import BY_ID, CLAIMS, MEASUREMENTS
+from ..plots import plt
 from . import figures
-from .measurements import (EDGE_TOLERANCE, FIG2_T_BEGIN, N_BOOTSTRAP, _finite, bootstrap,
-                           combined_error, example_event, fig2_hierarchy, fit_peak_scaling,
-                           friction_steady_state, nucleation_event, statistics_of, tip_zones_of_run,
-                           wave_speeds, burst_onset)
+from .measurements import (AGED_MIN_FRACTION, CRACK_MIN_R2, EDGE_TOLERANCE, EVENT5_MIN_EXTENT_H, FAST_SLIP_RATE,
+                           FIG2_T_BEGIN, FIXED_EXTENT_FRACTION, MIN_SIDE_FRACTION, N_BOOTSTRAP, NUCLEATION_RADIUS_H,
+                           PRECEDING_TRANSITS, PULSE_FRONT_WINDOW, QUIET_FRACTION, SMALL_EVENT_MIN_U,
+                           STICK_SLIP_RATE, TIP_FRONT_WINDOW, _finite, bootstrap, combined_error, example_event,
+                           fig2_hierarchy, fit_peak_scaling, friction_steady_state, nucleation_event, statistics_of,
+                           tip_zones_of_run, wave_speeds, burst_onset)
 from .runs import (FIG3_FAMILY, READINGS, REPO, STATISTICS_RUNS, RUNS, MissingRun, Reading, Run, catalog_of,
                    fig5_volume_solver_text, material_label, open_run_file)
-from .verdicts import (FACTOR_RULE, MAJORITY, RELATIVE_RULE, SIGMA_RULE, fmt, verdict_beats_chance, verdict_bool,
+from .verdicts import (FACTOR_RULE, LOGNORMAL_LEVEL, MAJORITY, RELATIVE_RULE, SIGMA_RULE, fmt, verdict_beats_chance, verdict_bool,
                        verdict_class, verdict_factor, verdict_guide, verdict_majority, verdict_order,
                        verdict_relative, verdict_sigma, xmin_sweep_cell)
 
 
 PAPER = BY_ID  # claim id -> Claim (value, where, words)
+# The Fig. 1b row: both kinds of cells, rapid slip and sticking, make at least
+# this share of the map (a pattern, not a handful of cells).
+MIN_PATTERN_SHARE = 0.1
+# "the minimal size for propagating events": this quantile of L_s of the
+# events with u >= D (the minimum itself is set by the detection filters).
+MIN_SIZE_QUANTILE = 0.05
+# A rupture growing both ways with its fronts at most at c_d has L_s/T <= 2 c_d.
+BILATERAL_MAX_SPEED_CD = 2.0
+# The power law of p(u) spans at least a decade below D: x_min <= this [D].
+POWER_LAW_MAX_XMIN = 0.1
+# Lc(H) is found by bisection to this relative tolerance (the default of
+# stability/linear_stability.hpp's critical_wavelength, which the bindings use);
+# two laws with the same linearisation give the same Lc to well within this:
+LC_BISECTION_TOLERANCE = 1e-10
+LC_SAME_TOLERANCE = 1e-6
+
+
+def _pct(x: float) -> str:
+    """A fraction as a percentage, as the rows print their criteria."""
+    return f"{100 * x:g} %"
+
+
+def _factor(f: float = FACTOR_RULE) -> str:
+    return f"{f:g}"
 
 
 @dataclasses.dataclass
@@ -103,7 +130,7 @@ class Report:
         """Writes `fig` as figdir/name (and closes it) and lists it with its caption."""
         self.figdir.mkdir(parents=True, exist_ok=True)
         fig.savefig(self.figdir / name, dpi=80, bbox_inches="tight")
-        an._plt().close(fig)
+        plt.close(fig)
         self.figure(caption, name)
 
     def guarded(self, method, cids):
@@ -183,11 +210,12 @@ class Report:
                 # A cell of the map is one slip increment delta_th of one node: the share of cells
                 # is a share of slip; a sticking node makes one long cell (a white line), so the
                 # sticking is measured by the time its cells take.
-                ok = sm["fast_slip"] >= 0.1 and sm["stuck_time"] >= 0.1
+                ok = sm["fast_slip"] >= MIN_PATTERN_SHARE and sm["stuck_time"] >= MIN_PATTERN_SHARE
                 self.add(cid, f"over {fmt(sm['window_D'])} D of slip after the transient cut: {sm['fast_slip']:.0%} of "
-                         f"the slip at v > 10 v0 (rapid-slip patches), {sm['stuck_time']:.0%} of the time at "
-                         f"v < 0.1 v0 (sticking: the white lines); figure below",
-                         verdict_bool(ok, "both ≥ 10 %" if ok else "one of them < 10 %"), self.basis("reference"))
+                         f"the slip at v > {FAST_SLIP_RATE:g} v0 (rapid-slip patches), {sm['stuck_time']:.0%} of the "
+                         f"time at v < {STICK_SLIP_RATE:g} v0 (sticking: the white lines); figure below",
+                         verdict_bool(ok, f"both ≥ {_pct(MIN_PATTERN_SHARE)}" if ok else
+                                      f"one of them < {_pct(MIN_PATTERN_SHARE)}"), self.basis("reference"))
 
     @staticmethod
     def _lognormal_cell(lf) -> tuple[str, str]:
@@ -195,7 +223,8 @@ class Report:
                  f"parametric-bootstrap p = {fmt(lf['ks_pvalue'])} (naive p = {fmt(lf['ks_pvalue_naive'])})")
         p = lf["ks_pvalue"]
         verdict = ("no value" if not _finite(p) else
-                   f"agrees (not rejected at 5 %, p = {p:.2g})" if p >= 0.05 else f"differs (rejected, p = {p:.2g})")
+                   f"agrees (not rejected at {_pct(LOGNORMAL_LEVEL)}, p = {p:.2g})" if p >= LOGNORMAL_LEVEL else
+                   f"differs (rejected, p = {p:.2g})")
         return value, verdict
 
     def _nonpropagating(self):
@@ -205,6 +234,7 @@ class Report:
         # ends, so its extent grows at most at 2 c_d, L_s/T <= 2 c_d (median).
         cid = "small_nonpropagating"
         parts, verdict = [], None
+        bilateral = BILATERAL_MAX_SPEED_CD
         for name in ("reference", "fig2_L2"):
             s = self.stat(name)
             if s is None:
@@ -221,12 +251,14 @@ class Report:
             es, el = bootstrap(rs, np.median, n=self.n_bootstrap), bootstrap(rl, np.median, n=self.n_bootstrap)
             parts.append(f"{name} (L = {s['run'].info.L:g} m): median L_s/T of small events {fmt(ms / cd, es / cd)} c_d "
                          f"(n = {rs.size}, {np.mean(rs > cd):.0%} above c_d), of large events {fmt(ml / cd, el / cd)} c_d "
-                         f"(n = {rl.size}, {np.mean(rl > 2 * cd):.0%} above 2 c_d); T = 0 events ({int((~ok).sum())}) "
+                         f"(n = {rl.size}, {np.mean(rl > bilateral * cd):.0%} above {bilateral:g} c_d); T = 0 events "
+                         f"({int((~ok).sum())}) "
                          "left out")
             if name == "reference":
                 good = None if not (_finite(ms) and _finite(ml)) else bool(ms - SIGMA_RULE * es > cd and
-                                                                           ml + SIGMA_RULE * el <= 2 * cd)
-                verdict = verdict_bool(good, "reference: small median above c_d, large median ≤ 2 c_d, by 2 σ")
+                                                                           ml + SIGMA_RULE * el <= bilateral * cd)
+                verdict = verdict_bool(good, f"reference: small median above c_d, large median ≤ {bilateral:g} c_d, by "
+                                             f"{SIGMA_RULE:g} σ")
         self.add(cid, "; ".join(parts), verdict or "not checkable (run missing)", self.basis("reference", "fig2_L2"))
 
     def _space_slip_figure(self, run, t_cut, window_D=400.0, max_rows=1500):
@@ -253,8 +285,8 @@ class Report:
         ok = np.isfinite(v) & (v > 0)
         fin = v[ok]
         dt = (cur - prev)[ok]
-        return {"fast_slip": float(np.mean(fin > 10)) if fin.size else math.nan,
-                "stuck_time": float(dt[fin < 0.1].sum() / dt.sum()) if fin.size and dt.sum() > 0 else math.nan,
+        return {"fast_slip": float(np.mean(fin > FAST_SLIP_RATE)) if fin.size else math.nan,
+                "stuck_time": float(dt[fin < STICK_SLIP_RATE].sum() / dt.sum()) if fin.size and dt.sum() > 0 else math.nan,
                 "window_D": (rows[-1] - rows[0]) * run.info.delta_th / run.info.D}
 
     # -- Fig. 2 -------------------------------------------------------------
@@ -273,30 +305,33 @@ class Report:
         b = self.basis(name)
         tau = res["tau"]
         e1 = res["event1"]
-        common = (f"{e1['n']} large (u ≥ D), arrested (L_s < 0.9 L), single-cluster events after "
+        common = (f"{e1['n']} large (u ≥ D), arrested (L_s < {an.SPANNING_FRACTION:g} L), single-cluster events after "
                   f"{FIG2_T_BEGIN:g} L/c_s")
         self.add("fig2_event1_bilateral",
-                 f"{common}: nucleation node at least 10 % of L_s inside both arrest edges in {e1['bilateral']}; "
+                 f"{common}: nucleation node at least {_pct(MIN_SIDE_FRACTION)} of L_s inside both arrest edges in "
+                 f"{e1['bilateral']}; "
                  f"median distance to the nearer edge {fmt(e1['median_side_fraction'])} L_s",
                  verdict_majority(e1["bilateral"], e1["n"], "bilateral"), b)
-        self.add("fig2_event1_vmax", f"{common}: median largest slip rate {fmt(e1['median_vmax'])} v0; > 10 v0 in "
-                 f"{e1['vmax_ok']}", verdict_majority(e1["vmax_ok"], e1["n"], "v > 10 v0"), b)
-        self.add("fig2_event1_duration", f"{common}: median T = {fmt(e1['median_T_tau'])} (2H/c_s); within a factor 2 "
-                 f"of 2H/c_s in {e1['duration_ok']}", verdict_majority(e1["duration_ok"], e1["n"], "T ~ 2H/c_s"), b)
+        vmax = PAPER["fig2_event1_vmax"].value
+        self.add("fig2_event1_vmax", f"{common}: median largest slip rate {fmt(e1['median_vmax'])} v0; > {vmax:g} v0 "
+                 f"in {e1['vmax_ok']}", verdict_majority(e1["vmax_ok"], e1["n"], f"v > {vmax:g} v0"), b)
+        self.add("fig2_event1_duration", f"{common}: median T = {fmt(e1['median_T_tau'])} (2H/c_s); within a factor "
+                 f"{_factor()} of 2H/c_s in {e1['duration_ok']}",
+                 verdict_majority(e1["duration_ok"], e1["n"], "T ~ 2H/c_s"), b)
         self.add("fig2_event1_crack", f"{common}: least squares of A sqrt(h² - (x - x_c)²) to the event's slip "
-                 f"(from the slip sampling): median R² = {fmt(e1['median_r2'])}; R² ≥ 0.9 in {e1['crack_ok']}",
-                 verdict_majority(e1["crack_ok"], e1["n"], "crack-like (R² ≥ 0.9)"), b)
+                 f"(from the slip sampling): median R² = {fmt(e1['median_r2'])}; R² ≥ {CRACK_MIN_R2:g} in "
+                 f"{e1['crack_ok']}", verdict_majority(e1["crack_ok"], e1["n"], f"crack-like (R² ≥ {CRACK_MIN_R2:g})"), b)
         f = res["fields"]
         fields_note = (f"{f['n']} of the {e1['n']} events have snapshots within "
                        f"{fmt(f['max_gap'] / tau)} (2H/c_s) before and after them with no slip near them larger "
-                       "than a tenth of theirs in between")
+                       f"than {QUIET_FRACTION:g} of theirs in between")
         self.add("fig2_event1_arrest_minima",
                  f"{fields_note}; arrest edges within {EDGE_TOLERANCE} dx of a local minimum of the pre-event shear "
                  f"stress: {f['edge_minima']} of {f['n_edges']}",
                  verdict_beats_chance(f["edge_minima"], f["n_edges"], f["null_minima"], "edges at a stress minimum"), b)
         self.add("fig2_event1_aging",
                  f"{fields_note}; nodes within L_s/2 outside the slip zone that did not slip: φ grew at "
-                 f"{fmt(f['aged_fraction'])} of them; at ≥ 90 % of them in {f['aging_ok']} events",
+                 f"{fmt(f['aged_fraction'])} of them; at ≥ {_pct(AGED_MIN_FRACTION)} of them in {f['aging_ok']} events",
                  verdict_majority(f["aging_ok"], f["n"], "contact aging outside"), b)
         self.add("fig2_event1_stress_peaks",
                  f"{fields_note}; the largest post-event shear stress within L_s/4 of an arrest edge lies within "
@@ -306,28 +341,33 @@ class Report:
                  verdict_majority(f["edge_peaks"], f["n_edges"], "stress peak at the edge"), b)
         e23 = res["events23"]
         self.add("fig2_events23_crack",
-                 f"{e23['n']} small single-cluster events with 0.2 D ≤ u < D after {FIG2_T_BEGIN:g} L/c_s: "
-                 f"L_s/T > c_d in {e23['nonprop']}; crack-like slip (R² ≥ 0.9) in {e23['crack']}; slip zone at "
-                 f"half the duration ≥ 80 % of the final one in {e23['fixed']}; all three in {e23['all']}",
+                 f"{e23['n']} small single-cluster events with {SMALL_EVENT_MIN_U:g} D ≤ u < D after "
+                 f"{FIG2_T_BEGIN:g} L/c_s: L_s/T > c_d in {e23['nonprop']}; crack-like slip (R² ≥ {CRACK_MIN_R2:g}) in "
+                 f"{e23['crack']}; slip zone at half the duration ≥ {_pct(FIXED_EXTENT_FRACTION)} of the final one in "
+                 f"{e23['fixed']}; all three in {e23['all']}",
                  verdict_majority(e23["all"], e23["n"], "non-propagating, crack-like, fixed extent"), b)
         e4 = res["event4"]
         self.add("fig2_event4_from_arrest",
-                 f"{e4['n']} large events with an arrest edge of a large event in the preceding 2 L/c_s: nucleated "
-                 f"within H/2 of such an edge {e4['near']} times",
+                 f"{e4['n']} large events with an arrest edge of a large event in the preceding "
+                 f"{PRECEDING_TRANSITS:g} L/c_s: nucleated within {NUCLEATION_RADIUS_H:g} H of such an edge "
+                 f"{e4['near']} times",
                  verdict_beats_chance(e4["near"], e4["n"], e4["null"], "nucleated at an earlier arrest edge"), b)
         e5 = res["event5"]
-        common5 = f"{e5['n']} large events of extent ≥ 4H after {FIG2_T_BEGIN:g} L/c_s (v(x, t) from the slip sampling)"
+        common5 = (f"{e5['n']} large events of extent ≥ {EVENT5_MIN_EXTENT_H:g} H after {FIG2_T_BEGIN:g} L/c_s "
+                   "(v(x, t) from the slip sampling)")
         self.add("fig2_event5_bilateral_stage",
                  f"{common5}: slip at the nucleation node lasts a median {fmt(e5['median_center_tau'])} (2H/c_s); "
-                 f"within a factor 2 of 2H/c_s in {e5['center_ok']}",
+                 f"within a factor {_factor()} of 2H/c_s in {e5['center_ok']}",
                  verdict_majority(e5["center_ok"], e5["n"], "bilateral stage ~ 2H/c_s"), b)
         self.add("fig2_event5_pulses",
                  f"{common5}: two pulses after the centre stops in {e5['two_pulses']} (median pulse width "
-                 f"{fmt(e5['median_width_H'])} H); two pulses of width within a factor 2 of H in {e5['pulses_ok']}",
+                 f"{fmt(e5['median_width_H'])} H); two pulses of width within a factor {_factor()} of H in "
+                 f"{e5['pulses_ok']}",
                  verdict_majority(e5["pulses_ok"], e5["n"], "two pulses of size ~ H"), b)
         if res.get("example") is not None:
             self._event_figure(run, res["example"], "fig2_event_example.png",
-                               "Fig. 2 events: v(x, t)/v0 of the largest bilateral event after 10 L/c_s, reconstructed "
+                               f"Fig. 2 events: v(x, t)/v0 of the largest bilateral event after {FIG2_T_BEGIN:g} L/c_s, "
+                               "reconstructed "
                                "from the slip sampling (as the paper's Fig. S5b), and its slip, shear stress and state "
                                "before (black) and after (green) it")
 
@@ -338,6 +378,7 @@ class Report:
     def fig3ab(self):
         claims_by_run = {"fig3a": ("fig3a_duration",),
                          "fig3b": ("fig3b_center_stop", "fig3b_pulses", "fig3b_speed", "fig3b_width")}
+        pulse_window = f"{PULSE_FRONT_WINDOW[0]:g}-{PULSE_FRONT_WINDOW[1]:g}"
         tips = {}
         for name, cids in claims_by_run.items():
             if name in self.missing:
@@ -366,7 +407,7 @@ class Report:
             for cid in cids:
                 if cid == "fig3a_duration":
                     r = ev["center_duration"] / tau
-                    arrested = ev["end_reason"] == "arrest" and ev["max_extent"] < 0.9 * run.info.L
+                    arrested = ev["end_reason"] == "arrest" and ev["max_extent"] < an.SPANNING_FRACTION * run.info.L
                     value = (f"duration at x0 {fmt(r, ev['snapshot_interval'] / tau)} (2H/c_s); event ends by "
                              f"{ev['end_reason']} after {fmt((ev['t_end'] - ev['t_start']) / tau)} (2H/c_s), extent "
                              f"{fmt(ev['max_extent'] / run.info.L)} L; {speed}; {common}")
@@ -378,7 +419,7 @@ class Report:
                              f"= {fmt(ev['center_duration'] * 1e3)} ms; {common}")
                     verdict = verdict_factor(r)
                 elif cid == "fig3b_pulses":
-                    value = (f"{ev['n_pulses']} pulse(s) while the fronts are 0.25-0.45 L from x0; event ends by "
+                    value = (f"{ev['n_pulses']} pulse(s) while the fronts are {pulse_window} L from x0; event ends by "
                              f"{ev['end_reason']} (extent {fmt(ev['max_extent'] / run.info.L)} L); {common}")
                     verdict = verdict_bool(ev["n_pulses"] == 2 and ev["end_reason"] == "traversal",
                                            f"{ev['n_pulses']} pulses, {ev['end_reason']}")
@@ -389,12 +430,12 @@ class Report:
                     supershear = _finite(sp) and _finite(er) and sp - SIGMA_RULE * er > ws["c_s"]
                     nearer = _finite(sp) and abs(sp - ws["c_d"]) < abs(sp - ws["c_s"])
                     verdict = verdict_bool(None if not _finite(sp) else (supershear and nearer),
-                                           f"{'above' if supershear else 'not above'} c_s by 2 σ, nearer "
+                                           f"{'above' if supershear else 'not above'} c_s by {SIGMA_RULE:g} σ, nearer "
                                            f"{'c_d' if nearer else 'c_s'}")
                 else:
                     r = ev["pulse_width"] / run.info.H
                     value = (f"width {fmt(r, ev['pulse_width_err'] / run.info.H)} H (median over snapshots with the "
-                             f"fronts 0.25-0.45 L from x0; error: half inter-quartile range + dx); {common}")
+                             f"fronts {pulse_window} L from x0; error: half inter-quartile range + dx); {common}")
                     verdict = verdict_factor(r)
                 self.add(cid, value, verdict, self.basis(name))
         # The process zone: the breakdown zone at the tips of the nucleated ruptures.
@@ -408,8 +449,8 @@ class Report:
             err = bootstrap(sizes, np.median, n=self.n_bootstrap) if sizes.size > 1 else math.nan
             parts = [f"{n}: median {fmt(np.median(t_['sizes']) / dx) if t_['sizes'].size else 'n/a'} dx over "
                      f"{t_['sizes'].size} snapshots" for n, t_ in tips.items()]
-            self.add(cid, f"tip zone (peak shear stress to 90 % of its drop behind the tip, fronts 0.05-0.4 L from "
-                     f"x0): {fmt(med / dx, err / dx if _finite(err) else None)} dx = {fmt(med * 1e3)} mm "
+            self.add(cid, f"tip zone (peak shear stress to {_pct(hi.TIP_ZONE_DROP)} of its drop behind the tip, fronts "
+                     f"{TIP_FRONT_WINDOW[0]:g}-{TIP_FRONT_WINDOW[1]:g} L from x0): {fmt(med / dx, err / dx if _finite(err) else None)} dx = {fmt(med * 1e3)} mm "
                      f"({'; '.join(parts)})", verdict_factor(med / dx / PAPER[cid].value) if _finite(med) else "no value",
                      self.basis(*tips))
 
@@ -436,10 +477,15 @@ class Report:
         self.add("fig3_peak_position", "; ".join(parts) + " (mode of a kernel density of ln T, bootstrap error)",
                  "—", self.basis(*FIG3_FAMILY))
 
-        def order(names, cid, key, label, unit_scale, unit):
+        # The family's parameter as the runs have it (their configs), not as typed here.
+        family_parameter = {"H": lambda run: f"{run.info.H:g} m",
+                            "rho": lambda run: f"{float(run.config['material']['density']):g} kg/m³"}
+
+        def order(names, cid, key, what, parameter, unit_scale, unit):
             if any(fam[n] is None for n in names):
                 self.add_missing(cid, [n for n in names if fam[n] is None])
                 return
+            label = f"{what} ({parameter} = " + ", ".join(family_parameter[parameter](fam[n]["run"]) for n in names) + ")"
             vals = [(fam[n][key], fam[n][f"{key}_err"]) for n in names]
             z = [(b_[0] - a_[0]) / math.hypot(a_[1], b_[1]) if _finite(a_[1]) and _finite(b_[1]) else math.nan
                  for a_, b_ in zip(vals, vals[1:])]
@@ -449,21 +495,20 @@ class Report:
             self.add(cid, value, verdict_bool(ok, "each step > 0" if ok else "not increasing at every step"),
                      self.basis(*names))
 
-        order(("fig3c_H005", "reference", "fig3c_H02"), "fig3c_shift", "T_peak", "T_peak (H = 0.05, 0.1, 0.2 m)",
-              1e3, "ms")
-        order(("fig3d_rho300", "reference", "fig3d_rho4800"), "fig3d_shift", "T_peak",
-              "T_peak (rho = 300, 1200, 4800)", 1e3, "ms")
-        order(("fig3c_H005", "reference", "fig3c_H02"), "s7_shift_H", "u_peak", "large-event peak of p(u) "
-              "(H = 0.05, 0.1, 0.2 m)", 1.0, "D")
-        order(("fig3d_rho300", "reference", "fig3d_rho4800"), "s7_shift_cs", "u_peak", "large-event peak of p(u) "
-              "(rho = 300, 1200, 4800)", 1.0, "D")
+        order(("fig3c_H005", "reference", "fig3c_H02"), "fig3c_shift", "T_peak", "T_peak", "H", 1e3, "ms")
+        order(("fig3d_rho300", "reference", "fig3d_rho4800"), "fig3d_shift", "T_peak", "T_peak", "rho", 1e3, "ms")
+        order(("fig3c_H005", "reference", "fig3c_H02"), "s7_shift_H", "u_peak", "large-event peak of p(u)", "H",
+              1.0, "D")
+        order(("fig3d_rho300", "reference", "fig3d_rho4800"), "s7_shift_cs", "u_peak", "large-event peak of p(u)",
+              "rho", 1.0, "D")
         cid = "s7_peak_position"
         if any(fam[n] is None for n in FIG3_FAMILY):
             self.add_missing(cid, [n for n in FIG3_FAMILY if fam[n] is None])
         else:
+            eta = PAPER[cid].value
             self.add(cid, "; ".join(f"{n}: u_peak = {fmt(fam[n]['u_peak'], fam[n]['u_peak_err'])} D = "
-                                    f"{fmt(fam[n]['u_peak'] * fam[n]['run'].info.D / (3 * fam[n]['run'].info.v0 * fam[n]['tau']))}"
-                                    " (3 v0 2H/c_s)" for n in FIG3_FAMILY), "—", self.basis(*FIG3_FAMILY))
+                                    f"{fmt(fam[n]['u_peak'] * fam[n]['run'].info.D / (eta * fam[n]['run'].info.v0 * fam[n]['tau']))}"
+                                    f" ({eta:g} v0 2H/c_s)" for n in FIG3_FAMILY), "—", self.basis(*FIG3_FAMILY))
         cid = "fig3_collapse"
         pairs = (("fig3c_H005", "fig3d_rho300"), ("fig3c_H02", "fig3d_rho4800"))
         if any(fam[n] is None for p in pairs for n in p):
@@ -479,7 +524,8 @@ class Report:
                              f"{fmt(sb['T_peak'] * 1e3, sb['T_peak_err'] * 1e3)} ms ({z:+.1f} σ)")
             ok = None if not all(_finite(z) for z in zs) else all(abs(z) <= SIGMA_RULE for z in zs)
             self.add(cid, "; ".join(parts),
-                     verdict_bool(ok, f"|Δ| ≤ {SIGMA_RULE:g} σ for both pairs" if ok else "a pair differs by > 2 σ"),
+                     verdict_bool(ok, f"|Δ| ≤ {SIGMA_RULE:g} σ for both pairs" if ok else
+                                  f"a pair differs by > {SIGMA_RULE:g} σ"),
                      self.basis(*FIG3_FAMILY))
         cid = "fig3_peak_fit"
         if len(have) < 3:
@@ -523,7 +569,8 @@ class Report:
         fig = figures.pT_figure(fam)
         if fig is not None:
             self.add_figure(fig, "pT_families.png", "Figs. 3c/3d and S7: p(T) and p(u/D) of the kept events, arrows at "
-                            "2H/c_s (T) and 3 v0 2H/c_s (u), dotted lines at the large-event peaks")
+                            f"2H/c_s (T) and {PAPER['s7_peak_position'].value:g} v0 2H/c_s (u), dotted lines at the "
+                            "large-event peaks")
         if getattr(self, "fit", None):
             self.add_figure(figures.tpeak_fit_figure(fam, self.fit), "tpeak_fit.png",
                             "T_peak of the large events against 2H/c_s, with the power-law fit")
@@ -586,7 +633,7 @@ class Report:
             err = ratio * math.hypot(ea / ma, eb / mb) if _finite(ratio) else math.nan
             ok = None if not (_finite(ratio) and _finite(err)) else bool(ratio - 1 > SIGMA_RULE * err)
             self.add(cid, f"mean L_s/L of large events: slip law {fmt(ma, ea)}, aging {fmt(mb, eb)}; ratio {fmt(ratio, err)}",
-                     verdict_bool(ok, "ratio > 1 by > 2 σ" if ok else "ratio not > 1 by 2 σ"),
+                     verdict_bool(ok, f"ratio > 1 by > {SIGMA_RULE:g} σ" if ok else f"ratio not > 1 by {SIGMA_RULE:g} σ"),
                      self.basis("fig4_slip_law", "reference"))
         cid = "s10_min_propagating"
         s10 = self.stat("s10_D_over_3")
@@ -594,22 +641,23 @@ class Report:
             self.add_missing(cid, ["s10_D_over_3", "reference"])
         else:
             # "minimal size for propagating events": the smallest extents of the events the
-            # paper calls propagating (u >= D); the 5th percentile, as the minimum itself is
-            # set by the detection filters.
+            # paper calls propagating (u >= D); a low quantile (MIN_SIZE_QUANTILE), as the
+            # minimum itself is set by the detection filters.
             def q05(s):
                 return np.asarray(s["kept"]["L_s"], float)[s["obs"]["u"] >= 1]
             a, b = q05(s10), q05(sr)
-            qa = float(np.quantile(a, 0.05)) if a.size else math.nan
-            qb = float(np.quantile(b, 0.05)) if b.size else math.nan
-            ea = bootstrap(a, lambda x: np.quantile(x, 0.05), n=self.n_bootstrap)
-            eb = bootstrap(b, lambda x: np.quantile(x, 0.05), n=self.n_bootstrap)
+            qa = float(np.quantile(a, MIN_SIZE_QUANTILE)) if a.size else math.nan
+            qb = float(np.quantile(b, MIN_SIZE_QUANTILE)) if b.size else math.nan
+            ea = bootstrap(a, lambda x: np.quantile(x, MIN_SIZE_QUANTILE), n=self.n_bootstrap)
+            eb = bootstrap(b, lambda x: np.quantile(x, MIN_SIZE_QUANTILE), n=self.n_bootstrap)
             z = (qb - qa) / math.hypot(ea, eb) if _finite(ea) and _finite(eb) and math.hypot(ea, eb) > 0 else math.nan
             ok = None if not _finite(z) else bool(z > SIGMA_RULE)
-            self.add(cid, f"5th percentile of L_s of the events with u ≥ D: D / 3 {fmt(qa * 1e3, ea * 1e3)} mm "
+            self.add(cid, f"{_pct(MIN_SIZE_QUANTILE)} quantile of L_s of the events with u ≥ D: D / 3 "
+                     f"{fmt(qa * 1e3, ea * 1e3)} mm "
                      f"(n = {a.size}, minimum {fmt(a.min() * 1e3) if a.size else 'n/a'} mm), reference "
                      f"{fmt(qb * 1e3, eb * 1e3)} mm (n = {b.size}, minimum {fmt(b.min() * 1e3) if b.size else 'n/a'} mm); "
                      f"difference {fmt(z, digits=2)} σ",
-                     verdict_bool(ok, "smaller by > 2 σ" if ok else "not smaller by 2 σ"),
+                     verdict_bool(ok, f"smaller by > {SIGMA_RULE:g} σ" if ok else f"not smaller by {SIGMA_RULE:g} σ"),
                      self.basis("s10_D_over_3", "reference"))
 
     # -- Fig. 5 and the friction curves ----------------------------------------
@@ -700,8 +748,8 @@ class Report:
                         "Fig. 5 friction: space-time map of log10(v/v0) (whole run); red bar at the right edge: "
                         "windows where the space-time pulse criterion holds")
         self.add_figure(figures.fig5_zoom_figure(t, x, v, run, episodes), "fig5_zoom.png",
-                        "Fig. 5 friction: 10 L/c_s in the middle of the longest stretch where the pulse criterion "
-                        "holds, and the last 10 L/c_s")
+                        f"Fig. 5 friction: {figures.FIG5_ZOOM_TRANSITS:g} L/c_s in the middle of the longest stretch "
+                        f"where the pulse criterion holds, and the last {figures.FIG5_ZOOM_TRANSITS:g} L/c_s")
 
     # -- procedure: stationarity, threshold, clusters, counts ---------------------
     def procedure(self):
@@ -738,10 +786,11 @@ class Report:
                  f"{sb['n_blocks']} blocks): " + ", ".join(f"{k} {fmt(sb[k]['pvalue'], digits=2)}" for k in ("u", "T", "M0")) +
                  "; plain KS p (assumes independent events): " +
                  ", ".join(f"{k} {fmt(st[k]['pvalue'], digits=2)}" for k in ("u", "T", "M0")))
-        detail = ("block-permutation p ≥ 0.05 for u, T, M0" if part["stationary_blocks"] else
-                  "some block-permutation p < 0.05")
+        level = an.STATIONARITY_LEVEL
+        detail = (f"block-permutation p ≥ {level:g} for u, T, M0" if part["stationary_blocks"] else
+                  f"some block-permutation p < {level:g}")
         if part["stationary_blocks"] and not part["stationary"]:
-            detail += "; the plain KS test, which assumes independent events, has some p < 0.05"
+            detail += f"; the plain KS test, which assumes independent events, has some p < {level:g}"
         self.add("stationary", value, verdict_bool(part["stationary_blocks"], detail), self.basis("reference"))
         self._alpha_rows(s)
         self._cluster_row(s)
@@ -763,26 +812,28 @@ class Report:
         b = self.basis("reference")
         # Power law for every alpha: the KS-optimal fit of u < D spans at least a decade below D.
         spans = {a: r["st"]["small_exponent_u_xmin"] for a, r in res.items()}
-        ok = all(_finite(x) and x <= 0.1 for x in spans.values())
+        ok = all(_finite(x) and x <= POWER_LAW_MAX_XMIN for x in spans.values())
         self.add("s9_power_law", "; ".join(
             f"alpha {a:g}: exponent {fmt(r['st']['small_exponent_u'], r['st']['small_exponent_u_err'])} on "
             f"[{fmt(r['st']['small_exponent_u_xmin'])}, 1] D (KS {fmt(r['st']['small_exponent_u_ks'])}, n = "
             f"{r['st']['small_exponent_u_n']} of {r['n']})" for a, r in res.items()) + " (same transient cut; Fisher errors)",
-                 verdict_bool(ok, "every fit spans ≥ 1 decade (x_min ≤ 0.1 D)" if ok else
-                              "some fit spans < 1 decade"), b)
+                 verdict_bool(ok, f"every fit spans ≥ {-math.log10(POWER_LAW_MAX_XMIN):g} decade (x_min ≤ "
+                              f"{POWER_LAW_MAX_XMIN:g} D)" if ok else
+                              f"some fit spans < {-math.log10(POWER_LAW_MAX_XMIN):g} decade"), b)
         base = res.get(an.DEFAULT_ALPHA, {}).get("split", math.nan)
         ratios = {a: r["split"] / base for a, r in res.items() if _finite(r["split"]) and _finite(base)}
         ok = None if len(ratios) < len(res) else all(1 / FACTOR_RULE <= q <= FACTOR_RULE for q in ratios.values())
         self.add("s9_crossover", "split of p(u) (minimum of the density of ln u before the hump): " + "; ".join(
             f"alpha {a:g}: {fmt(r['split'])} D" for a, r in res.items()),
-                 verdict_bool(ok, "within a factor 2 of alpha = 15's" if ok else
-                              "not within a factor 2 of alpha = 15's (or no hump)"), b)
+                 verdict_bool(ok, f"within a factor {_factor()} of alpha = {an.DEFAULT_ALPHA:g}'s" if ok else
+                              f"not within a factor {_factor()} of alpha = {an.DEFAULT_ALPHA:g}'s (or no hump)"), b)
         lf = {a: r["st"]["lognormal_T"] for a, r in res.items()}
         ok = None if not all(_finite(x["ks_pvalue"]) for x in lf.values()) else all(
-            x["ks_pvalue"] >= 0.05 for x in lf.values())
+            x["ks_pvalue"] >= LOGNORMAL_LEVEL for x in lf.values())
         self.add("s9_lognormal", "log-normal of T (u ≥ D): " + "; ".join(
             f"alpha {a:g}: KS {fmt(x['ks'])}, p = {fmt(x['ks_pvalue'])} (n = {x['n']})" for a, x in lf.items()),
-                 verdict_bool(ok, "not rejected at 5 % for any alpha" if ok else "rejected at 5 % for some alpha"), b)
+                 verdict_bool(ok, f"not rejected at {_pct(LOGNORMAL_LEVEL)} for any alpha" if ok else
+                              f"rejected at {_pct(LOGNORMAL_LEVEL)} for some alpha"), b)
         alphas = sorted(res)
         mu = [res[a]["max_u"] for a in alphas]
         mm = [res[a]["max_M0"] for a in alphas]
@@ -833,7 +884,7 @@ class Report:
             ext[n] = fe
         spanning = [n for n in have if ext[n]["extent"] >= an.SPANNING_FRACTION]
         missing = [n for n in STATISTICS_RUNS if n not in have]
-        value = ("first detected event (alpha = 15, before the catalog drops it) covers " +
+        value = (f"first detected event (alpha = {an.DEFAULT_ALPHA:g}, before the catalog drops it) covers " +
                  ", ".join(f"{n} {'≥ ' if not ext[n]['complete'] else ''}{ext[n]['extent']:.0%}" for n in have) +
                  " of the interface (≥: the event lasts beyond the first rows read; the nodes it reached there)"
                  + (f"; not run: {', '.join(missing)}" if missing else ""))
@@ -854,7 +905,7 @@ class Report:
         run = s["run"]
         p_ns, p_ev = PAPER["ns_and_events"].value
         ratio = (ns / nev) if nev else math.nan
-        self.add("ns_and_events", f"H = 0.2 m run of {fmt(run.info.duration)} s: {ns:.3g} nodal slips, {nev} events "
+        self.add("ns_and_events", f"H = {run.info.H:g} m run of {fmt(run.info.duration)} s: {ns:.3g} nodal slips, {nev} events "
                  f"({ns / max(nev, 1):.3g} NS per event; the paper: O({p_ns / p_ev:.0e}) with a run length not stated, "
                  f"so the ratio is compared)", verdict_order(ratio / (p_ns / p_ev)) if _finite(ratio) else "no value",
                  self.basis(name))
@@ -863,18 +914,19 @@ class Report:
         vmax = vmax[np.isfinite(vmax)]
         cd = wave_speeds(run.config)["c_d"]
         T, Ls = np.asarray(s["kept"]["T"], float)[large], np.asarray(s["kept"]["L_s"], float)[large]
-        prop = np.mean(Ls[T > 0] / T[T > 0] <= 2 * cd) if np.any(T > 0) else math.nan
+        bilateral = BILATERAL_MAX_SPEED_CD
+        prop = np.mean(Ls[T > 0] / T[T > 0] <= bilateral * cd) if np.any(T > 0) else math.nan
         med = float(np.median(vmax)) if vmax.size else math.nan
         v_ = verdict_order(med / PAPER["s5_event"].value) if _finite(med) else "no value"
         ok = verdict_class(v_) == "agree" and _finite(prop) and prop > MAJORITY
-        self.add("s5_event", f"large events of the H = 0.2 m run: median largest slip rate {fmt(med)} v0 "
-                 f"(n = {vmax.size}); {prop:.0%} with L_s/T ≤ 2 c_d (causal: growing at wave speeds); figure of one "
+        self.add("s5_event", f"large events of the H = {run.info.H:g} m run: median largest slip rate {fmt(med)} v0 "
+                 f"(n = {vmax.size}); {prop:.0%} with L_s/T ≤ {bilateral:g} c_d (causal: growing at wave speeds); figure of one "
                  "event's v(x, t) reconstructed from the slip sampling below",
                  verdict_bool(ok, f"slip rate {v_}; propagating in {prop:.0%}"), self.basis(name))
         ex = example_event(run, s["kept"], s["obs"])
         if ex is not None:
             self._event_figure(run, ex, "s5_event.png", "Fig. S5: v(x, t)/v0 of the median large event of the "
-                               "H = 0.2 m run, reconstructed from the slip sampling, and its slip")
+                               f"H = {run.info.H:g} m run, reconstructed from the slip sampling, and its slip")
 
     def _noise(self):
         # "Numerical noise" is tested with noise at the round-off level (1e-12 relative): a
@@ -888,7 +940,9 @@ class Report:
         off = burst_onset(self.runs["noise_tiny"])
         tr = self.runs["reference"].length_transit_time
         amp = self.runs["noise_tiny"].config.get("initial", {}).get("noise_amplitude", math.nan)
-        value = (f"first time the largest slip rate exceeds 10 v0: noise 1e-3 (reference) {fmt(on['t'] / tr)} L/c_s; "
+        amp_ref = self.runs["reference"].config.get("initial", {}).get("noise_amplitude", math.nan)
+        value = (f"first time the largest slip rate exceeds {FAST_SLIP_RATE:g} v0: noise {amp_ref:g} (reference) "
+                 f"{fmt(on['t'] / tr)} L/c_s; "
                  + (f"noise {amp:g} {fmt(off['t'] / tr)} L/c_s, when the slip rate is "
                     f"{'uniform' if off.get('uniform') else 'non-uniform'} along x (spread of log10 v over x "
                     f"{fmt(off.get('spread'))})" if _finite(off["t"]) else
@@ -948,29 +1002,40 @@ class Report:
             return ss.load_config(str(REPO / "configs" / f"{name}.toml"), {**over, **(extra or {})})
 
         ref = load("reference")
-        lc = ss.critical_wavelength_vs_height(ref, [0.05, 0.1, 0.2, math.inf])
-        lc5 = ss.critical_wavelength_vs_height(load("fig5"), [0.1, 0.2])
-        tol = "bisection to 1e-10 relative"
+        # The heights are the paper's (claims.CLAIMS); the other Lc rows (mesh,
+        # slip law, Figs. S10-S12) are at the reference height of Lc_01.
+        H1 = PAPER["Lc_01"].height
+        ratio_ids = ("Lc_ratio_005", "Lc_ratio_01", "Lc_ratio_02")
+        heights = sorted({H1, *(PAPER[cid].height for cid in ratio_ids)}) + [math.inf]
+        lc_at = dict(zip(heights, ss.critical_wavelength_vs_height(ref, heights)))
+        lc1, lc_inf = lc_at[H1], lc_at[math.inf]
+        fig5_ids = ("Lc5_01", "Lc5_02")
+        lc5 = ss.critical_wavelength_vs_height(load("fig5"), [PAPER[cid].height for cid in fig5_ids])
+        tol = f"bisection to {LC_BISECTION_TOLERANCE:g} relative"
         basis = "configs/reference.toml; " + label
-        self.add("Lc_01", f"{lc[1]:.4g} m ({tol})", verdict_relative(lc[1], PAPER["Lc_01"].value), basis)
-        self.add("Lc_over_H_01", f"{lc[1] / 0.1:.3g}", verdict_relative(lc[1] / 0.1, PAPER["Lc_over_H_01"].value), basis)
-        for i, cid in enumerate(("Lc_ratio_005", "Lc_ratio_01", "Lc_ratio_02")):
-            self.add(cid, f"{lc[i] / lc[3]:.1%} (Lc = {lc[i]:.4g} m, Lc(inf) = {lc[3]:.4g} m)",
-                     verdict_relative(lc[i] / lc[3], PAPER[cid].value), basis)
-        for i, (H, cid) in enumerate(((0.1, "Lc5_01"), (0.2, "Lc5_02"))):
-            self.add(cid, f"{lc5[i]:.4g} m, Lc/H = {lc5[i] / H:.3g}", verdict_relative(lc5[i], PAPER[cid].value),
+        self.add("Lc_01", f"{lc1:.4g} m ({tol})", verdict_relative(lc1, PAPER["Lc_01"].value), basis)
+        H_ratio = PAPER["Lc_over_H_01"].height
+        self.add("Lc_over_H_01", f"{lc_at[H_ratio] / H_ratio:.3g}",
+                 verdict_relative(lc_at[H_ratio] / H_ratio, PAPER["Lc_over_H_01"].value), basis)
+        for cid in ratio_ids:
+            lc = lc_at[PAPER[cid].height]
+            self.add(cid, f"{lc / lc_inf:.1%} (Lc = {lc:.4g} m, Lc(inf) = {lc_inf:.4g} m)",
+                     verdict_relative(lc / lc_inf, PAPER[cid].value), basis)
+        for cid, lc in zip(fig5_ids, lc5):
+            self.add(cid, f"{lc:.4g} m, Lc/H = {lc / PAPER[cid].height:.3g}", verdict_relative(lc, PAPER[cid].value),
                      "configs/fig5.toml; " + label)
-        self.add("Lc_over_dx", f"Lc(0.1 m)/dx = {lc[1] / dx:.3g} (dx = {dx * 1e3:g} mm)",
-                 verdict_order(lc[1] / dx / PAPER["Lc_over_dx"].value), basis)
-        slip = ss.critical_wavelength_vs_height(load("reference", {"state.law": "slip"}), [0.1])[0]
-        r = slip / lc[1] - 1
-        self.add("fig4_Lc_same", f"Lc(0.1 m): slip law {slip:.6g} m, aging law {lc[1]:.6g} m ({r:+.1e} relative)",
-                 verdict_bool(abs(r) <= 1e-6, "equal to 1e-6 (the bisection tolerance is 1e-10)"),
+        self.add("Lc_over_dx", f"Lc({H1:g} m)/dx = {lc1 / dx:.3g} (dx = {dx * 1e3:g} mm)",
+                 verdict_order(lc1 / dx / PAPER["Lc_over_dx"].value), basis)
+        slip = ss.critical_wavelength_vs_height(load("reference", {"state.law": "slip"}), [H1])[0]
+        r = slip / lc1 - 1
+        self.add("fig4_Lc_same", f"Lc({H1:g} m): slip law {slip:.6g} m, aging law {lc1:.6g} m ({r:+.1e} relative)",
+                 verdict_bool(abs(r) <= LC_SAME_TOLERANCE, f"equal to {LC_SAME_TOLERANCE:g} (the bisection "
+                              f"tolerance is {LC_BISECTION_TOLERANCE:g})"),
                  "configs/reference.toml --set state.law=slip; " + label)
         for cid, name in (("s10_Lc_smaller", "s10_D_over_3"), ("s11_Lc_smaller", "s11_a_over_3"), ("s12_Lc_smaller", "s12")):
-            v = ss.critical_wavelength_vs_height(load(name), [0.1])[0]
-            self.add(cid, f"Lc(0.1 m) = {v:.4g} m vs {lc[1]:.4g} m ({v / lc[1] - 1:+.0%})",
-                     verdict_bool(v < lc[1], "smaller" if v < lc[1] else "not smaller"), f"configs/{name}.toml; {label}")
+            v = ss.critical_wavelength_vs_height(load(name), [H1])[0]
+            self.add(cid, f"Lc({H1:g} m) = {v:.4g} m vs {lc1:.4g} m ({v / lc1 - 1:+.0%})",
+                     verdict_bool(v < lc1, "smaller" if v < lc1 else "not smaller"), f"configs/{name}.toml; {label}")
         try:
             g = ss.growth_rates(ref, [math.inf])
             rate = float(np.asarray(g["growth_rate"])[0])

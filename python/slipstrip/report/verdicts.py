@@ -4,7 +4,12 @@ from __future__ import annotations
 
 import math
 
-from .measurements import _finite
+
+def _finite(x) -> bool:
+    try:
+        return x is not None and math.isfinite(float(x))
+    except (TypeError, ValueError):
+        return False
 
 
 # Rules of the verdicts (stated in the doc).
@@ -13,6 +18,12 @@ RELATIVE_RULE = 0.10    # an exact number (Lc, a stated percentage of Lc(inf), a
 FACTOR_RULE = 2.0       # "comparable to", "~ H", "approximately": agrees within a factor 2
 ORDER_RULE = math.sqrt(10.0)  # O(x): agrees within a factor sqrt(10) (the same power of ten, rounded)
 MAJORITY = 0.5          # a property the paper shows on one example event holds for more than half of such events
+LOGNORMAL_LEVEL = 0.05  # a log-normal fit agrees unless its KS test rejects it at p < 5 %
+
+
+def within_factor(x: float, factor: float = FACTOR_RULE) -> bool:
+    """x within a factor `factor` of 1 (a ratio to the scale the paper names)."""
+    return _finite(x) and 1.0 / factor <= x <= factor
 
 
 def fmt(x, err=None, digits=3) -> str:
