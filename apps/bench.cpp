@@ -185,15 +185,26 @@ void bench_case_3d(const BenchCase& c, const BenchOptions& options) {
   config.geometry.width = 4.0 * options.nodes_z / c.nodes;
   // Half-spaces: below the 2D-interface limit 0.35/sqrt(2) = 0.247 (docs/3d.md).
   config.time.beta = std::isinf(c.height) ? 0.24 : 0.25;
+  config.time.history = options.history;
   config.initial.noise_amplitude = 1e-3;
   const auto t_setup = clock::now();
   Simulation3d sim(config);
   const double setup_ms = std::chrono::duration<double, std::milli>(clock::now() - t_setup).count();
   for (int i = 0; i < 10; ++i) sim.step();
-  int steps = options.steps;
-  if (std::isinf(c.height)) steps = ((std::max(steps, 128) + 127) / 128) * 128;  // whole slow blocks
+  // Whole blocks of the block operators and of the half-space's slow
+  // exponentials (their work repeats every block; as the 1D rows).
+  const auto& history = sim.history_operator();
+  int block_steps = 1;
+  for (const HistoryOperator* op : {&history.inplane(), &history.antiplane()}) {
+    if (const auto* block = dynamic_cast<const BlockStripHistory*>(op)) block_steps = std::max(block_steps, block->block());
+    if (const auto* half_space = dynamic_cast<const HalfSpaceHistory*>(op))
+      block_steps = std::max(block_steps, half_space->slow_block());
+  }
+  const int steps = ((std::max(options.steps, block_steps) + block_steps - 1) / block_steps) * block_steps;
   const auto t0 = clock::now();
+  const double cpu0 = process_cpu_seconds();
   for (int i = 0; i < steps; ++i) sim.step();
+  const double cpu_us_per_step = 1e6 * (process_cpu_seconds() - cpu0) / steps;
   const double us_per_step = std::chrono::duration<double, std::micro>(clock::now() - t0).count() / steps;
 
   const std::size_t n = sim.nodes();
@@ -208,6 +219,7 @@ void bench_case_3d(const BenchCase& c, const BenchOptions& options) {
   const double drive = sim.reference_shear_stress() + params.eta * config.loading.driving_velocity;
   const double dt = sim.time_step();
   const auto t1 = clock::now();
+  const double cpu1 = process_cpu_seconds();
   for (int s = 0; s < options.steps; ++s) {
     fft.forward(vx, spectrum_x);
     fft.forward(vz, spectrum_z);
@@ -225,23 +237,44 @@ void bench_case_3d(const BenchCase& c, const BenchOptions& options) {
     speed.swap(speed_new);
     phi.swap(phi_new);
   }
+  const double floor_cpu_us = 1e6 * (process_cpu_seconds() - cpu1) / options.steps;
   const double floor_us = std::chrono::duration<double, std::micro>(clock::now() - t1).count() / options.steps;
+  // The history operator alone (the part the floor does not have), fed the
+  // spectra of the last fields, over the same whole blocks as the step.
+  fft.forward(sim.slip_rate_x(), spectrum_x);
+  fft.forward(sim.slip_rate_z(), spectrum_z);
+  const auto t2 = clock::now();
+  const double cpu2 = process_cpu_seconds();
+  for (int s = 0; s < steps; ++s) sim.history_operator_for_timing().push(spectrum_x, spectrum_z);
+  const double operator_cpu_us = 1e6 * (process_cpu_seconds() - cpu2) / steps;
+  const double operator_us = std::chrono::duration<double, std::micro>(clock::now() - t2).count() / steps;
   const double rss = peak_rss_mib();
-  const auto stats = sim.history_operator().stats();
-  const char* algorithm = std::isinf(c.height) ? "half_space" : "modal";
+  const auto stats = history.stats();
+  auto name = [](const HistoryOperator& op) {
+    return dynamic_cast<const BlockStripHistory*>(&op) ? "block"
+           : dynamic_cast<const HalfSpaceHistory*>(&op) ? "half_space"
+                                                         : "modal";
+  };
+  const std::string algorithm = std::string(name(history.inplane())) + "/" + name(history.antiplane());
+  const double bytes_per_node = static_cast<double>(stats.memory_bytes) / static_cast<double>(n);
   if (options.json) {
     std::printf(
         "{\"N\": %d, \"nodes_z\": %d, \"height\": %s, \"length\": 4.0, \"us_per_step\": %.3f, "
-        "\"floor_us_per_step\": %.3f, \"ratio_to_floor\": %.3f, \"rss_mib\": %.2f, \"oscillators\": %zu, "
-        "\"operator_mib\": %.2f, \"dt\": %.6g, \"threads\": %d, \"steps\": %d, \"setup_ms\": %.2f, "
-        "\"history\": \"%s\"}\n",
+        "\"floor_us_per_step\": %.3f, \"ratio_to_floor\": %.3f, \"cpu_us_per_step\": %.3f, "
+        "\"floor_cpu_us_per_step\": %.3f, \"cpu_ratio_to_floor\": %.3f, \"operator_us_per_step\": %.3f, "
+        "\"operator_cpu_us_per_step\": %.3f, \"rss_mib\": %.2f, \"oscillators\": %zu, "
+        "\"operator_mib\": %.2f, \"operator_bytes_per_node\": %.1f, \"dt\": %.6g, \"threads\": %d, "
+        "\"steps\": %d, \"setup_ms\": %.2f, \"history\": \"%s\"}\n",
         c.nodes, options.nodes_z, std::isinf(c.height) ? "null" : std::to_string(c.height).c_str(), us_per_step,
-        floor_us, us_per_step / floor_us, rss, stats.oscillators, stats.memory_bytes / 1048576.0, dt,
-        options.threads, steps, setup_ms, algorithm);
+        floor_us, us_per_step / floor_us, cpu_us_per_step, floor_cpu_us, cpu_us_per_step / floor_cpu_us,
+        operator_us, operator_cpu_us, rss, stats.oscillators, stats.memory_bytes / 1048576.0, bytes_per_node, dt,
+        options.threads, steps, setup_ms, algorithm.c_str());
   } else {
-    std::printf("%6d x %-5d  %-8s  %12.1f  %12.1f  %8.2f  %9.1f  %12zu  %10.1f  %s\n", c.nodes, options.nodes_z,
+    std::printf("%6d x %-5d  %-8s  %12.1f  %12.1f  %6.2f  %12.1f  %6.2f  %12.1f  %9.1f  %12zu  %8.0f  %10.1f  %s\n",
+                c.nodes, options.nodes_z,
                 std::isinf(c.height) ? "inf" : std::to_string(c.height).substr(0, 5).c_str(), us_per_step,
-                floor_us, us_per_step / floor_us, rss, stats.oscillators, setup_ms, algorithm);
+                floor_us, us_per_step / floor_us, cpu_us_per_step, cpu_us_per_step / floor_cpu_us, operator_us,
+                rss, stats.oscillators, bytes_per_node, setup_ms, algorithm.c_str());
   }
   std::fflush(stdout);
 }
@@ -252,7 +285,9 @@ int run_bench(const BenchOptions& options) {
   if (options.nodes_z > 1) {
     if (!options.json)
       std::printf("# 2D interface: L_x = 4 m, dz = dx, beta = 0.25 (half-space 0.24), Table S1 friction, %d thread(s), %d steps\n"
-                  "#      N x N_z  H [m]     us/step     floor us/step  ratio  RSS [MiB]  oscillators  setup [ms]  history\n",
+                  "# (cpu: process CPU time per step and its ratio to the floor's; operator: the history operator's push alone;\n"
+                  "#  B/node: the history operators' memory per interface node; history: in-plane/antiplane algorithm)\n"
+                  "#      N x N_z  H [m]     us/step     floor us/step  ratio  cpu us/step  ratio   operator us  RSS [MiB]  oscillators  B/node  setup [ms]  history\n",
                   options.threads, options.steps);
     std::fflush(stdout);  // before the forks, or each child prints it again
     for (int n : options.nodes)
@@ -263,6 +298,8 @@ int run_bench(const BenchOptions& options) {
         config.geometry.nodes = n;
         config.geometry.nodes_z = options.nodes_z;
         config.geometry.width = 4.0 * options.nodes_z / n;
+        config.time.beta = std::isinf(height) ? 0.24 : 0.25;  // as bench_case_3d
+        config.time.history = options.history;
         const double gib = estimate_resources(config).operator_bytes / (1024.0 * 1024.0 * 1024.0);
         if (gib > options.max_operator_gib) {
           std::printf(options.json ? "{\"N\": %d, \"nodes_z\": %d, \"height\": %g, \"skipped\": \"estimated "

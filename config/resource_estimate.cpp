@@ -17,7 +17,7 @@ namespace {
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 
 // The strip algorithms switch at this many normal modes per Fourier mode
-// (solver/simulation.cpp, block_history_threshold).
+// (solver/simulation.hpp, kBlockHistoryThreshold).
 constexpr double kBlockThreshold = 128.0;
 
 // Bytes per strip normal mode: modal keeps 7 doubles (kernels/history_convolution.hpp),
@@ -145,6 +145,32 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
   e.block_history = top.block;
   e.operator_bytes = top.bytes;
   double history_seconds = top.seconds;
+  if (interface_2d && !is_half_space(c.geometry.height)) {
+    // Two operators over the operator modes F/2 each (fourier_modes counts
+    // both): in-plane P ~ (M/2)(1 + c_s/c_d), antiplane (M/2) normal modes,
+    // each algorithm chosen on its own P.  Modal: 56 bytes per normal mode.
+    // Block (kernels/block_strip_history.hpp): per mode its states (32 P)
+    // and block inputs and outputs (32 B), B the power of two >= max(P, 64);
+    // the design part (frequencies and weights 32 P, kernel spectra 16 B) is
+    // shared by the modes of equal |k|, at most half of them distinct (kz
+    // and -kz share one).  The kernels (16 bytes per normal mode) live while
+    // one operator is built.
+    auto takes_block = [&](double modes) {
+      return c.time.history == HistoryAlgorithm::block ||
+             (c.time.history == HistoryAlgorithm::automatic && modes >= kBlockThreshold);
+    };
+    const double operator_modes = fourier_modes / 2.0;
+    auto operator_bytes = [&](double modes) {
+      if (!takes_block(modes)) return operator_modes * modes * 56.0;
+      double block = 64.0;
+      while (block < modes) block *= 2.0;
+      return operator_modes * (32.0 * modes + 32.0 * block) + 0.5 * operator_modes * (32.0 * modes + 16.0 * block);
+    };
+    e.block_history = takes_block(e.modes_per_fourier_mode);
+    e.operator_bytes = operator_bytes(e.modes_per_fourier_mode) + operator_bytes(0.5 * e.echo_steps) +
+                       operator_modes * 16.0 * e.modes_per_fourier_mode + 8.0 * e.echo_steps;
+    if (e.block_history) history_seconds = fourier_modes * kBlockSecondsPerFourierMode;
+  }
   if (elastic_bottom) {
     const BodyOperator b =
         body_operator(bottom, c.bottom.height, e.time_step, fourier_modes, c.time.history, !per_body, true);

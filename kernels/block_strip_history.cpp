@@ -4,14 +4,30 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 
 namespace slipstrip {
 namespace {
 using cplx = std::complex<double>;
 
 bool is_power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+// FNV-1a over the bits of a mode's phases and weights (candidates for a
+// shared design are then compared exactly).
+std::uint64_t hash_design(std::span<const double> phase, std::span<const double> weight) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (auto values : {phase, weight})
+    for (double x : values) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &x, sizeof bits);
+      h = (h ^ bits) * 1099511628211ull;
+    }
+  return h;
+}
 }  // namespace
 
 struct BlockStripHistory::Scratch {
@@ -19,6 +35,7 @@ struct BlockStripHistory::Scratch {
   GaussianNufft::Scratch nufft;
   std::vector<cplx> frequency;     // one value per theta_k of a mode
   std::vector<cplx> series;        // B outputs
+  std::vector<double> phase_re, phase_im;  // e^{i theta_k B/2} of the located design
 };
 
 BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,
@@ -48,12 +65,40 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
   const std::size_t B = block_;
 
   // Frequencies +-phi_m with half weights: sum_m w_m cos(phi_m j) = sum_k (w_k/2) e^{i theta_k j}.
+  // Modes whose normal modes are identical (equal |k| on a 2D interface:
+  // compute_strip_kernels copies one design to all of them) share one design:
+  // frequencies, weights, c0, lag kernel and level spectra.  Only the
+  // normal-mode states and the block's inputs and outputs are per mode.
+  design_.assign(n_modes_, 0);
   first_frequency_.assign(1, 0);
-  c0_.assign(n_modes_, 0.0);
+  first_state_.assign(1, 0);
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> designs_by_hash;
+  std::vector<std::size_t> design_mode;  // a mode q of each design (its normal modes in kernels)
   for (int q = 0; q < n_modes_; ++q) {
     throw_if_cancelled(cancelled, "the block history operator");
+    const std::size_t m0 = first[q], count = first[q + 1] - m0;
+    std::span<const double> phase(kernels.phase.data() + m0, count), weight(kernels.weight.data() + m0, count);
+    // q = 0 (no normal modes, its history is the delay line alone) is never shared.
+    std::size_t d = design_mode.size();
+    if (q > 0) {
+      auto& candidates = designs_by_hash[hash_design(phase, weight)];
+      for (std::size_t candidate : candidates) {
+        const std::size_t c0 = first[design_mode[candidate]];
+        if (first[design_mode[candidate] + 1] - c0 == count &&
+            std::equal(phase.begin(), phase.end(), kernels.phase.begin() + c0) &&
+            std::equal(weight.begin(), weight.end(), kernels.weight.begin() + c0)) {
+          d = candidate;
+          break;
+        }
+      }
+      if (d == design_mode.size()) candidates.push_back(d);
+    }
+    design_[q] = d;
+    first_state_.push_back(first_state_.back() + 2 * count);
+    if (d < design_mode.size()) continue;
+    design_mode.push_back(static_cast<std::size_t>(q));
     double weight_sum = 0.0;
-    for (std::size_t m = first[q]; m < first[q + 1]; ++m) {
+    for (std::size_t m = m0; m < m0 + count; ++m) {
       for (double sign : {1.0, -1.0}) {
         theta_.push_back(sign * kernels.phase[m]);
         half_weight_.push_back(0.5 * kernels.weight[m]);
@@ -61,16 +106,26 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
       weight_sum += kernels.weight[m];
     }
     first_frequency_.push_back(theta_.size());
-    // q = 0 has no normal modes: its history is the delay line alone.
-    c0_[q] = q == 0 ? 0.0 : echo_weight_ + dt_ * weight_sum;
+    c0_.push_back(q == 0 ? 0.0 : echo_weight_ + dt_ * weight_sum);
   }
-  state_.assign(theta_.size(), 0.0);
+  const std::size_t n_designs = design_mode.size();
+  state_.assign(first_state_.back(), 0.0);
+  // The modes of each design, in increasing q.
+  design_first_mode_.assign(n_designs + 1, 0);
+  for (int q = 0; q < n_modes_; ++q) ++design_first_mode_[design_[q] + 1];
+  for (std::size_t d = 0; d < n_designs; ++d) design_first_mode_[d + 1] += design_first_mode_[d];
+  design_modes_.resize(n_modes_);
+  {
+    std::vector<std::size_t> next(design_first_mode_.begin(), design_first_mode_.end() - 1);
+    for (int q = 0; q < n_modes_; ++q) design_modes_[next[design_[q]]++] = static_cast<std::size_t>(q);
+  }
 
   nufft_ = std::make_unique<GaussianNufft>(block_, design.nufft_half_width);
   const int threads = std::max(1, omp_get_max_threads());
   for (int t = 0; t < threads; ++t)
     scratch_.push_back({make_fftw_buffer<fftw_complex>(B), nufft_->make_scratch(2 * most),
-                        std::vector<cplx>(2 * most), std::vector<cplx>(B)});
+                        std::vector<cplx>(2 * most), std::vector<cplx>(B), std::vector<double>(2 * most),
+                        std::vector<double>(2 * most)});
 
   // Levels s = direct_block .. B/2.
   std::size_t spectrum_size = 0;
@@ -83,17 +138,17 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
          owned_plan(fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE),
                     "BlockStripHistory"),
          spectrum_size});
-    spectrum_size += static_cast<std::size_t>(n_modes_) * (s + 1);
+    spectrum_size += n_designs * (s + 1);
   }
   spectrum_.assign(spectrum_size, 0.0);
 
   // Per mode: the lag kernel O_j, j < B, by the adjoint NUFFT (O(P w + B log B)
   // instead of O(P B) cosines); its first direct_block lags are kept for the
   // direct sums, and each level keeps the spectrum of [0, O_1..O_{2s-1}].
-  lag_kernel_.assign(static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
+  lag_kernel_.assign(n_designs * direct_block_, 0.0);
   auto& work = scratch_[0];
   auto* buffer = reinterpret_cast<cplx*>(work.level.get());
-  for (int q = 1; q < n_modes_; ++q) {
+  for (std::size_t q = 1; q < n_designs; ++q) {  // design 0 is mode 0's (no normal modes)
     throw_if_cancelled(cancelled, "the block history operator");
     const std::size_t f0 = first_frequency_[q], f1 = first_frequency_[q + 1];
     for (std::size_t k = f0; k < f1; ++k) work.frequency[k - f0] = half_weight_[k];
@@ -120,15 +175,17 @@ BlockStripHistory::~BlockStripHistory() = default;
 ModeOperatorStats BlockStripHistory::stats() const {
   ModeOperatorStats s;
   s.modes = n_modes_;
-  s.oscillators = theta_.size() / 2;
+  s.oscillators = state_.size() / 2;  // normal modes in flight (shared designs counted per mode)
   s.echo_steps = echo_.steps();
   s.memory_bytes = sizeof(double) * (theta_.size() + half_weight_.size() + lag_kernel_.size() +
                                      c0_.size()) +
+                   sizeof(std::size_t) * (design_.size() + first_frequency_.size() + first_state_.size() +
+                                          design_first_mode_.size() + design_modes_.size()) +
                    sizeof(cplx) * (state_.size() + spectrum_.size() + input_.size() +
                                    accumulator_.size() + running_sum_.size() + echo_.steps() +
                                    history_.size()) +
                    scratch_.size() * sizeof(cplx) *
-                       (3 * static_cast<std::size_t>(block_) + scratch_[0].frequency.size());
+                       (3 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency.size());
   return s;
 }
 
@@ -144,7 +201,7 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
   for (int j = s; j < 2 * s; ++j) buffer[j] = 0.0;
   fftw_execute_dft(level.forward.get(), scratch.level.get(), scratch.level.get());
   // The kernel is real, so its spectrum is Hermitian: bins s+1..2s-1 are conjugates.
-  const cplx* kernel = spectrum_.data() + level.first_spectrum + q * (s + 1);
+  const cplx* kernel = spectrum_.data() + level.first_spectrum + design_[q] * (s + 1);
   // (Written out: std::complex's operator* checks for NaN/inf in a library call.)
   auto* x = reinterpret_cast<double*>(buffer);
   const auto* kv = reinterpret_cast<const double*>(kernel);
@@ -165,25 +222,36 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
   for (int j = 0; j < s; ++j) out[j] += buffer[s + j] * scale;
 }
 
+void BlockStripHistory::locate_design(std::size_t d, Scratch& scratch) const {
+  // The Gaussian weights of the design's frequencies (for both transforms) and
+  // p_k = e^{i theta_k B/2}: once per design and block, for all its modes.
+  const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
+  std::span<const double> theta(theta_.data() + f0, count);
+  nufft_->locate(theta, scratch.nufft);
+  const double half_block = 0.5 * static_cast<double>(block_);
+  for (std::size_t k = 0; k < count; ++k) {
+    scratch.phase_re[k] = std::cos(theta[k] * half_block);
+    scratch.phase_im[k] = std::sin(theta[k] * half_block);
+  }
+}
+
 void BlockStripHistory::advance_far_field(int q, Scratch& scratch) {
   // A_k(n0 + B) = e^{i theta_k B} [A_k(n0) + sum_t e^{-i theta_k t} v_{n0+t}], then
   // y_far(n0 + B + t) = sum_k (w_k/2) A_k(n0 + B) e^{i theta_k t}, t = 0..B-1.
   // With p_k = e^{i theta_k B/2} and the NUFFT's centred time t - B/2:
   //   sum_t e^{-i theta t} v_t = conj(p) F,   F = forward_centred(v),
   //   A <- p^2 A + p F,   y_far = adjoint_centred(c p),  c = (w/2) A.
-  // One sincos per frequency and block, one set of Gaussian weights for both transforms.
+  // The Gaussian weights and p of q's design are in `scratch` (locate_design).
   const std::size_t B = block_;
-  const std::size_t f0 = first_frequency_[q], count = first_frequency_[q + 1] - f0;
+  const std::size_t d = design_[q];
+  const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
   if (count == 0) return;
-  std::span<const double> theta(theta_.data() + f0, count);
   std::span<cplx> transformed(scratch.frequency.data(), count);
-  nufft_->locate(theta, scratch.nufft);
   nufft_->forward_centred({input_.data() + q * B, B}, transformed, scratch.nufft);
-  cplx* state = state_.data() + f0;
+  cplx* state = state_.data() + first_state_[q];
   const double* half_weight = half_weight_.data() + f0;
-  const double half_block = 0.5 * static_cast<double>(B);
   for (std::size_t k = 0; k < count; ++k) {
-    const double pr = std::cos(theta[k] * half_block), pi_ = std::sin(theta[k] * half_block);
+    const double pr = scratch.phase_re[k], pi_ = scratch.phase_im[k];
     const double ar = state[k].real(), ai = state[k].imag();
     const double fr = transformed[k].real(), fi = transformed[k].imag();
     // p A + F, then times p
@@ -204,26 +272,55 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
   const int p = block_done ? 0 : tau + 1;  // the output produced by this push
   const std::size_t B = block_;
   const int threads = static_cast<int>(scratch_.size());
+  // Input tau of mode q, and the level convolutions whose inputs it completes.
+  auto take_input = [&](int q, Scratch& scratch) {
+    cplx* in = input_.data() + q * B;
+    in[tau] = slip_rate_spectrum[q];
+    running_sum_[q] += slip_rate_spectrum[q];
+    for (std::size_t l = 0; l < levels_.size(); ++l) {
+      const int s = levels_[l].size;
+      if ((tau + 1) % (2 * s) == s) convolve_level(q, l, tau + 1 - s, scratch);
+    }
+  };
+  // Output p of mode q: what the levels and the far field accumulated, plus
+  // the direct sum over p's own direct block.
+  auto give_output = [&](int q) {
+    const cplx* in = input_.data() + q * B;
+    cplx* acc = accumulator_.data() + q * B;
+    cplx y = acc[p];
+    acc[p] = 0.0;
+    const std::size_t d = design_[q];
+    const double* kernel = lag_kernel_.data() + d * direct_block_;
+    const int recent = p % direct_block_;  // inputs of p's direct block before p
+    for (int j = 1; j <= recent; ++j) y += kernel[j] * in[p - j];
+    history_[q] = c0_[d] * running_sum_[q] - dt_ * y;
+  };
 #pragma omp parallel num_threads(threads)
   {
     Scratch& scratch = scratch_[omp_get_thread_num()];
+    if (!block_done) {
 #pragma omp for schedule(static)
-    for (int q = 1; q < n_modes_; ++q) {
-      cplx* in = input_.data() + q * B;
-      in[tau] = slip_rate_spectrum[q];
-      running_sum_[q] += slip_rate_spectrum[q];
-      for (std::size_t l = 0; l < levels_.size(); ++l) {
-        const int s = levels_[l].size;
-        if ((tau + 1) % (2 * s) == s) convolve_level(q, l, tau + 1 - s, scratch);
+      for (int q = 1; q < n_modes_; ++q) {
+        take_input(q, scratch);
+        give_output(q);
       }
-      if (block_done) advance_far_field(q, scratch);
-      cplx* acc = accumulator_.data() + q * B;
-      cplx y = acc[p];
-      acc[p] = 0.0;
-      const double* kernel = lag_kernel_.data() + q * direct_block_;
-      const int recent = p % direct_block_;  // inputs of p's direct block before p
-      for (int j = 1; j <= recent; ++j) y += kernel[j] * in[p - j];
-      history_[q] = c0_[q] * running_sum_[q] - dt_ * y;
+    } else {
+      // The block is complete: every mode's far field moves across it, design
+      // by design, so the modes of one design (equal |k|) share one set of
+      // Gaussian weights and phases.  (No level fires at the block's end:
+      // (tau + 1) % 2s = B % 2s = 0 != s.)  Per mode the same arithmetic as
+      // mode by mode.
+#pragma omp for schedule(static)
+      for (int q = 1; q < n_modes_; ++q) take_input(q, scratch);
+#pragma omp for schedule(dynamic, 16)
+      for (std::size_t d = 1; d < design_first_mode_.size() - 1; ++d) {
+        locate_design(d, scratch);
+        for (std::size_t i = design_first_mode_[d]; i < design_first_mode_[d + 1]; ++i) {
+          const int q = static_cast<int>(design_modes_[i]);
+          advance_far_field(q, scratch);
+          give_output(q);
+        }
+      }
     }
   }
   position_ = p;

@@ -26,8 +26,11 @@
 // never rotated step by step.  The result equals StripHistory's to the NUFFT's
 // accuracy (~1e-12 relative; tests/cpp/test_kernels_block_history.cpp), so the
 // operator inherits its passivity and every verification of it.  Memory
-// (~64 P + 48 B bytes per mode) is fixed at construction.  The uniform mode
-// q = 0 keeps the exact shear delay line.
+// (~64 P + 48 B bytes per mode) is fixed at construction; modes with identical
+// normal modes (equal |k| on a 2D interface) share the design part (frequencies,
+// weights, kernel spectra: 32 P + 16 B), so such a mode costs 32 P + 32 B bytes
+// (its states, inputs and outputs).  The uniform mode q = 0 keeps the exact
+// shear delay line.
 #include <complex>
 #include <cstddef>
 #include <memory>
@@ -69,10 +72,12 @@ class BlockStripHistory final : public HistoryOperator {
   void restore_state(const HistoryOperatorState& state) override;
 
   int block() const { return block_; }
+  std::size_t designs() const { return c0_.size(); }  // distinct normal-mode sets (<= modes())
 
  private:
   struct Scratch;
   void convolve_level(int q, std::size_t level, int start, Scratch& scratch);
+  void locate_design(std::size_t design, Scratch& scratch) const;
   void advance_far_field(int q, Scratch& scratch);
 
   double dt_, eta_, echo_weight_;  // echo_weight_ = mu / c_s
@@ -80,18 +85,23 @@ class BlockStripHistory final : public HistoryOperator {
   ShearEchoLine echo_;  // q = 0
   int position_ = 0;  // index of the next input inside the current block
 
-  // Normal modes as frequencies theta = +phi and -phi, per mode q >= 1.
-  std::vector<std::size_t> first_frequency_;  // size n_modes + 1
+  // Designs: the normal modes of a Fourier mode as frequencies theta = +phi
+  // and -phi, shared by all modes q with identical normal modes (design_[q];
+  // design 0 is the uniform mode's, which has none).
+  std::vector<std::size_t> design_;           // per q
+  std::vector<std::size_t> first_frequency_;  // per design, size designs + 1
   std::vector<double> theta_;
   std::vector<double> half_weight_;           // w_m / 2 for both +phi_m and -phi_m
-  std::vector<std::complex<double>> state_;   // A_k at the start of the current block
-  std::vector<double> c0_;                    // per q
-  std::vector<double> lag_kernel_;            // [q][j], O_j for j < direct_block (O_0 := 0)
+  std::vector<double> c0_;                    // per design
+  std::vector<double> lag_kernel_;            // [design][j], O_j for j < direct_block (O_0 := 0)
+  std::vector<std::size_t> design_first_mode_, design_modes_;  // the modes of each design (CSR)
+  std::vector<std::size_t> first_state_;      // per q, size n_modes + 1
+  std::vector<std::complex<double>> state_;   // A_k of mode q at the start of the current block
 
   struct Level {
     int size;  // s: inputs per convolution; FFT length 2s
     FftwPlan forward, backward;
-    std::size_t first_spectrum;  // into spectrum_, (s + 1) per mode q
+    std::size_t first_spectrum;  // into spectrum_, (s + 1) per design
   };
   std::vector<Level> levels_;
   std::vector<std::complex<double>> spectrum_;  // FFT of [0, O_1, .., O_{2s-1}], bins 0..s

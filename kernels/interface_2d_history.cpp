@@ -88,7 +88,8 @@ InterfaceHistory2d::InterfaceHistory2d(const InterfaceGrid2d& grid,
 
 InterfaceHistory2d InterfaceHistory2d::build(const ElasticMaterial& material, double strip_height,
                                              const InterfaceGrid2d& grid, double time_step,
-                                             const CancelCheck& cancelled) {
+                                             const CancelCheck& cancelled,
+                                             const StripOperatorFactory& strip_operator) {
   ElasticMaterial inplane = material, antiplane = material;
   inplane.plane = PlaneCondition::strain;  // a body invariant along the crest of the mode
   antiplane.plane = PlaneCondition::antiplane;
@@ -97,13 +98,15 @@ InterfaceHistory2d InterfaceHistory2d::build(const ElasticMaterial& material, do
     return InterfaceHistory2d(
         grid, std::make_unique<HalfSpaceHistory>(inplane, magnitude, time_step, HalfSpaceOperatorDesign{}, cancelled),
         std::make_unique<HalfSpaceHistory>(antiplane, magnitude, time_step, HalfSpaceOperatorDesign{}, cancelled));
-  return InterfaceHistory2d(
-      grid,
-      std::make_unique<StripHistory>(
-          inplane, compute_strip_kernels(inplane, strip_height, magnitude, time_step, cancelled), cancelled),
-      std::make_unique<StripHistory>(
-          antiplane, compute_strip_kernels(antiplane, strip_height, magnitude, time_step, cancelled),
-          cancelled));
+  // One operator at a time: the kernels (one copy of every mode's normal
+  // modes) are freed before the next ones are computed.
+  auto make = [&](const ElasticMaterial& body) -> std::unique_ptr<HistoryOperator> {
+    const StripKernels kernels = compute_strip_kernels(body, strip_height, magnitude, time_step, cancelled);
+    if (strip_operator) return strip_operator(body, kernels);
+    return std::make_unique<StripHistory>(body, kernels, cancelled);
+  };
+  auto inplane_operator = make(inplane);
+  return InterfaceHistory2d(grid, std::move(inplane_operator), make(antiplane));
 }
 
 namespace {

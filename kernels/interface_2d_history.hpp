@@ -30,6 +30,7 @@
 // column is projected onto its Hermitian part (the average over kx = +-pi/dx).
 // Resolved modes are untouched.
 #include <complex>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -74,19 +75,29 @@ class InterfaceHistory2d {
   InterfaceHistory2d(const InterfaceGrid2d& grid, std::unique_ptr<HistoryOperator> inplane,
                      std::unique_ptr<HistoryOperator> antiplane);
 
+  // Makes a strip operator from its material (plane strain or antiplane) and
+  // kernels: the modal StripHistory or the block BlockStripHistory (the same
+  // discrete operator; the solver's choice, solver/simulation.hpp).
+  using StripOperatorFactory =
+      std::function<std::unique_ptr<HistoryOperator>(const ElasticMaterial&, const StripKernels&)>;
+
   // The in-plane and antiplane operators of `material` (its plane condition
-  // is replaced by strain and antiplane) for strips of height H (finite: the
-  // modal StripHistory; +inf: HalfSpaceHistory).  Throws what the operators
-  // throw (e.g. a time step too large for passivity).
+  // is replaced by strain and antiplane) for strips of height H (finite:
+  // strip_operator of each one's kernels, by default the modal StripHistory;
+  // +inf: HalfSpaceHistory).  Throws what the operators throw (e.g. a time
+  // step too large for passivity).
   static InterfaceHistory2d build(const ElasticMaterial& material, double strip_height,
                                   const InterfaceGrid2d& grid, double time_step,
-                                  const CancelCheck& cancelled = {});
+                                  const CancelCheck& cancelled = {},
+                                  const StripOperatorFactory& strip_operator = {});
 
   const InterfaceGrid2d& grid() const { return grid_; }
   double time_step() const { return inplane_->time_step(); }
   double radiation_damping() const { return inplane_->radiation_damping(); }
   std::size_t modes() const { return history_x_.size(); }
   ModeOperatorStats stats() const;
+  const HistoryOperator& inplane() const { return *inplane_; }
+  const HistoryOperator& antiplane() const { return *antiplane_; }
 
   // Feed the slip-rate perturbation spectra (x and z components) at t_n;
   // afterwards history_x(), history_z() hold the history part at t_{n+1}.

@@ -18,14 +18,11 @@
 #include "kernels/two_body_history.hpp"
 
 namespace slipstrip {
-namespace {
 // Both algorithms apply the same discrete operator (to ~1e-13,
 // tests/cpp/test_kernels_block_history.cpp); the block one wins once a
 // Fourier mode carries more than ~100 normal modes (bench_kernels_history:
 // 1.8x faster at 150 modes per Fourier mode, 55x at 6000) but needs ~2-3x the
 // memory, so below that the modal one is kept.
-constexpr std::size_t block_history_threshold = 128;
-
 std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& material,
                                                     const StripKernels& kernels,
                                                     HistoryAlgorithm algorithm,
@@ -34,13 +31,14 @@ std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& mater
     std::size_t most = 0;
     for (std::size_t q = 0; q + 1 < kernels.first_oscillator.size(); ++q)
       most = std::max(most, kernels.first_oscillator[q + 1] - kernels.first_oscillator[q]);
-    algorithm = most >= block_history_threshold ? HistoryAlgorithm::block : HistoryAlgorithm::modal;
+    algorithm = most >= kBlockHistoryThreshold ? HistoryAlgorithm::block : HistoryAlgorithm::modal;
   }
   if (algorithm == HistoryAlgorithm::block)
     return std::make_unique<BlockStripHistory>(material, kernels, BlockHistoryDesign{}, cancelled);
   return std::make_unique<StripHistory>(material, kernels, cancelled);
 }
 
+namespace {
 // The operator of two identical copies of one body (material, height): the
 // whole history operator of a mirror pair, and each body's "pair-normalised"
 // operator otherwise (kernels/two_body_history.hpp).

@@ -53,6 +53,17 @@ struct SavedField {
 void check_saved_state(std::span<const SavedField> fields, const SimulationState& saved, std::size_t nodes,
                        const std::string& what);
 
+// The strip history operator of `kernels` by `algorithm`: the modal
+// StripHistory or the BlockStripHistory (the same discrete operator,
+// docs/theory.md 11.1); "auto" takes the block one when some Fourier mode
+// carries kBlockHistoryThreshold normal modes or more.  Used by the 1D
+// interface and by each of the 2D interface's in-plane and antiplane operators.
+inline constexpr std::size_t kBlockHistoryThreshold = 128;
+std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& material,
+                                                    const StripKernels& kernels,
+                                                    HistoryAlgorithm algorithm,
+                                                    const CancelCheck& cancelled = {});
+
 class Simulation {
  public:
   // `cancelled` is polled during the kernel and operator set-up (which takes

@@ -37,7 +37,6 @@ const SimulationConfig& checked_3d(const SimulationConfig& c) {
     refuse("interface.law must be \"rate_and_state\"");
   if (c.friction_along_x.any()) refuse("friction parameters must be numbers, not profiles along x");
   if (c.interface.load_pulse_amplitude != 0.0) refuse("interface.load_pulse_amplitude must be 0");
-  if (c.time.history == HistoryAlgorithm::block) refuse("time.history = \"block\" is not available: use \"auto\" or \"modal\"");
   if (!c.output.stations.empty())
     refuse("output.stations is not available on a 2D interface: expected [] (use snapshots or the slip sampling)");
   return c;
@@ -64,8 +63,11 @@ Simulation3d::Simulation3d(const SimulationConfig& config, std::span<const doubl
       tau0_(frictional_strength(config.friction, config.loading.normal_stress, v0_,
                                 steady_state(config.friction, v0_))),
       local_(config.friction, config.loading.normal_stress, eta_),
-      history_(InterfaceHistory2d::build(config.material, config.geometry.height, interface_grid(config), dt_,
-                                         cancelled)),
+      history_(InterfaceHistory2d::build(
+          config.material, config.geometry.height, interface_grid(config), dt_, cancelled,
+          [&](const ElasticMaterial& body, const StripKernels& kernels) {
+            return make_strip_history(body, kernels, config.time.history, cancelled);
+          })),
       fft_(nodes_x_, nodes_z_) {
   const std::size_t n = fft_.nodes();
   for (auto* v : {&slip_x_, &slip_z_, &slip_rate_x_, &slip_rate_z_, &state_, &shear_stress_x_,

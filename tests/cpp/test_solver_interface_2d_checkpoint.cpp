@@ -17,6 +17,7 @@
 
 #include "config/config.hpp"
 #include "solver/checkpoint.hpp"
+#include "kernels/block_strip_history.hpp"
 #include "solver/simulation_3d.hpp"
 
 using namespace slipstrip;
@@ -43,8 +44,9 @@ bool same_bits(const Simulation3d& a, const Simulation3d& b) {
 }
 
 // configs/3d/tiny.toml's physics on 16 x 8 nodes: white noise node by node
-// plus a bump along x, so the slip has x and z parts.
-SimulationConfig small_config(const std::string& height, int nodes_z) {
+// plus a bump along x, so the slip has x and z parts.  `history`: the strip
+// operators' algorithm (time.history).
+SimulationConfig small_config(const std::string& height, int nodes_z, const std::string& history = "auto") {
   return load_config_string(
       "[geometry]\nlength = 0.25\nwidth = " + std::to_string(0.25 * nodes_z / 16) + "\nheight = " + height +
       "\nnodes = 16\nnodes_z = " + std::to_string(nodes_z) +
@@ -52,19 +54,32 @@ SimulationConfig small_config(const std::string& height, int nodes_z) {
       "[loading]\ndriving_velocity = 2e-3\n"
       "[initial]\nnoise_amplitude = 1e-2\nnoise_seed = 1\nlocal_amplitude = 0.5\nlocal_center = 0.125\n"
       "local_width = 0.02\n"
-      "[time]\nbeta = 0.24\n");
+      "[time]\nbeta = 0.24\nhistory = \"" + history + "\"\n");
 }
 
 }  // namespace
 
 TEST_CASE("a restored 2D-interface simulation steps bit for bit as the one it was saved from") {
-  for (const char* height : {"0.025", "\"inf\""}) {
+  // Modal strips, half-spaces, and block strips (B = 64 steps: saved at step
+  // 40 inside the first block, so the restored operators carry partial
+  // blocks, level outputs and the normal-mode states across the far-field
+  // update at step 64).
+  struct Case {
+    const char* height;
+    const char* history;
+  };
+  for (const Case& operators : {Case{"0.025", "modal"}, Case{"\"inf\"", "auto"}, Case{"0.025", "block"}}) {
+    const char* height = operators.height;
     CAPTURE(height);
-    const SimulationConfig config = small_config(height, 8);
+    CAPTURE(operators.history);
+    const SimulationConfig config = small_config(height, 8, operators.history);
     Simulation3d original(config);
     for (int n = 0; n < 40; ++n) original.step();
     const SimulationState saved = original.save_state();
     CHECK(saved.history.kind == "interface 2d");
+    const bool block = std::string(operators.history) == "block";
+    CHECK((dynamic_cast<const BlockStripHistory*>(&original.history_operator().inplane()) != nullptr) == block);
+    CHECK((dynamic_cast<const BlockStripHistory*>(&original.history_operator().antiplane()) != nullptr) == block);
     CHECK(saved.step_index == 40);
     CHECK(saved.slip_z.size() == 128);
     CHECK(saved.speed.size() == 128);
