@@ -586,6 +586,14 @@ constexpr ConfigKey kKeys[] = {
              "d sigma_eff/dt = -(sigma_eff - sigma)/t_sigma (Prakash 1998); 0 = the slip form above",
      .comment = "t_sigma [s]; 0 = off (use normal_stress_slip)",
      .bind = real_member<&C::interface, &InterfaceConfig::normal_stress_time>()},
+    {.section = "interface", .name = "opening", .type = KeyType::choice,
+     .help = "in-plane dissimilar bodies, where the compressive normal stress would become <= 0: "
+             "`open` separates the faces there (zero shear and normal traction, the gap recorded as "
+             "`opening`, contact again when the gap closes); `stop` ends the run with an error naming "
+             "the node and the time (docs/bodies.md). Identical bodies never open",
+     .comment = "open | stop (dissimilar in-plane pairs)",
+     .choices = names_of<kOpeningResponseNames>,
+     .bind = enum_member<&C::interface, &InterfaceConfig::opening, kOpeningResponseNames>()},
     {.section = "interface", .name = "pulse_center", .unit = "m", .help = "free: pulse centre x0",
      .comment = "x0 [m] (free)", .bind = real_member<&C::interface, &InterfaceConfig::pulse_center>()},
     {.section = "interface", .name = "pulse_width", .type = KeyType::number_or_inf, .unit = "m",

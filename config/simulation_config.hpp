@@ -45,6 +45,12 @@ struct LoadingConfig {
 enum class TimeProfile { ramp, bump };
 inline constexpr std::string_view kTimeProfileNames[] = {"ramp", "bump"};  // index = enumerator
 
+// In-plane dissimilar bodies, where the compressive normal stress would become
+// <= 0: the faces separate (zero traction, a gap; docs/bodies.md §4) or the
+// run stops with a diagnostic naming the node and the time.
+enum class OpeningResponse { open, stop };
+inline constexpr std::string_view kOpeningResponseNames[] = {"open", "stop"};  // index = enumerator
+
 struct InterfaceConfig {
   InterfaceLawName law = InterfaceLawName::rate_and_state;  // [interface] law
   // prescribed_slip: [interface] slip_amplitude [m], mode (integer m), profile, rise_time [s]
@@ -68,6 +74,7 @@ struct InterfaceConfig {
   // (docs/bodies.md, "normal-stress memory").
   double normal_stress_slip = 0.0;
   double normal_stress_time = 0.0;
+  OpeningResponse opening = OpeningResponse::open;  // [interface] opening
 };
 
 // Initial perturbations on top of steady sliding at v0 (phi = phi_ss(v0)).

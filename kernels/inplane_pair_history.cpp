@@ -16,6 +16,7 @@ InplanePairHistory::InplanePairHistory(std::unique_ptr<FaceHistory> top, std::un
   ex_bottom_ = bottom_ ? bottom_->shear_impedance() : rigid;
   ey_bottom_ = bottom_ ? bottom_->normal_impedance() : rigid;
   eta_ = bottom_ ? ex_top_ * ex_bottom_ / (ex_top_ + ex_bottom_) : ex_top_;
+  eta_y_ = bottom_ ? ey_top_ * ey_bottom_ / (ey_top_ + ey_bottom_) : ey_top_;
   const auto n = static_cast<std::size_t>(top_->modes());
   top_x_.assign(n, 0.0);
   top_y_ = history_ = normal_ = top_x_;
@@ -35,7 +36,13 @@ ModeOperatorStats InplanePairHistory::stats() const {
 }
 
 void InplanePairHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {
+  push(slip_rate_spectrum, {});
+}
+
+void InplanePairHistory::push(std::span<const std::complex<double>> slip_rate_spectrum,
+                              std::span<const std::complex<double>> opening_stress_spectrum) {
   const std::size_t n = history_.size();
+  const bool opening = !opening_stress_spectrum.empty();
   const auto hx_t = top_->history_x(), hy_t = top_->history_y();
   if (!bottom_) {
     // Rigid bottom: the top face carries the whole slip and does not move normally.
@@ -43,6 +50,8 @@ void InplanePairHistory::push(std::span<const std::complex<double>> slip_rate_sp
       top_x_[q] = slip_rate_spectrum[q];
       top_y_[q] = 0.0;
     }
+    if (opening)
+      for (std::size_t q = 0; q < n; ++q) top_y_[q] = opening_stress_spectrum[q] / ey_top_;
     top_->push(top_x_, top_y_);
     const auto x = top_->history_x(), y = top_->history_y();
     for (std::size_t q = 0; q < n; ++q) {
@@ -64,6 +73,11 @@ void InplanePairHistory::push(std::span<const std::complex<double>> slip_rate_sp
       bottom_x_[q] = vx_bottom;
       bottom_y_[q] = -vy;  // the bottom body's own frame
     }
+    if (opening)
+      for (std::size_t q = 0; q < n; ++q) {
+        top_y_[q] += opening_stress_spectrum[q] / ey_top_;
+        bottom_y_[q] += opening_stress_spectrum[q] / ey_bottom_;
+      }
   }
   top_->push(top_x_, top_y_);
   bottom_->push(bottom_x_, bottom_y_);

@@ -20,6 +20,15 @@
 // which feed the body operators (the bottom one with -v_y).  A rigid bottom
 // (no operator) has Ex_b = Ey_b = inf: v_top = (V, 0), h = hx_t, sigma = hy_t.
 // Identical bodies give h = (hx_t - hx_b)/2 and sigma = 0 by symmetry.
+//
+// Opening (docs/bodies.md §4): where the faces do not move together the normal
+// traction differs from the contact one sigma by an opening stress d (the
+// solver's contact step decides it per node, in x).  Both faces then carry
+// sigma + d, so each body's own-frame normal velocity gains d / Ey_b (each face
+// is pushed into its own body) and the gap opens at d / Ey_t + d / Ey_b =
+// d / eta_y, eta_y = Ey_t Ey_b / (Ey_t + Ey_b) (Ey_t for a rigid bottom).  The
+// shear elimination is unchanged: both faces carry the same shear traction in
+// contact and open alike.
 #include <complex>
 #include <memory>
 #include <span>
@@ -43,6 +52,11 @@ class InplanePairHistory final : public HistoryOperator {
   int modes() const override { return top_->modes(); }
   ModeOperatorStats stats() const override;
   void push(std::span<const std::complex<double>> slip_rate_spectrum) override;
+  // The same with the spectrum of the opening stress d at t_n [Pa] (above).
+  void push(std::span<const std::complex<double>> slip_rate_spectrum,
+            std::span<const std::complex<double>> opening_stress_spectrum);
+  // eta_y [Pa s/m]: the gap rate is the opening stress over it.
+  double normal_radiation_damping() const { return eta_y_; }
   // Shear history part h at t_{n+1} (sigma_xy = -eta V - h).
   std::span<const std::complex<double>> history() const override { return history_; }
   // Compressive normal stress perturbation at t_{n+1} [Pa] (spectrum).
@@ -52,7 +66,7 @@ class InplanePairHistory final : public HistoryOperator {
 
  private:
   std::unique_ptr<FaceHistory> top_, bottom_;
-  double ex_top_, ey_top_, ex_bottom_, ey_bottom_, eta_;
+  double ex_top_, ey_top_, ex_bottom_, ey_bottom_, eta_, eta_y_;
   std::vector<std::complex<double>> top_x_, top_y_, bottom_x_, bottom_y_, history_, normal_;
 };
 

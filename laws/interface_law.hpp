@@ -43,6 +43,8 @@ struct InterfaceFields {
   // sigma0 everywhere): the compressive normal stress from the elastodynamics
   // at the level solved for and at t_n [Pa], and the effective normal stress the
   // friction sees (at t_n on entry to advance, set by the law at the new level).
+  // A normal stress of exactly 0 marks a node where the faces are open
+  // (docs/bodies.md §4): the law gives it zero shear traction.
   std::span<const double> normal_stress = {}, previous_normal_stress = {};
   std::span<double> effective_normal_stress = {};
 };

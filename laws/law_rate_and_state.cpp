@@ -116,6 +116,8 @@ class RateAndStateLaw final : public InterfaceLaw {
   // (phi after sigma_eff: the Linker-Dieterich response follows sigma_eff).
   // sigma_eff over a step solves d sigma_eff/dt = -r (sigma_eff - sigma(t)), sigma
   // linear in t between the two levels, exactly for the rate r held fixed.
+  // Where the faces are open (sigma = 0 exactly, Simulation's contact step) the
+  // shear traction is zero instead of the friction.
   double relaxed(double effective_old, double sigma_old, double sigma_new, double slip_rate, double dt) const {
     const auto& in = config_.interface;
     const double rate = in.normal_stress_time > 0.0
@@ -134,7 +136,9 @@ class RateAndStateLaw final : public InterfaceLaw {
   // predictor-corrector second order.  alpha = 0 is evolve_state itself.
   double evolve_state_with_normal_stress(const FrictionParameters& p, double phi_old, double slip_rate, double dt,
                                          double effective_old, double effective_new) const {
-    if (p.linker_dieterich == 0.0) return evolve_state(p, phi_old, slip_rate, dt);
+    // effective_old = 0 only after a long opening (sigma_eff decayed to 0): no
+    // finite ratio, the contact starts afresh.
+    if (p.linker_dieterich == 0.0 || !(effective_old > 0.0)) return evolve_state(p, phi_old, slip_rate, dt);
     const double half = std::pow(effective_new / effective_old, -0.5 * p.linker_dieterich / state_log_coefficient(p));
     return half * evolve_state(p, half * phi_old, slip_rate, dt);
   }
@@ -156,6 +160,19 @@ class RateAndStateLaw final : public InterfaceLaw {
         const double v_old = fields.previous_slip_rate[i], phi_old = fields.previous_state[i];
         const double s_old = fields.previous_normal_stress[i], s_new = fields.normal_stress[i];
         const double e_old = fields.effective_normal_stress[i];
+        if (s_new == 0.0) {
+          // Open (docs/bodies.md §4): no traction, so the slip rate makes the
+          // shear traction zero; the state evolves with that slip rate and
+          // sigma_eff relaxes towards sigma = 0 by the same law as in contact.
+          // No Linker-Dieterich part while open: no contact whose state could
+          // respond, and ln(sigma_eff) diverges as sigma_eff -> 0.
+          const double v = tau / eta_;
+          const double v_mid = 0.5 * (v_old + v);
+          fields.state[i] = evolve_state(p, phi_old, v_mid, dt);
+          fields.effective_normal_stress[i] = relaxed(e_old, s_old, s_new, v_mid, dt);
+          fields.slip_rate[i] = v;
+          continue;
+        }
         const double e_p = relaxed(e_old, s_old, s_new, v_old, dt);
         const double phi_p = evolve_state_with_normal_stress(p, phi_old, v_old, dt, e_old, e_p);
         const double v_p = solve_slip_rate(p, e_p, eta_, tau, phi_p, v_old);

@@ -50,6 +50,7 @@ std::size_t state_bytes(const RunCheckpoint& c) {
   const auto& s = c.simulation;
   std::size_t doubles = s.slip.size() + s.slip_rate.size() + s.state.size() + s.shear_stress.size() +
                         s.history_stress.size() + s.normal_stress.size() + s.effective_normal_stress.size() +
+                        s.gap.size() + s.opening_stress.size() +
                         s.slip_z.size() + s.slip_rate_z.size() + s.shear_stress_z.size() + s.speed.size() +
                         c.output.levels_reached.size() +
                         c.output.next_threshold.size() + c.output.rupture_front.size();
@@ -98,6 +99,8 @@ void write_file(const std::string& path, const RunCheckpoint& c) {
     if (!s.normal_stress.empty()) {
       io::write_vector(group, "normal_stress", s.normal_stress);
       io::write_vector(group, "effective_normal_stress", s.effective_normal_stress);
+      io::write_vector(group, "gap", s.gap);
+      io::write_vector(group, "opening_stress", s.opening_stress);
     }
     for (const auto& [name, field] : kInterface2dFields)
       if (!(s.*field).empty()) io::write_vector(group, name, s.*field);
@@ -157,6 +160,12 @@ RunCheckpoint read_file(const std::string& path) {
     if (io::has_member(group, "normal_stress")) {
       s.normal_stress = io::read_vector<double>(group, "normal_stress");
       s.effective_normal_stress = io::read_vector<double>(group, "effective_normal_stress");
+      // A restart point written before opening was modelled: such a run could
+      // not have opened (it stopped), so every node was in contact.
+      const bool opening = io::has_member(group, "gap");
+      s.gap = opening ? io::read_vector<double>(group, "gap") : std::vector<double>(s.normal_stress.size(), 0.0);
+      s.opening_stress = opening ? io::read_vector<double>(group, "opening_stress")
+                                 : std::vector<double>(s.normal_stress.size(), 0.0);
     }
     for (const auto& [name, field] : kInterface2dFields)
       if (io::has_member(group, name)) s.*field = io::read_vector<double>(group, name);

@@ -52,7 +52,8 @@ class LineRun {
         station_rate_(config.output.stations, sim.dx(), sim.x().size()),
         station_stress_(config.output.stations, sim.dx(), sim.x().size()),
         station_state_(config.output.stations, sim.dx(), sim.x().size()),
-        station_normal_(config.output.stations, sim.dx(), sim.x().size()) {}
+        station_normal_(config.output.stations, sim.dx(), sim.x().size()),
+        station_opening_(config.output.stations, sim.dx(), sim.x().size()) {}
 
   SlipSamplingSetup sampling() const {
     SlipSamplingSetup sampling = common_sampling(config_, sim_.dx());
@@ -85,7 +86,7 @@ class LineRun {
   }
   void write_snapshot(RunOutput& output) const {
     output.write_snapshot(sim_.time(), sim_.slip(), sim_.slip_rate(), sim_.state(), sim_.shear_stress(),
-                          sim_.normal_stress());
+                          sim_.normal_stress(), sim_.opening());
   }
   bool has_stations() const { return !station_slip_.empty(); }
   void record_stations(RunOutput& output) {
@@ -96,7 +97,8 @@ class LineRun {
     if (sim_.variable_normal_stress())
       output.append_stations(sim_.time(), station_slip_.sample(sim_.slip()), station_rate_.sample(sim_.slip_rate()),
                              station_stress_.sample(sim_.shear_stress()), station_state_.sample(sim_.state()),
-                             station_normal_.sample(sim_.normal_stress()), sim_.max_slip_rate(), mu_dx * sum_rate);
+                             station_normal_.sample(sim_.normal_stress()), station_opening_.sample(sim_.opening()),
+                             sim_.max_slip_rate(), mu_dx * sum_rate);
     else
       output.append_stations(sim_.time(), station_slip_.sample(sim_.slip()), station_rate_.sample(sim_.slip_rate()),
                              station_stress_.sample(sim_.shear_stress()), station_state_.sample(sim_.state()),
@@ -125,7 +127,7 @@ class LineRun {
   const SimulationConfig& config_;
   const Simulation& sim_;
   // Stations (one buffer per field, sampled in turn).
-  StationSampler station_slip_, station_rate_, station_stress_, station_state_, station_normal_;
+  StationSampler station_slip_, station_rate_, station_stress_, station_state_, station_normal_, station_opening_;
 };
 
 // A 2D interface (docs/3d.md): the x component of the slip is sampled (the

@@ -31,16 +31,19 @@ using io::Handle;
 
 constexpr double nan_value = std::numeric_limits<double>::quiet_NaN();
 
-constexpr const char* station_field_names[5] = {"slip", "slip_rate", "shear_stress", "state",
-                                                "normal_stress"};
-constexpr const char* station_field_units[5] = {"m", "m/s", "Pa", "s", "Pa"};
+// The sixth, opening, only with RunOutputOptions::normal_stress_snapshots.
+constexpr const char* station_field_names[6] = {"slip", "slip_rate", "shear_stress", "state",
+                                                "normal_stress", "opening"};
+constexpr const char* station_field_units[6] = {"m", "m/s", "Pa", "s", "Pa", "m"};
 constexpr std::size_t station_buffer_rows = 1024;
 constexpr const char* timeseries_names[4] = {"time", "max_slip_rate", "mean_slip",
                                              "mean_shear_stress"};
 constexpr const char* timeseries_units[4] = {"s", "m/s", "m", "Pa"};
-// The fifth, normal_stress, only with RunOutputOptions::normal_stress_snapshots.
-constexpr const char* snapshot_names[5] = {"slip", "slip_rate", "state", "shear_stress", "normal_stress"};
-constexpr const char* snapshot_units[5] = {"m", "m/s", "s", "Pa", "Pa"};
+// The fifth and sixth, normal_stress and opening (the gap), only with
+// RunOutputOptions::normal_stress_snapshots.
+constexpr const char* snapshot_names[6] = {"slip", "slip_rate", "state", "shear_stress", "normal_stress",
+                                           "opening"};
+constexpr const char* snapshot_units[6] = {"m", "m/s", "s", "Pa", "Pa", "m"};
 
 constexpr const char* units_table =
     "SI units throughout; every dataset also carries a 'units' attribute.\n"
@@ -189,14 +192,15 @@ void RunOutput::initialise_buffers(const SlipSamplingSetup& slip_sampling) {
     snapshot_names_.assign(std::begin(snapshot_names), std::end(snapshot_names));
     snapshot_units_.assign(std::begin(snapshot_units), std::end(snapshot_units));
     if (!options_.normal_stress_snapshots) {
-      snapshot_names_.pop_back();
-      snapshot_units_.pop_back();
+      snapshot_names_.resize(4);
+      snapshot_units_.resize(4);
     }
   }
   snapshot_fields_ = snapshot_names_.size();
   snapshot_field_buffer_.reserve(snapshot_fields_ * node_count_ * static_cast<std::size_t>(options_.snapshot_chunk));
   station_count_ = options_.station_x.size();
-  if (station_count_ > 0) station_buffer_.reserve(station_buffer_rows * (3 + 5 * station_count_));
+  station_fields_ = options_.normal_stress_snapshots ? 6 : 5;
+  if (station_count_ > 0) station_buffer_.reserve(station_buffer_rows * (3 + station_fields_ * station_count_));
   if (options_.front_slip_rate > 0.0) rupture_front_.assign(node_count_, nan_value);
   if (slip_sampling.delta_th > 0.0) slip_sampler_.emplace(slip_sampling.delta_th, node_count_);
 
@@ -265,7 +269,8 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
     create_extendible(group, "max_slip_rate", series, "m/s");
     create_extendible(group, "moment_rate", series, "N/s per m (mu * sum(v) dx)");
     const io::ExtendibleLayout fields{.columns = station_count_, .chunk_rows = station_buffer_rows};
-    for (int f = 0; f < 5; ++f) create_extendible(group, station_field_names[f], fields, station_field_units[f]);
+    for (std::size_t f = 0; f < station_fields_; ++f)
+      create_extendible(group, station_field_names[f], fields, station_field_units[f]);
   }
   if (!rupture_front_.empty()) {
     const Handle group = io::create_group(file, "rupture_front");
@@ -321,24 +326,33 @@ void RunOutput::append_stations(double time, std::span<const double> slip,
                                 std::span<const double> slip_rate, std::span<const double> shear_stress,
                                 std::span<const double> state, double normal_stress,
                                 double max_slip_rate, double moment_rate) {
-  append_station_row(time, slip, slip_rate, shear_stress, state, {}, normal_stress, max_slip_rate, moment_rate);
+  if (station_fields_ != 5)
+    throw std::invalid_argument("append_stations: the file records the normal stress and opening per station");
+  append_station_row(time, slip, slip_rate, shear_stress, state, {}, {}, normal_stress, max_slip_rate, moment_rate);
 }
 
 void RunOutput::append_stations(double time, std::span<const double> slip,
                                 std::span<const double> slip_rate, std::span<const double> shear_stress,
                                 std::span<const double> state, std::span<const double> normal_stress,
-                                double max_slip_rate, double moment_rate) {
-  if (normal_stress.size() < station_count_)
-    throw std::invalid_argument("append_stations: normal_stress has " + std::to_string(normal_stress.size()) +
+                                std::span<const double> opening, double max_slip_rate, double moment_rate) {
+  if (normal_stress.size() < station_count_ || opening.size() < station_count_)
+    throw std::invalid_argument("append_stations: normal_stress and opening have " +
+                                std::to_string(normal_stress.size()) + " and " + std::to_string(opening.size()) +
                                 " values, expected one per station (" + std::to_string(station_count_) + ")");
-  append_station_row(time, slip, slip_rate, shear_stress, state, normal_stress, 0.0, max_slip_rate, moment_rate);
+  if (station_fields_ != 6)
+    throw std::invalid_argument("append_stations: per-station normal stress and opening given but "
+                                "normal_stress_snapshots is not set");
+  append_station_row(time, slip, slip_rate, shear_stress, state, normal_stress, opening, 0.0, max_slip_rate,
+                     moment_rate);
 }
 
-// One station row; the normal stress per station, or `uniform` at every one.
+// One station row; the normal stress and opening per station, or the normal
+// stress `uniform` at every one (and no opening).
 void RunOutput::append_station_row(double time, std::span<const double> slip,
                                    std::span<const double> slip_rate, std::span<const double> shear_stress,
                                    std::span<const double> state, std::span<const double> normal_stress,
-                                   double uniform, double max_slip_rate, double moment_rate) {
+                                   std::span<const double> opening, double uniform, double max_slip_rate,
+                                   double moment_rate) {
   if (closed_) throw std::logic_error("RunOutput::append_stations after close: " + path_);
   if (station_count_ == 0) throw std::logic_error("RunOutput::append_stations without stations");
   station_buffer_.insert(station_buffer_.end(), {time, max_slip_rate, moment_rate});
@@ -348,7 +362,8 @@ void RunOutput::append_station_row(double time, std::span<const double> slip,
     station_buffer_.insert(station_buffer_.end(), station_count_, uniform);
   else
     station_buffer_.insert(station_buffer_.end(), normal_stress.begin(), normal_stress.begin() + station_count_);
-  if (station_buffer_.size() >= station_buffer_rows * (3 + 5 * station_count_))
+  if (!opening.empty()) station_buffer_.insert(station_buffer_.end(), opening.begin(), opening.begin() + station_count_);
+  if (station_buffer_.size() >= station_buffer_rows * (3 + station_fields_ * station_count_))
     write_out(WriteTrigger::buffer_full);
 }
 
@@ -360,14 +375,15 @@ void RunOutput::set_rupture_front(std::span<const double> arrival_time) {
 
 void RunOutput::write_snapshot(double time, std::span<const double> slip,
                                std::span<const double> slip_rate, std::span<const double> state,
-                               std::span<const double> shear_stress, std::span<const double> normal_stress) {
+                               std::span<const double> shear_stress, std::span<const double> normal_stress,
+                               std::span<const double> opening) {
   if (closed_) throw std::logic_error("RunOutput::write_snapshot after close: " + path_);
-  if (normal_stress.empty() == options_.normal_stress_snapshots)
-    throw std::invalid_argument(std::string("write_snapshot: normal_stress ") +
-                                (normal_stress.empty() ? "missing (normal_stress_snapshots is set)"
-                                                       : "given but normal_stress_snapshots is not set"));
-  const std::span<const double> fields[] = {slip, slip_rate, state, shear_stress, normal_stress};
-  write_snapshot(time, std::span<const std::span<const double>>(fields, normal_stress.empty() ? 4 : 5));
+  if (normal_stress.empty() == options_.normal_stress_snapshots || opening.empty() != normal_stress.empty())
+    throw std::invalid_argument(std::string("write_snapshot: normal_stress and opening ") +
+                                (options_.normal_stress_snapshots ? "missing (normal_stress_snapshots is set)"
+                                                                  : "given but normal_stress_snapshots is not set"));
+  const std::span<const double> fields[] = {slip, slip_rate, state, shear_stress, normal_stress, opening};
+  write_snapshot(time, std::span<const std::span<const double>>(fields, normal_stress.empty() ? 4 : 6));
 }
 
 void RunOutput::write_snapshot(double time, std::span<const std::span<const double>> fields) {
@@ -450,7 +466,7 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
   if (station_count_ > 0) {
     const Handle group = io::open_group(file, "stations");
     for (const char* name : {"time", "max_slip_rate", "moment_rate"}) cut(group, name, cursor.station_rows);
-    for (const char* name : station_field_names) cut(group, name, cursor.station_rows);
+    for (std::size_t f = 0; f < station_fields_; ++f) cut(group, station_field_names[f], cursor.station_rows);
   }
   if (slip_sampler_) {
     // Crossings are single elements (NaN = not reached): those of levels a
@@ -637,7 +653,7 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
     slip_sampler_->clear_pending();
   }
 
-  const std::size_t row_width = 3 + 5 * station_count_;
+  const std::size_t row_width = 3 + station_fields_ * station_count_;
   const std::size_t station_rows = station_count_ ? station_buffer_.size() / row_width : 0;
   if (station_rows > 0) {
     const Handle group = io::open_group(file, "stations");
@@ -647,7 +663,7 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
       io::grow_rows(dset, station_rows_in_file_ + station_rows);
       io::write_rows(dset, station_rows_in_file_, station_rows, station_buffer_.data() + c, row_width);
     }
-    for (int f = 0; f < 5; ++f) {
+    for (std::size_t f = 0; f < station_fields_; ++f) {
       const Handle dset = io::open_dataset(group, station_field_names[f]);
       io::grow_rows(dset, station_rows_in_file_ + station_rows);
       for (std::size_t r = 0; r < station_rows; ++r)

@@ -81,8 +81,10 @@ struct RunOutputOptions {
   // [s wall] how long writes are deferred while a reader holds the file open
   // (h5py's shared lock) before writing anyway; see docs/output.md.
   double reader_lock_timeout = 30.0;
-  // /snapshots/normal_stress as a fifth field (in-plane dissimilar bodies,
-  // whose normal stress varies; otherwise it is loading.normal_stress).
+  // /snapshots/normal_stress and /snapshots/opening (the gap) as a fifth and
+  // sixth field, and /stations/opening as a sixth station field (in-plane
+  // dissimilar bodies, whose normal stress varies and whose faces may open;
+  // otherwise the normal stress is loading.normal_stress and the gap 0).
   bool normal_stress_snapshots = false;
   // A 2D interface (SlipSamplingSetup.nodes_z > 1): the snapshot fields by
   // name and units, each stored as [snapshots, nodes_z, nodes_x] (one chunk
@@ -129,10 +131,10 @@ class RunOutput {
 
   void append_timeseries(double time, double max_slip_rate, double mean_slip,
                          double mean_shear_stress);
-  // normal_stress: given exactly when RunOutputOptions::normal_stress_snapshots.
+  // normal_stress and opening: given exactly when RunOutputOptions::normal_stress_snapshots.
   void write_snapshot(double time, std::span<const double> slip, std::span<const double> slip_rate,
                       std::span<const double> state, std::span<const double> shear_stress,
-                      std::span<const double> normal_stress = {});
+                      std::span<const double> normal_stress = {}, std::span<const double> opening = {});
   // Any snapshot: one span of N values per field, in the file's field order
   // (the one above, or RunOutputOptions::interface_2d_fields).
   void write_snapshot(double time, std::span<const std::span<const double>> fields);
@@ -142,10 +144,12 @@ class RunOutput {
   void append_stations(double time, std::span<const double> slip, std::span<const double> slip_rate,
                        std::span<const double> shear_stress, std::span<const double> state,
                        double normal_stress, double max_slip_rate, double moment_rate);
-  // The same with the normal stress at each station (in-plane dissimilar bodies).
+  // The same with the normal stress and the opening at each station (in-plane
+  // dissimilar bodies: only with RunOutputOptions::normal_stress_snapshots).
   void append_stations(double time, std::span<const double> slip, std::span<const double> slip_rate,
                        std::span<const double> shear_stress, std::span<const double> state,
-                       std::span<const double> normal_stress, double max_slip_rate, double moment_rate);
+                       std::span<const double> normal_stress, std::span<const double> opening,
+                       double max_slip_rate, double moment_rate);
   // The per-node rupture-front arrival times [s] (NaN = not yet), written whole
   // at every write-out.  Only with front_slip_rate > 0.
   void set_rupture_front(std::span<const double> arrival_time);
@@ -211,15 +215,18 @@ class RunOutput {
   std::vector<double> timeseries_buffer_;  // 4 values per row
   std::vector<double> snapshot_time_buffer_;
   std::vector<std::string> snapshot_names_, snapshot_units_;  // the fields, in order
-  std::size_t snapshot_fields_ = 4;              // 5 with normal_stress_snapshots
+  std::size_t snapshot_fields_ = 4;              // 6 with normal_stress_snapshots
   int nodes_x_ = 0, nodes_z_ = 1;                // nodes_z_ > 1: a 2D interface
   std::vector<double> snapshot_field_buffer_;  // fields x N per snapshot, field-major per snapshot
   void append_station_row(double time, std::span<const double> slip, std::span<const double> slip_rate,
                           std::span<const double> shear_stress, std::span<const double> state,
-                          std::span<const double> normal_stress, double uniform, double max_slip_rate,
+                          std::span<const double> normal_stress, std::span<const double> opening,
+                          double uniform, double max_slip_rate,
                           double moment_rate);
-  // Stations: per row, time, max slip rate, moment rate, then 5 fields x stations.
+  // Stations: per row, time, max slip rate, moment rate, then 5 (6 with
+  // normal_stress_snapshots: the opening) fields x stations.
   std::size_t station_count_ = 0;
+  std::size_t station_fields_ = 5;
   std::size_t station_rows_in_file_ = 0;
   std::vector<double> station_buffer_;
   std::vector<double> rupture_front_;  // per node; written whole at each write-out

@@ -16,6 +16,7 @@
 #include "kernels/face_half_space.hpp"
 #include "kernels/inplane_pair_history.hpp"
 #include "kernels/two_body_history.hpp"
+#include "solver/interface_contact.hpp"
 
 namespace slipstrip {
 // Both algorithms apply the same discrete operator (to ~1e-13,
@@ -162,6 +163,9 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
     // Steady sliding: sigma = sigma_eff = sigma0 (the history is empty).
     normal_stress_.assign(n, config_.loading.normal_stress);
     previous_normal_stress_ = effective_normal_stress_ = normal_stress_;
+    gap_.assign(n, 0.0);
+    opening_stress_ = opening_ = opening_rate_ = gap_;
+    opening_spectrum_.assign(n / 2 + 1, 0.0);
   }
 
   law_ = laws.make(InterfaceSetup{config_, x_, eta_});
@@ -177,24 +181,53 @@ InterfaceFields Simulation::fields() {
                          normal_stress_, previous_normal_stress_, effective_normal_stress_};
 }
 
-// The normal stress at t_{n+1} from the pair operator (it has no instantaneous
-// term in the slip rate).  Where it is not compressive the interface would
-// open; opening is not modelled, so the run stops here, naming the node.
+// The normal stress at t_{n+1}: the contact one from the pair operator (it has
+// no instantaneous term in the slip rate), then the unilateral contact per node
+// (solver/interface_contact.hpp): where it would not be compressive the faces
+// open (or, with interface.opening = "stop", the run stops naming the node).
 void Simulation::update_normal_stress() {
   std::copy(normal_stress_.begin(), normal_stress_.end(), previous_normal_stress_.begin());
   fft_->inverse(pair_->normal_stress(), work_real_);
   const double sigma0 = config_.loading.normal_stress;
+  const double eta_y = pair_->normal_radiation_damping();
+  const bool stop = config_.interface.opening == OpeningResponse::stop;
+  any_opening_stress_ = false;
   for (int i = 0; i < nodes_; ++i) {
-    normal_stress_[i] = sigma0 + work_real_[i];
-    if (!(normal_stress_[i] > 0.0)) {
+    const double contact = sigma0 + work_real_[i];
+    if (stop && !(contact > 0.0)) {
       std::ostringstream msg;
       msg << "interface opening at node " << i << " (x = " << x_[i] << " m), t = " << time_ + dt_
-          << " s, step " << step_index_ + 1 << ": the compressive normal stress would be "
-          << normal_stress_[i] << " Pa (loading.normal_stress = " << sigma0
-          << " Pa); opening (zero traction, a gap) is not modelled, so the run stops (docs/bodies.md)";
+          << " s, step " << step_index_ + 1 << ": the compressive normal stress would be " << contact
+          << " Pa (loading.normal_stress = " << sigma0
+          << " Pa); interface.opening = \"stop\" ends the run here (\"open\" lets the faces separate; "
+             "docs/bodies.md)";
       throw SimulationError(msg.str());
     }
+    if (!std::isfinite(contact)) {
+      std::ostringstream msg;
+      msg << "non-finite normal stress at node " << i << " (x = " << x_[i] << " m), t = " << time_ + dt_
+          << " s, step " << step_index_ + 1 << ": " << contact << " Pa";
+      throw SimulationError(msg.str());
+    }
+    const NormalContact c = normal_contact(contact, gap_[i], eta_y, dt_);
+    normal_stress_[i] = c.normal_stress;
+    opening_stress_[i] = c.opening_stress;
+    gap_[i] = c.gap;
+    any_opening_stress_ = any_opening_stress_ || c.opening_stress != 0.0;
   }
+  update_opening_outputs();
+}
+
+void Simulation::update_opening_outputs() {
+  const double eta_y = pair_->normal_radiation_damping();
+  for (int i = 0; i < nodes_; ++i) {
+    opening_rate_[i] = opening_stress_[i] / eta_y;
+    opening_[i] = reported_gap(normal_stress_[i], gap_[i], opening_rate_[i], dt_);
+  }
+}
+
+int Simulation::open_nodes() const {
+  return static_cast<int>(std::count(normal_stress_.begin(), normal_stress_.end(), 0.0));
 }
 
 template <class Call>
@@ -229,7 +262,13 @@ void Simulation::step() {
   for (int i = 0; i < nodes_; ++i)
     work_real_[i] = first_sample_weight * (slip_rate_[i] - driving_velocity_);
   fft_->forward(work_real_, spectrum_);
-  history_->push(spectrum_);
+  if (any_opening_stress_) {
+    // Some node is open or closing at t_n: its faces move apart (docs/bodies.md §4).
+    fft_->forward(opening_stress_, opening_spectrum_);
+    pair_->push(spectrum_, opening_spectrum_);
+  } else {
+    history_->push(spectrum_);
+  }
   fft_->inverse(history_->history(), history_stress_);
   if (pair_) update_normal_stress();
 
@@ -270,6 +309,8 @@ SimulationState Simulation::save_state() const {
   saved.history_stress = history_stress_;
   saved.normal_stress = normal_stress_;
   saved.effective_normal_stress = effective_normal_stress_;
+  saved.gap = gap_;
+  saved.opening_stress = opening_stress_;
   saved.history = history_->save_state();
   return saved;
 }
@@ -292,12 +333,19 @@ void Simulation::restore_state(const SimulationState& saved) {
                                {"shear_stress", &saved.shear_stress, &shear_stress_},
                                {"history_stress", &saved.history_stress, &history_stress_},
                                {"normal_stress", &saved.normal_stress, &normal_stress_},
-                               {"effective_normal_stress", &saved.effective_normal_stress, &effective_normal_stress_}};
+                               {"effective_normal_stress", &saved.effective_normal_stress, &effective_normal_stress_},
+                               {"gap", &saved.gap, &gap_},
+                               {"opening_stress", &saved.opening_stress, &opening_stress_}};
   check_saved_state(fields, saved, nodes_, "saved simulation state");
   history_->restore_state(saved.history);
   for (const auto& f : fields) std::copy(f.saved->begin(), f.saved->end(), f.target->begin());
   time_ = saved.time;
   step_index_ = saved.step_index;
+  if (pair_) {
+    any_opening_stress_ = std::any_of(opening_stress_.begin(), opening_stress_.end(),
+                                      [](double d) { return d != 0.0; });
+    update_opening_outputs();
+  }
 }
 
 double Simulation::max_slip_rate() const {

@@ -31,8 +31,9 @@ struct SimulationState {
   double time = 0.0;
   long long step_index = 0;
   std::vector<double> slip, slip_rate, state, shear_stress, history_stress;
-  // In-plane dissimilar bodies only (empty otherwise).
-  std::vector<double> normal_stress, effective_normal_stress;
+  // In-plane dissimilar bodies only (empty otherwise); gap and opening_stress
+  // as in solver/interface_contact.hpp (all zero while the faces are in contact).
+  std::vector<double> normal_stress, effective_normal_stress, gap, opening_stress;
   // A 2D interface only (Simulation3d, empty otherwise): slip, slip_rate and
   // shear_stress above hold the x components, these the z components, and
   // speed |v| as the local solve left it (the next step's previous speed,
@@ -101,6 +102,13 @@ class Simulation {
   // [Pa]; empty unless variable_normal_stress().
   std::span<const double> normal_stress() const { return normal_stress_; }
   std::span<const double> effective_normal_stress() const { return effective_normal_stress_; }
+  // Opening of the interface (docs/bodies.md §4): the gap, the jump of the
+  // normal displacement [m] (>= 0, 0 where the faces are in contact), and its
+  // rate [m/s]; empty unless variable_normal_stress().
+  std::span<const double> opening() const { return opening_; }
+  std::span<const double> opening_rate() const { return opening_rate_; }
+  // Nodes open at the current level (normal traction 0).
+  int open_nodes() const;
 
   // Save (allocates: outside the time loop) and restore into a Simulation
   // built from the same config; the restored one then steps bit for bit as
@@ -128,6 +136,7 @@ class Simulation {
   void run_law(Call&& call);
   void check_finite(const char* what) const;
   void update_normal_stress();
+  void update_opening_outputs();
 
   SimulationConfig config_;
   int nodes_;
@@ -141,12 +150,18 @@ class Simulation {
   std::vector<double> history_stress_;  // history part in x [Pa]
   // In-plane dissimilar bodies (empty otherwise).
   std::vector<double> normal_stress_, previous_normal_stress_, effective_normal_stress_;
+  // Opening: the gap by the contact rule and the opening stress (the state,
+  // solver/interface_contact.hpp), the gap as the operators see it and its rate
+  // (outputs, derived from the state).
+  std::vector<double> gap_, opening_stress_, opening_, opening_rate_;
+  std::vector<std::complex<double>> opening_spectrum_;
+  bool any_opening_stress_ = false;  // some node has opening_stress != 0 (push it)
   std::vector<double> work_real_;
   std::vector<std::complex<double>> spectrum_;
 
   std::unique_ptr<RealFft> fft_;
   std::unique_ptr<HistoryOperator> history_;
-  const InplanePairHistory* pair_ = nullptr;  // history_ when it is one (normal stress), else null
+  InplanePairHistory* pair_ = nullptr;  // history_ when it is one (normal stress), else null
   std::unique_ptr<InterfaceLaw> law_;
 };
 

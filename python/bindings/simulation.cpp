@@ -69,9 +69,11 @@ std::span<const double> field_of(const Simulation& sim, const std::string& name)
   // dissimilar bodies, docs/bodies.md).
   if (name == "normal_stress") return sim.normal_stress();
   if (name == "effective_normal_stress") return sim.effective_normal_stress();
+  if (name == "opening") return sim.opening();
+  if (name == "opening_rate") return sim.opening_rate();
   throw std::invalid_argument("field = '" + name +
                               "' is unknown: allowed are x, slip, slip_rate, state, shear_stress, normal_stress, "
-                              "effective_normal_stress");
+                              "effective_normal_stress, opening, opening_rate");
 }
 
 // A read-only 1-D array over the solver's own memory.  `owner` (the Python
@@ -244,6 +246,11 @@ void bind_simulation(py::module_& m) {
                              [](py::object self) { return field_view(self, "effective_normal_stress"); },
                              "Effective normal stress the friction sees [Pa] (read-only view); empty unless "
                              "the normal stress varies")
+      .def_property_readonly("opening", [](py::object self) { return field_view(self, "opening"); },
+                             "Opening (gap between the faces, jump of the normal displacement) [m] (read-only "
+                             "view); 0 where the faces are in contact; empty unless the normal stress varies")
+      .def_property_readonly("opening_rate", [](py::object self) { return field_view(self, "opening_rate"); },
+                             "Rate of the opening [m/s] (read-only view); empty unless the normal stress varies")
       .def("_field_address",
            [](const PySimulation& sim, const std::string& name) {
              return reinterpret_cast<std::uintptr_t>(field_of(sim, name).data());

@@ -9,7 +9,9 @@ writes, from /stations and /rupture_front of the run file,
   (problem, code, version, git hash, date, element size, location, column
   descriptions), then the field-name line, then one row per record with
   t [s], slip [m], log10 slip rate [log10 m/s], shear stress [MPa],
-  log10 state [log10 s] and normal stress [MPa], every value in ``%.15e``;
+  log10 state [log10 s] and normal stress [MPa], and for a pair of different
+  in-plane bodies the opening (gap between the faces) [m], every value in
+  ``%.15e``;
 * ``global.txt``: t [s], log10 max slip rate [log10 m/s], moment rate
   [N/s per metre along the third direction, i.e. mu * integral of v dx];
 * ``rupture.txt`` (if the run recorded fronts): x [m], arrival time [s] of the
@@ -85,6 +87,8 @@ def export_seas(run_path, out_dir, overwrite: bool = False,
         x = g["x"][:]
         t = g["time"][:]
         fields = {k: g[k][:] for k in ("slip", "slip_rate", "shear_stress", "state", "normal_stress")}
+        # In-plane pairs of different bodies also record the gap (docs/bodies.md §4).
+        opening = g["opening"][:] if "opening" in g else None
         vmax = g["max_slip_rate"][:]
         moment_rate = g["moment_rate"][:]
         front = h5["rupture_front/arrival_time"][:] if "rupture_front" in h5 else None
@@ -95,7 +99,7 @@ def export_seas(run_path, out_dir, overwrite: bool = False,
                   inputs=[run_path], overwrite=overwrite, overwrite_flag=overwrite_flag)
     out_dir.mkdir(parents=True, exist_ok=True)
     columns = [("t", "s"), ("slip", "m"), ("slip_rate", "log10 m/s"), ("shear_stress", "MPa"),
-               ("state", "log10 s"), ("normal_stress", "MPa")]
+               ("state", "log10 s"), ("normal_stress", "MPa")] + ([("opening", "m")] if opening is not None else [])
     with np.errstate(divide="ignore"):
         for s, xs in enumerate(x):
             path = out_dir / names[s]
@@ -105,7 +109,8 @@ def export_seas(run_path, out_dir, overwrite: bool = False,
                          "# slip rate and state as log10, stresses in MPa (SEAS convention)"])
                 table = np.column_stack([t, fields["slip"][:, s], np.log10(np.abs(fields["slip_rate"][:, s])),
                                          fields["shear_stress"][:, s] / 1e6, np.log10(fields["state"][:, s]),
-                                         fields["normal_stress"][:, s] / 1e6])
+                                         fields["normal_stress"][:, s] / 1e6]
+                                        + ([opening[:, s]] if opening is not None else []))
                 np.savetxt(f, table, fmt=FMT)
             written.append(path)
         path = out_dir / "global.txt"

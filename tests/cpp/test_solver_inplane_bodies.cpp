@@ -150,6 +150,7 @@ law = "free"
 stress_amplitude = 1e5
 pulse_center = 0.5
 pulse_width = 0.05
+opening = "stop"
 )");
   Simulation o(open);
   std::string message;
