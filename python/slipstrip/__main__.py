@@ -1,6 +1,6 @@
 """python3 -m slipstrip <command> [...]
 
-  plot     RUN.h5 [--out spacetime.png] [--kind spacetime|timeseries]
+  plot     RUN.h5 [--out spacetime.png] [--kind spacetime|timeseries|maps] [--times T1,T2,...]
   plot-stability  TABLE.csv --out FIG.png   (the CSV of `slipstrip stability --out`)
   analyze  ...  (slipstrip.analysis.main)
   scan     ...  (slipstrip.scan.main)
@@ -36,11 +36,17 @@ def _outputs_ok(outputs: dict, inputs: list, overwrite: bool) -> bool:
 
 def plot_main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(prog="python3 -m slipstrip plot",
-                                     description="Plot a run file (space-time map of log10(v/v0) by default).")
+                                     description="Plot a run file (by default the space-time map of "
+                                                 "log10(v/v0) of a line, the slip-rate maps of a 2D interface).")
     parser.add_argument("run", help="run file (HDF5) written by `slipstrip run`")
     parser.add_argument("--out", default=None,
                         help="output PNG (default: spacetime.png or timeseries.png in the current directory)")
-    parser.add_argument("--kind", choices=("spacetime", "timeseries"), default="spacetime")
+    parser.add_argument("--kind", choices=("spacetime", "timeseries", "maps"), default=None,
+                        help="spacetime (a line; the default there), maps (a 2D interface: slip-rate maps over "
+                             "(x, z) with the rupture front; the default there), timeseries (both)")
+    parser.add_argument("--times", default=None,
+                        help="maps: comma-separated times [s] of the maps (default: four snapshots spread "
+                             "over the run)")
     parser.add_argument("--vmin", type=float, default=None, help="colour scale minimum of log10(v/v0)")
     parser.add_argument("--vmax", type=float, default=None, help="colour scale maximum of log10(v/v0)")
     parser.add_argument("--dpi", type=int, default=150)
@@ -48,12 +54,40 @@ def plot_main(argv: list[str]) -> int:
     args = parser.parse_args(argv)
 
     from . import plots  # matplotlib is imported only when plotting
+    from .runfile import open_run
 
-    out = args.out or f"{args.kind}.png"
+    try:
+        plane = open_run(args.run).interface_2d
+    except (ValueError, OSError, KeyError) as e:
+        print(f"error: {one_line(e)}", file=sys.stderr)
+        return 2
+    kind = args.kind or ("maps" if plane else "spacetime")
+    if kind == "spacetime" and plane:
+        print(f"error: {args.run} is a 2D interface (geometry.nodes_z > 1): it has no space-time map of a line; "
+              "use --kind maps (slip-rate maps over (x, z)) or --kind timeseries", file=sys.stderr)
+        return 2
+    if kind == "maps" and not plane:
+        print(f"error: --kind maps draws a 2D interface (geometry.nodes_z > 1); {args.run} is a line: "
+              "use --kind spacetime", file=sys.stderr)
+        return 2
+    times = None
+    if args.times is not None:
+        try:
+            times = [float(t) for t in args.times.split(",")]
+        except ValueError:
+            print(f"error: --times {args.times!r}: expected comma-separated times in s, e.g. 1e-3,2e-3",
+                  file=sys.stderr)
+            return 2
+        if kind != "maps":
+            print("error: --times applies to --kind maps only", file=sys.stderr)
+            return 2
+    out = args.out or f"{kind}.png"
     if not _outputs_ok({"--out": out}, [args.run], args.overwrite):
         return 2
     try:
-        if args.kind == "spacetime":
+        if kind == "maps":
+            plots.interface_2d_maps(args.run, out, times=times, dpi=args.dpi)
+        elif kind == "spacetime":
             plots.spacetime(args.run, out, vmin=args.vmin, vmax=args.vmax, dpi=args.dpi)
         else:
             plots.timeseries(args.run, out, dpi=args.dpi)

@@ -23,6 +23,7 @@ import sys
 import numpy as np
 
 from . import analysis as an
+from . import runfile
 from .paths import OutputPathError, check_outputs, one_line
 
 THRESHOLDS = (0.01, 0.1, 0.3)
@@ -133,6 +134,9 @@ def main(argv: list[str]) -> int:
         print(f"trajectory-divergence: {err}", file=sys.stderr)
         return 2
     try:
+        for run in a.runs:
+            runfile.require_line(run, "trajectory-divergence", "compares the space-time fields of "
+                                 "one-dimensional interfaces only")
         summaries = [divergence_summary(x, y) for x, y in zip(a.runs[::2], a.runs[1::2])]
     except (ValueError, OSError, KeyError) as err:
         print(f"trajectory-divergence: {one_line(err)}", file=sys.stderr)

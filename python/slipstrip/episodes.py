@@ -22,6 +22,7 @@ import numpy as np
 
 from . import analysis as an
 from .paths import OutputPathError, check_outputs, one_line
+from . import runfile
 from .runfile import open_h5, read_config
 
 
@@ -209,6 +210,8 @@ def main(argv: list[str]) -> int:
         print(f"pulse-episodes: {err}", file=sys.stderr)
         return 2
     try:
+        runfile.require_line(run, "pulse-episodes", "applies the paper's periodic-pulse criterion of a "
+                             "one-dimensional interface; use analyze for a 2D interface's events")
         s = pulse_summary(run, window_transits=a.window_transits)
     except (ValueError, OSError, KeyError) as err:
         print(f"pulse-episodes: {one_line(err)}", file=sys.stderr)

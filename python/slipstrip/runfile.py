@@ -111,6 +111,18 @@ def read_attrs(path: str | os.PathLike, group: str = "/") -> dict[str, Any]:
         return {k: decode_attr(v) for k, v in f[group].attrs.items()}
 
 
+def is_interface_2d(path: str | os.PathLike) -> bool:
+    """True for the run file of a 2D interface (root attribute `format`, docs/3d.md)."""
+    return read_attrs(path).get("format", "") == "slipstrip interface_2d"
+
+
+def require_line(path: str | os.PathLike, command: str, why: str) -> None:
+    """ValueError (one line) if `path` is a 2D interface's run file: `command`
+    reads one-dimensional interfaces only, for the reason `why`."""
+    if is_interface_2d(path):
+        raise ValueError(f"{os.fspath(path)} is a 2D interface (geometry.nodes_z > 1): {command} {why}")
+
+
 def read_config_text(path: str | os.PathLike) -> str:
     """The resolved config (root attribute `config`, TOML text); KeyError if absent."""
     with open_h5(path) as f:

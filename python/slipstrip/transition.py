@@ -616,6 +616,13 @@ def main(argv: list[str]) -> int:
             print(f"transition: {err}", file=sys.stderr)
             return 2
         files.append(entry)
+    for path in files:
+        try:
+            runfile.require_line(path, "transition", "classifies the long-time state of a one-dimensional "
+                                 "interface (the paper's states); use analyze for a 2D interface")
+        except (ValueError, runfile.RunFileError) as err:
+            print(f"transition: {one_line(err)}", file=sys.stderr)
+            return 2
     n_found = len(files)
     outputs = {"--csv": args.csv, "--plot": args.plot, "--table": args.table, "--collapse": args.collapse,
                "--heights": args.heights}

@@ -17,8 +17,8 @@ import numpy as np
 from ..paths import OutputPathError, check_outputs, one_line
 from ..runfile import open_h5, unreadable_reason
 from .criteria import group_nodal_slips, periodic_pulse_of_run
-from .figures import (plot_event_fields, plot_event_map, plot_pdf_comparison, plot_pdfs, plot_space_slip,
-                      plot_space_time)
+from .figures import (plot_event_fields, plot_event_map, plot_event_maps, plot_hypocentres, plot_pdf_comparison,
+                      plot_pdfs, plot_space_slip, plot_space_time)
 from .reading import DEFAULT_ALPHA, RunInfo, _read_crossing_time, catalog_for, read_run_info
 from .statistics import _public, catalog_statistics, stationarity, stationary_part
 
@@ -69,8 +69,15 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
     if len(catalog["t_start"]) == 0:
         raise EmptyCatalog(f"{path}: {empty_catalog_reason(catalog['attrs'], info, alpha)}")
     st = catalog_statistics(catalog, info, seed=seed)
-    summary = {"run": str(path), "alpha": float(alpha), "normalisation": {
-        "u": "u_mean/D", "T": "T*v0/D", "M0": "M0/(mu*D*L)"}, "scales": dataclasses.asdict(info)}
+    plane = info.interface_2d
+    # A line's moment is per unit width (M0 = mu L_s u_mean [N/m]); a 2D
+    # interface's is a moment (M0 = mu A u_mean [N m]) and A an area [m^2].
+    normalisation = ({"u": "u_mean/D", "T": "T*v0/D", "M0": "M0/(mu*D*L*W)", "A": "A/(L*W)"} if plane
+                     else {"u": "u_mean/D", "T": "T*v0/D", "M0": "M0/(mu*D*L)"})
+    summary = {"run": str(path), "alpha": float(alpha), "interface": "2d" if plane else "line",
+               "normalisation": normalisation,
+               "moment_units": "N m (mu A u_mean)" if plane else "N/m (mu L_s u_mean, per unit width)",
+               "scales": dataclasses.asdict(info)}
     summary.update(_public(st))
     summary["catalog_counts"] = {k: catalog["attrs"].get(k) for k in (
         "n_nodal_slips", "n_events_detected", "n_events_excluded_first_last", "n_events_below_thresholds",
@@ -78,7 +85,11 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
     with open_h5(path) as f:
         has_snap = "snapshots" in f and f["snapshots/time"].shape[0] > 0
         has_ss = "slip_sampling" in f
-    summary.update(periodic_pulse_of_run(path, catalog, info))
+    if plane:
+        summary.update({"periodic_pulse": None, "periodic_pulse_basis": "not applicable: the paper's pulse "
+                        "criteria (docs/analysis.md) are those of a one-dimensional interface"})
+    else:
+        summary.update(periodic_pulse_of_run(path, catalog, info))
     summary["stationarity"] = stationarity(catalog, info)
     kept = stationary_part(catalog, info)
     summary["transient_cut"] = kept["cut"]
@@ -95,9 +106,11 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
     summary["threshold_sensitivity"] = sens
 
     figures = []
-    if has_snap:
+    if plane:
+        figures += plot_hypocentres(catalog, info, out_dir, pdf)
+    if has_snap and not plane:
         figures += plot_space_time(path, info, out_dir, pdf)
-    if has_ss:
+    if has_ss and not plane:
         ct, x = _read_crossing_time(path)
         figures += plot_space_slip(ct, x, info, out_dir, pdf)
         groups = group_nodal_slips(ct, info.delta_th, info.v0, alpha,
@@ -121,7 +134,7 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
         if not -n_ev <= index < n_ev:
             raise ValueError(f"--event {event}: allowed 0..{n_ev - 1} ({n_ev} events)")
         index %= n_ev
-        paths, times = plot_event_fields(path, catalog, index, info, out_dir, pdf)
+        paths, times = (plot_event_maps if plane else plot_event_fields)(path, catalog, index, info, out_dir, pdf)
         figures += paths
         summary["event_fields"] = {"event": index, "snapshot_times": times}
     summary["figures"] = figures
@@ -158,11 +171,13 @@ def format_summary(s: dict) -> str:
         f" (bootstrap {f(s.get('small_exponent_u_bootstrap_err'))}, xmin = {f(s['small_exponent_u_xmin'])},"
         f" n = {s['small_exponent_u_n']})",
         f"  T v0/D: a = {f(s['small_exponent_T'])} +- {f(s['small_exponent_T_err'])};"
-        f"  M0/(mu D L): a = {f(s['small_exponent_M0'])} +- {f(s['small_exponent_M0_err'])}",
+        f"  {s['normalisation']['M0'].replace('*', ' ')}: a = {f(s['small_exponent_M0'])} +- {f(s['small_exponent_M0_err'])}"
+        + (f";  A/(L W): a = {f(s['small_exponent_A'])} +- {f(s['small_exponent_A_err'])}" if "A" in s["normalisation"]
+           else ""),
         f"large events, log-normal of T v0/D: mu = {f(s['lognormal_mu'])}, sigma = {f(s['lognormal_sigma'])},"
         f" KS = {f(s['lognormal_ks'])}, p = {f(s['lognormal_ks_pvalue'])} (naive {f(s['lognormal_ks_pvalue_naive'])})",
         f"slip fraction: small events {f(s['slip_fraction_small'])}, system-spanning {f(s['slip_fraction_spanning'])}",
-        f"periodic pulse: {s['periodic_pulse']}",
+        f"periodic pulse: {s['periodic_pulse'] if s['periodic_pulse'] is not None else s['periodic_pulse_basis']}",
         "stationarity (first vs last fifth, KS p): " + ", ".join(
             f"{k} {f(s['stationarity'][k]['pvalue'])}" for k in ("u", "T", "M0")),
         "threshold sensitivity: " + "; ".join(
@@ -176,7 +191,8 @@ def format_summary(s: dict) -> str:
 
 # The figures analyze() writes under fixed names (besides event_<i>_fields, whose
 # index is known only after the detection).
-FIGURE_NAMES = ("space_time", "space_slip", "event_map", "pdfs", "stationarity", "threshold_sensitivity")
+FIGURE_NAMES = ("space_time", "space_slip", "event_map", "pdfs", "stationarity", "threshold_sensitivity",
+                "hypocentres")
 
 
 def analysis_outputs(out_dir, alpha: float = DEFAULT_ALPHA, pdf: bool = False,

@@ -11,7 +11,7 @@ from scipy import stats
 from ..runfile import open_h5, read_times
 from .criteria import NodalSlipGroups
 from .reading import RunInfo, _stride
-from .statistics import _log_norm, log_binned_pdf, normalised_observables
+from .statistics import _log_norm, log_binned_pdf, normalised_observables, observable_labels
 
 
 def _plt():
@@ -108,14 +108,15 @@ def _pdf_line(ax, x, label, **kw):
 
 
 def plot_pdfs(catalog: dict, info: RunInfo, stats_: dict, out_dir: Path, pdf: bool = False) -> list[str]:
-    """p(u/D), p(T v0/D), p(M0/(mu D L)) with the power-law and log-normal fits (Fig. 1c-e)."""
+    """p(u/D), p(T v0/D), p(M0/(mu D L)) with the power-law and log-normal fits (Fig. 1c-e);
+    on a 2D interface p(M0/(mu D L W)) and a fourth panel p(A/(L W))."""
     plt = _plt()
     obs = normalised_observables(catalog, info)
     large = obs["u"] >= 1.0
-    labels = {"u": r"$\bar u/D$", "T": r"$T v_0/D$", "M0": r"$M_0/(\mu D L)$"}
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    labels = observable_labels(info)
+    fig, axes = plt.subplots(1, len(obs), figsize=(14 * len(obs) / 3, 4.2))
     n_all = max(1, np.sum(np.isfinite(obs["u"]) & (obs["u"] > 0)))
-    for ax, name in zip(axes, ("u", "T", "M0")):
+    for ax, name in zip(axes, obs):
         _pdf_line(ax, obs[name], "all events", marker="o", ms=3, color="C1")
         c, p, _ = log_binned_pdf(obs[name][large])
         m = p > 0
@@ -145,13 +146,13 @@ def plot_pdfs(catalog: dict, info: RunInfo, stats_: dict, out_dir: Path, pdf: bo
 def plot_pdf_comparison(sets: dict, info: RunInfo, out_dir: Path, name: str, pdf: bool = False) -> list[str]:
     """PDFs of several catalogs (stationarity, Fig. S8; thresholds, Fig. S9)."""
     plt = _plt()
-    labels = {"u": r"$\bar u/D$", "T": r"$T v_0/D$", "M0": r"$M_0/(\mu D L)$"}
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    labels = observable_labels(info)
+    fig, axes = plt.subplots(1, len(labels), figsize=(14 * len(labels) / 3, 4.2))
     for label, catalog in sets.items():
         obs = normalised_observables(catalog, info)
-        for ax, key in zip(axes, ("u", "T", "M0")):
+        for ax, key in zip(axes, labels):
             _pdf_line(ax, obs[key], f"{label} (n={obs[key].size})")
-    for ax, key in zip(axes, ("u", "T", "M0")):
+    for ax, key in zip(axes, labels):
         ax.set_xlabel(labels[key])
         ax.set_ylabel("p")
         _legend(ax)
@@ -189,3 +190,40 @@ def plot_event_fields(path, catalog: dict, index: int, info: RunInfo, out_dir: P
                       f"u_mean/D={catalog['u_mean'][index] / info.D:.3g}, L_s/L={catalog['L_s'][index] / info.L:.3g}",
                       fontsize=8)
     return _save(fig, out_dir, f"event_{index}_fields", pdf), (float(ts[ib]), float(ts[ia]))
+
+
+def plot_hypocentres(catalog: dict, info: RunInfo, out_dir: Path, pdf: bool = False) -> list[str]:
+    """A 2D interface: each event's hypocentre (x_start, z_start) over the
+    interface, coloured by its start time, the marker's area proportional to
+    the event's area A."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6, 6 * info.W / info.L + 1.0))
+    area = np.asarray(catalog["A"], float)
+    sizes = 4.0 + 400.0 * area / (info.L * info.W)
+    sc = ax.scatter(catalog["x_start"], catalog["z_start"], s=sizes, c=np.asarray(catalog["t_start"], float),
+                    cmap="viridis", edgecolors="k", linewidths=0.3)
+    fig.colorbar(sc, ax=ax, label="t_start [s]")
+    ax.set_xlim(0.0, info.L)
+    ax.set_ylim(0.0, info.W)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("z [m]")
+    ax.set_title(f"{len(area)} events: hypocentres (marker area ~ event area)", fontsize=9)
+    return _save(fig, out_dir, "hypocentres", pdf)
+
+
+def plot_event_maps(path, catalog: dict, index: int, info: RunInfo, out_dir: Path, pdf: bool = False):
+    """A 2D interface: slip-rate maps with the rupture front (plots.interface_2d_map_axes)
+    at the snapshots nearest to the start, the middle and the end of event
+    `index`; returns (paths, snapshot times)."""
+    from .. import plots
+    plt = _plt()
+    t0 = float(catalog["t_start"][index])
+    t1 = t0 + float(catalog["T"][index])
+    fig, axes = plt.subplots(1, 3, figsize=(11, 3.4), constrained_layout=True)
+    maps = plots.interface_2d_map_axes(path, axes, [t0, 0.5 * (t0 + t1), t1])
+    fig.colorbar(maps[0]["mesh"], ax=axes.tolist(), label=r"log$_{10}$(|v| / $v_0$)")
+    fig.suptitle(f"event {index}: t_start={t0:.4g} s, T={t1 - t0:.3g} s, u_mean/D="
+                 f"{catalog['u_mean'][index] / info.D:.3g}, A/(L W)={catalog['A'][index] / (info.L * info.W):.3g}",
+                 fontsize=8)
+    return _save(fig, out_dir, f"event_{index}_maps", pdf), [m["time"] for m in maps]

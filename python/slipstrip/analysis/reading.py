@@ -18,6 +18,9 @@ from ..runfile import decode_attr, open_h5, read_times
 
 DEFAULT_ALPHA = 15.0
 CATALOG_FIELDS = ("t_start", "T", "x_start", "L_s", "u_mean", "M0", "max_slip_rate", "n_clusters")
+# Only in the catalog of a 2D interface (docs/3d.md): hypocentre z, extent
+# along z, area.
+CATALOG_FIELDS_2D = ("z_start", "L_z", "A")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -31,8 +34,14 @@ class RunInfo:
     c_s: float          # shear wave speed [m/s]
     sigma0: float       # normal stress [Pa]
     delta_th: float     # slip-sampling threshold [m]
-    n_nodes: int
+    n_nodes: int        # nodes of the interface (N, or N N_z on a 2D interface)
     duration: float     # simulated time covered by the file [s]
+    nodes_z: int = 1    # > 1: a 2D interface (docs/3d.md), N_z rows across z
+    W: float = math.nan  # L_z [m], the width of a 2D interface (nan on a line)
+
+    @property
+    def interface_2d(self) -> bool:
+        return self.nodes_z > 1
 
 
 def read_run_info(path: str | os.PathLike) -> RunInfo:
@@ -60,9 +69,12 @@ def read_run_info(path: str | os.PathLike) -> RunInfo:
             duration = float(read_times(f, "timeseries/time")[-1])
         elif "snapshots" in f and f["snapshots/time"].shape[0] > 0:
             duration = float(read_times(f, "snapshots/time")[-1])
+        nodes_z = int(ss.get("nodes_z", geometry.get("nodes_z", 1)))
+        W = float(ss.get("W", geometry.get("width", math.nan))) if nodes_z > 1 else math.nan
         return RunInfo(D=D, L=L, H=H, v0=v0, mu=mu, c_s=math.sqrt(mu / rho) if rho > 0 else math.nan,
                        sigma0=float(config.get("loading", {}).get("normal_stress", math.nan)),
-                       delta_th=float(ss.get("delta_th", math.nan)), n_nodes=n, duration=duration)
+                       delta_th=float(ss.get("delta_th", math.nan)), n_nodes=n, duration=duration,
+                       nodes_z=nodes_z, W=W)
 
 
 def read_catalog(path: str | os.PathLike) -> dict:
@@ -71,7 +83,7 @@ def read_catalog(path: str | os.PathLike) -> dict:
         if "events" not in f:
             raise KeyError(f"{path}: no group /events (run `slipstrip events {path}` first)")
         g = f["events"]
-        catalog = {k: np.asarray(g[k][:]) for k in CATALOG_FIELDS if k in g}
+        catalog = {k: np.asarray(g[k][:]) for k in CATALOG_FIELDS + CATALOG_FIELDS_2D if k in g}
         catalog["attrs"] = {k: decode_attr(v) for k, v in g.attrs.items()}
     return catalog
 

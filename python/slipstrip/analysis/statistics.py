@@ -31,12 +31,25 @@ STATIONARITY_LEVEL = 0.05    # first-vs-last-fifth KS tests on what is kept pass
 
 
 def normalised_observables(catalog: dict, info: RunInfo) -> dict:
-    """u_mean/D, T v0/D, M0/(mu D L) (the paper's Fig. S8 normalisations)."""
-    return {
+    """u_mean/D, T v0/D, M0/(mu D L) (the paper's Fig. S8 normalisations; on
+    a line M0 = mu L_s u_mean is a moment per unit width [N/m]).  On a 2D
+    interface M0 = mu A u_mean is a moment [N m], normalised by mu D L W,
+    and the area A/(L W) is a fourth observable."""
+    obs = {
         "u": np.asarray(catalog["u_mean"], float) / info.D,
         "T": np.asarray(catalog["T"], float) * info.v0 / info.D,
-        "M0": np.asarray(catalog["M0"], float) / (info.mu * info.D * info.L),
+        "M0": np.asarray(catalog["M0"], float) / (info.mu * info.D * info.L * (info.W if info.interface_2d else 1.0)),
     }
+    if info.interface_2d:
+        obs["A"] = np.asarray(catalog["A"], float) / (info.L * info.W)
+    return obs
+
+
+def observable_labels(info: RunInfo) -> dict:
+    """Axis labels of the normalised observables (matplotlib mathtext)."""
+    if info.interface_2d:
+        return {"u": r"$\bar u/D$", "T": r"$T v_0/D$", "M0": r"$M_0/(\mu D L W)$", "A": r"$A/(L W)$"}
+    return {"u": r"$\bar u/D$", "T": r"$T v_0/D$", "M0": r"$M_0/(\mu D L)$"}
 
 
 def log_binned_pdf(values, bins_per_decade: int = 5, lo: float | None = None, hi: float | None = None):
@@ -239,6 +252,7 @@ def slip_fractions(u_mean, L_s, D: float, L: float) -> dict:
     """Slip-weighted fractions: sum(u_mean L_s) over a subset / over all events.
 
     small: u_mean < D; spanning: L_s >= 0.9 L.  NaN when there are no events.
+    On a 2D interface L_s is the area A of each event and L the interface's L W.
     """
     u = np.asarray(u_mean, float)
     Ls = np.asarray(L_s, float)
@@ -425,7 +439,7 @@ def catalog_statistics(catalog: dict, info: RunInfo, seed: int = 0, n_bootstrap:
            "n_events_large": int(large.sum())}
     # u: truncated at the split u = D (the power law describes u < D only).
     fits = {}
-    for name in ("u", "T", "M0"):
+    for name in obs:
         xs = obs[name][small]
         xs = xs[np.isfinite(xs) & (xs > 0)]
         if xs.size >= MIN_FIT_EVENTS:
@@ -446,7 +460,7 @@ def catalog_statistics(catalog: dict, info: RunInfo, seed: int = 0, n_bootstrap:
         res[f"small_exponent_{name}_xmin_sweep"] = [
             {"xmin_factor": f.xmin / fit.xmin, "xmin": f.xmin, "exponent": f.exponent, "stderr": f.stderr, "n": f.n}
             for f in sweep]
-    logfits = {name: fit_lognormal(obs[name][large], seed=seed) for name in ("u", "T", "M0")}
+    logfits = {name: fit_lognormal(obs[name][large], seed=seed) for name in obs}
     for name, lf in logfits.items():
         res[f"lognormal_{name}"] = dataclasses.asdict(lf)
     # The headline log-normal is the one of the paper's Fig. 1d inset: T of large events.
@@ -460,7 +474,10 @@ def catalog_statistics(catalog: dict, info: RunInfo, seed: int = 0, n_bootstrap:
         f"its exponent {fit.exponent:.3g} +- {fit.stderr:.2g} is indicative at best, and so few events cannot "
         "tell a power law from other heavy-tailed shapes; run longer for more events"
         for name, fit in fits.items() if math.isfinite(fit.exponent) and fit.n < POWER_LAW_CAUTION_EVENTS]
-    fr = slip_fractions(catalog["u_mean"], catalog["L_s"], info.D, info.L)
+    # Slip weighted by the extent of each event: its length on a line, its
+    # area on a 2D interface (system-spanning: 90 % of L, of L W).
+    fr = (slip_fractions(catalog["u_mean"], catalog["A"], info.D, info.L * info.W) if info.interface_2d
+          else slip_fractions(catalog["u_mean"], catalog["L_s"], info.D, info.L))
     res["slip_fraction_small"] = fr["small"]
     res["slip_fraction_spanning"] = fr["spanning"]
     res["_fits"] = fits

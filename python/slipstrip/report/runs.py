@@ -121,6 +121,10 @@ def open_run_file(rundir: Path, name: str, allow_incomplete: bool = False) -> Ru
         if "config" not in attrs or not runfile.has_group(path, "timeseries"):
             raise MissingRun(f"{shown} unreadable: not a slipstrip run file (no config or /timeseries)")
         info = an.read_run_info(path)
+        if info.interface_2d:
+            raise MissingRun(f"{shown} is a 2D interface (geometry.nodes_z > 1): the report reproduces the paper's "
+                             "claims, which are about a one-dimensional interface (2D bodies); use analyze for a "
+                             "2D interface")
     except MissingRun:
         raise
     except Exception as err:  # h5py raises OSError, KeyError, ...
