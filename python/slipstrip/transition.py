@@ -620,7 +620,9 @@ def main(argv: list[str]) -> int:
         try:
             runfile.require_line(path, "transition", "classifies the long-time state of a one-dimensional "
                                  "interface (the paper's states); use analyze for a 2D interface")
-        except (ValueError, runfile.RunFileError) as err:
+        except runfile.RunFileError:
+            continue  # not a run file: reported below as unreadable, as before
+        except ValueError as err:
             print(f"transition: {one_line(err)}", file=sys.stderr)
             return 2
     n_found = len(files)

@@ -164,6 +164,8 @@ def empty_catalog_reason(attrs: dict, info: RunInfo, alpha: float) -> str:
 def format_summary(s: dict) -> str:
     def f(v, fmt=".3g"):
         return "nan" if v is None else format(v, fmt)
+    # The moment's normalisation: per unit width on a line, per area on a 2D interface.
+    moment = s.get("normalisation", {}).get("M0", "M0/(mu*D*L)").replace("*", " ")
     lines = [
         f"run: {s['run']}  (alpha = {s['alpha']:g})",
         f"events: {s['n_events']} ({s['n_events_small']} small u<D, {s['n_events_large']} large)",
@@ -171,8 +173,8 @@ def format_summary(s: dict) -> str:
         f" (bootstrap {f(s.get('small_exponent_u_bootstrap_err'))}, xmin = {f(s['small_exponent_u_xmin'])},"
         f" n = {s['small_exponent_u_n']})",
         f"  T v0/D: a = {f(s['small_exponent_T'])} +- {f(s['small_exponent_T_err'])};"
-        f"  {s['normalisation']['M0'].replace('*', ' ')}: a = {f(s['small_exponent_M0'])} +- {f(s['small_exponent_M0_err'])}"
-        + (f";  A/(L W): a = {f(s['small_exponent_A'])} +- {f(s['small_exponent_A_err'])}" if "A" in s["normalisation"]
+        f"  {moment}: a = {f(s['small_exponent_M0'])} +- {f(s['small_exponent_M0_err'])}"
+        + (f";  A/(L W): a = {f(s['small_exponent_A'])} +- {f(s['small_exponent_A_err'])}" if "small_exponent_A" in s
            else ""),
         f"large events, log-normal of T v0/D: mu = {f(s['lognormal_mu'])}, sigma = {f(s['lognormal_sigma'])},"
         f" KS = {f(s['lognormal_ks'])}, p = {f(s['lognormal_ks_pvalue'])} (naive {f(s['lognormal_ks_pvalue_naive'])})",
