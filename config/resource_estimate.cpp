@@ -217,18 +217,16 @@ void check_resources(const SimulationConfig& c, const ResourceLimits& limits) {
                       " s is shorter than half a time step (dt = " + format_short(e.time_step) +
                       " s): the run would take 0 steps; expected a duration >= dt");
   // An index of strip normal modes must fit an int (kernels/strip_response.cpp).
-  if (e.modes_per_fourier_mode > 1e9)
-    throw ConfigError("geometry.height = " + format_short(c.geometry.height) + " m is " +
-                      format_short(c.geometry.height / (c.geometry.length / c.geometry.nodes)) +
-                      " grid spacings: the strip would carry " + format_short(e.modes_per_fourier_mode) +
-                      " normal modes per Fourier mode (time.beta = " + format_short(c.time.beta) +
-                      "); allowed at most 1e9 (use geometry.height = \"inf\" for a half-space)");
-  if (e.bottom_modes_per_fourier_mode > 1e9)
-    throw ConfigError("bottom.height = " + format_short(c.bottom.height) + " m is " +
-                      format_short(c.bottom.height / (c.geometry.length / c.geometry.nodes)) +
-                      " grid spacings: the bottom body would carry " + format_short(e.bottom_modes_per_fourier_mode) +
-                      " normal modes per Fourier mode (time.beta = " + format_short(c.time.beta) +
-                      "); allowed at most 1e9 (use bottom.height = \"inf\" for a half-space)");
+  const auto refuse_too_many_modes = [&](const char* key, const char* body, double height, double modes) {
+    if (modes > 1e9)
+      throw ConfigError(std::string(key) + " = " + format_short(height) + " m is " +
+                        format_short(height / (c.geometry.length / c.geometry.nodes)) + " grid spacings: " +
+                        body + " would carry " + format_short(modes) +
+                        " normal modes per Fourier mode (time.beta = " + format_short(c.time.beta) +
+                        "); allowed at most 1e9 (use " + key + " = \"inf\" for a half-space)");
+  };
+  refuse_too_many_modes("geometry.height", "the strip", c.geometry.height, e.modes_per_fourier_mode);
+  refuse_too_many_modes("bottom.height", "the bottom body", c.bottom.height, e.bottom_modes_per_fourier_mode);
   const double gib = e.operator_bytes / kGiB;
   if (!(gib <= limits.max_operator_gib)) {
     std::string drivers = is_half_space(c.geometry.height)

@@ -164,9 +164,10 @@ opening = "stop"
   CHECK(message.find(" t = ") != std::string::npos);
 }
 
-TEST_CASE("in-plane pair: save and restore continue bit for bit") {
-  const SimulationConfig c = load_config_string(std::string(kInplane) + "[bottom]\nbody = \"elastic\"\n"
-                                                "shear_modulus = 3e9\nheight = 0.2\n");
+// Runs c for 200 steps, saves, restores the state into a second simulation,
+// steps both 200 more and hands the two to check.
+template <class Check>
+void continue_saved_and_restored(const SimulationConfig& c, Check check) {
   Simulation a(c);
   for (int n = 0; n < 200; ++n) a.step();
   const SimulationState saved = a.save_state();
@@ -176,11 +177,19 @@ TEST_CASE("in-plane pair: save and restore continue bit for bit") {
     a.step();
     b.step();
   }
-  for (std::size_t i = 0; i < a.slip_rate().size(); ++i) {
-    CHECK(a.slip_rate()[i] == b.slip_rate()[i]);
-    CHECK(a.normal_stress()[i] == b.normal_stress()[i]);
-    CHECK(a.effective_normal_stress()[i] == b.effective_normal_stress()[i]);
-  }
+  check(a, b);
+}
+
+TEST_CASE("in-plane pair: save and restore continue bit for bit") {
+  const SimulationConfig c = load_config_string(std::string(kInplane) + "[bottom]\nbody = \"elastic\"\n"
+                                                "shear_modulus = 3e9\nheight = 0.2\n");
+  continue_saved_and_restored(c, [](const Simulation& a, const Simulation& b) {
+    for (std::size_t i = 0; i < a.slip_rate().size(); ++i) {
+      CHECK(a.slip_rate()[i] == b.slip_rate()[i]);
+      CHECK(a.normal_stress()[i] == b.normal_stress()[i]);
+      CHECK(a.effective_normal_stress()[i] == b.effective_normal_stress()[i]);
+    }
+  });
 }
 
 TEST_CASE("in-plane pair with the Linker-Dieterich response: save and restore continue bit for bit") {
@@ -188,28 +197,22 @@ TEST_CASE("in-plane pair with the Linker-Dieterich response: save and restore co
   const SimulationConfig c = load_config_string(std::string(kInplane) + "[bottom]\nbody = \"elastic\"\n"
                                                 "shear_modulus = 3e9\nheight = 0.2\n"
                                                 "[friction]\nlinker_dieterich = 0.3\n");
-  Simulation a(c);
-  for (int n = 0; n < 200; ++n) a.step();
-  const SimulationState saved = a.save_state();
-  Simulation b(c);
-  b.restore_state(saved);
-  for (int n = 0; n < 200; ++n) {
-    a.step();
-    b.step();
-  }
-  for (std::size_t i = 0; i < a.slip_rate().size(); ++i) {
-    CHECK(a.slip_rate()[i] == b.slip_rate()[i]);
-    CHECK(a.state()[i] == b.state()[i]);
-    CHECK(a.effective_normal_stress()[i] == b.effective_normal_stress()[i]);
-  }
-  // The response acts: the same run without it has another state field.
-  SimulationConfig off = c;
-  off.friction.linker_dieterich = 0.0;
-  Simulation d(off);
-  for (int n = 0; n < 400; ++n) d.step();
-  double largest = 0.0;
-  for (std::size_t i = 0; i < d.state().size(); ++i) largest = std::max(largest, std::abs(d.state()[i] - a.state()[i]));
-  CHECK(largest > 0.0);
+  continue_saved_and_restored(c, [&c](const Simulation& a, const Simulation& b) {
+    for (std::size_t i = 0; i < a.slip_rate().size(); ++i) {
+      CHECK(a.slip_rate()[i] == b.slip_rate()[i]);
+      CHECK(a.state()[i] == b.state()[i]);
+      CHECK(a.effective_normal_stress()[i] == b.effective_normal_stress()[i]);
+    }
+    // The response acts: the same run without it has another state field.
+    SimulationConfig off = c;
+    off.friction.linker_dieterich = 0.0;
+    Simulation d(off);
+    for (int n = 0; n < 400; ++n) d.step();
+    double largest = 0.0;
+    for (std::size_t i = 0; i < d.state().size(); ++i)
+      largest = std::max(largest, std::abs(d.state()[i] - a.state()[i]));
+    CHECK(largest > 0.0);
+  });
 }
 
 TEST_CASE("linker_dieterich > 0 needs a state effect: refused with b = 0, naming both keys") {
