@@ -260,6 +260,21 @@ void require_on_interface(double x, double length, bool closed_at_length, const 
                                                      " geometry.length = " + format_config_number(length) + " [m]");
 }
 
+// A station of a 2D interface is a point (x, z): the two lists pair up.
+void output_rule(const SimulationConfig& c) {
+  const auto& o = c.output;
+  const auto count = [](const std::vector<double>& v) { return std::to_string(v.size()); };
+  if (c.geometry.nodes_z > 1 && o.stations_z.size() != o.stations.size())
+    throw ConfigRuleError({"stations_z", "stations"},
+                          "output.stations_z has " + count(o.stations_z) + " positions and output.stations " +
+                              count(o.stations) + ": on a 2D interface (geometry.nodes_z > 1) give one z per "
+                              "station (station i is at (stations[i], stations_z[i]))");
+  if (c.geometry.nodes_z == 1 && !o.stations_z.empty())
+    throw ConfigRuleError({"stations_z"}, "output.stations_z has " + count(o.stations_z) +
+                                              " positions on a one-dimensional interface (geometry.nodes_z = 1): "
+                                              "expected [] (stations are positions x only)");
+}
+
 // [top] and [bottom] (docs/bodies.md).  In-plane pairs other than two
 // identical driven strips run through the per-body 2x2 operators: the modal one
 // of a finite strip (FaceModalHistory) or a half-space's (FaceHalfSpaceHistory).
@@ -319,7 +334,7 @@ constexpr double top_height(const SimulationConfig& c) { return c.geometry.heigh
 // (geometry bounds the mode numbers, material sets c_s for duration_transits).
 constexpr ConfigSection kSections[] = {
     {"geometry"}, {"material"}, {"top"}, {"bottom", bottom_rule}, {"loading"}, {"friction", friction_rule}, {"state"},
-    {"interface", interface_rule}, {"initial", initial_rule}, {"time"}, {"output"},
+    {"interface", interface_rule}, {"initial", initial_rule}, {"time"}, {"output", output_rule},
 };
 
 using C = SimulationConfig;
@@ -732,6 +747,22 @@ constexpr ConfigKey kKeys[] = {
               .set_list = [](C& c, const std::vector<double>& v) { c.output.stations = v; }},
      .list_rule = [](const C& c, const std::vector<double>& stations) {
        for (double x : stations) require_on_interface(x, c.geometry.length, false, "positions");
+     }},
+    {.section = "output", .name = "stations_z", .type = KeyType::numbers, .unit = "m",
+     .rule_text = "positions 0 <= z < W, one per station; [] on a one-dimensional interface",
+     .help = "on a 2D interface (`geometry.nodes_z` > 1, docs/3d.md): the z position of each station, "
+             "paired with `stations` by index (station i at (stations[i], stations_z[i])); bilinear "
+             "interpolation between the four neighbouring nodes, exact on a node",
+     .comment = "station positions z [m] on a 2D interface, paired with stations; [] = none",
+     .bind = {.get_list = [](const C& c) { return c.output.stations_z; },
+              .set_list = [](C& c, const std::vector<double>& v) { c.output.stations_z = v; }},
+     .list_rule = [](const C& c, const std::vector<double>& stations_z) {
+       for (double z : stations_z) {
+         const bool inside = z >= 0.0 && z < c.geometry.width;
+         if (!inside)
+           throw KeyOutOfRange(format_config_number(z), "positions 0 <= z < geometry.width = " +
+                                                            format_config_number(c.geometry.width) + " [m]");
+       }
      }},
     {.section = "output", .name = "station_interval", .unit = "s", .noun = "a time",
      .allowed = non_negative, .allowed_note = " (0 = every step)",

@@ -124,6 +124,11 @@ struct OutputConfig {
   // node) every station_interval [s] (0 = every step) in /stations, with the
   // global max slip rate and moment rate.  Empty = no stations.
   std::vector<double> stations;
+  // [output] stations_z: on a 2D interface (geometry.nodes_z > 1), the z
+  // positions [m] (0 <= z < W) of the stations, paired with `stations` by
+  // index (bilinear interpolation in x and z; exact on a node).  Empty on a
+  // one-dimensional interface.
+  std::vector<double> stations_z;
   double station_interval = 0.0;
   // [output] front_slip_rate [m/s]: per node, the first time the slip rate
   // exceeds it is stored in /rupture_front (0 = off).

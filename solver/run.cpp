@@ -1,5 +1,7 @@
 #include "solver/run.hpp"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -133,11 +135,17 @@ class LineRun {
 // A 2D interface (docs/3d.md): the x component of the slip is sampled (the
 // loading direction), the front is dated by |v|, the time series holds
 // max |v|, the mean slip and shear stress along x; snapshots are the seven
-// fields below as [nodes_z, nodes_x] maps.  No stations (refused by the config check).
+// fields below as [nodes_z, nodes_x] maps; stations are points (x, z) with the
+// same seven fields.
 class InterfaceRun {
  public:
   using Sim = Simulation3d;
-  InterfaceRun(const SimulationConfig& config, const Simulation3d& sim) : config_(config), sim_(sim) {}
+  InterfaceRun(const SimulationConfig& config, const Simulation3d& sim)
+      : config_(config), sim_(sim),
+        stations_(config.output.stations, config.output.stations_z, sim.dx(), sim.dz(),
+                  static_cast<std::size_t>(sim.nodes_x()), static_cast<std::size_t>(sim.nodes_z())) {
+    station_values_.assign(fields().size() * stations_.size(), 0.0);
+  }
 
   SlipSamplingSetup sampling() const {
     SlipSamplingSetup sampling = LineRun::common_sampling(config_, sim_.dx());
@@ -154,9 +162,10 @@ class InterfaceRun {
   }
   RunOutputOptions options() const {
     RunOutputOptions options = LineRun::common_options(config_);
-    options.interface_2d_fields = {{"slip_x", "m"},        {"slip_z", "m"},          {"slip_rate_x", "m/s"},
-                                   {"slip_rate_z", "m/s"}, {"state", "s"},           {"shear_stress_x", "Pa"},
-                                   {"shear_stress_z", "Pa"}};
+    options.interface_2d_fields = field_units();
+    options.station_x = config_.output.stations;
+    options.station_z = config_.output.stations_z;
+    options.station_fields = field_units();
     return options;
   }
   std::span<const double> sampled_slip() const { return sim_.slip_x(); }
@@ -165,17 +174,41 @@ class InterfaceRun {
   void append_timeseries(RunOutput& output) const {
     output.append_timeseries(sim_.time(), sim_.max_slip_rate(), sim_.mean_slip_x(), sim_.mean_shear_stress_x());
   }
-  void write_snapshot(RunOutput& output) const {
-    const std::span<const double> fields[] = {sim_.slip_x(), sim_.slip_z(), sim_.slip_rate_x(), sim_.slip_rate_z(),
-                                              sim_.state(),  sim_.shear_stress_x(), sim_.shear_stress_z()};
-    output.write_snapshot(sim_.time(), fields);
+  void write_snapshot(RunOutput& output) const { output.write_snapshot(sim_.time(), fields()); }
+  bool has_stations() const { return !stations_.empty(); }
+  // The seven fields at the stations, the max |v| and the moment rate
+  // mu sum(v_x) dx dz [N m/s] (the slip along x, as the events' moment).
+  void record_stations(RunOutput& output) {
+    if (stations_.empty()) return;
+    const auto all = fields();
+    const std::size_t count = stations_.size();
+    std::array<std::span<const double>, 7> at_stations;
+    for (std::size_t f = 0; f < all.size(); ++f) {
+      const auto values = stations_.sample(all[f]);
+      std::copy(values.begin(), values.end(), station_values_.begin() + static_cast<std::ptrdiff_t>(f * count));
+      at_stations[f] = std::span<const double>(station_values_).subspan(f * count, count);
+    }
+    double sum_rate = 0.0;
+    for (double v : sim_.slip_rate_x()) sum_rate += v;
+    const double mu_dxdz = config_.material.shear_modulus * sim_.dx() * sim_.dz();
+    output.append_stations(sim_.time(), at_stations, sim_.max_slip_rate(), mu_dxdz * sum_rate);
   }
-  bool has_stations() const { return false; }
-  void record_stations(RunOutput&) {}
 
  private:
+  // The snapshot and station fields, in the file's order.
+  std::array<std::span<const double>, 7> fields() const {
+    return {sim_.slip_x(), sim_.slip_z(), sim_.slip_rate_x(), sim_.slip_rate_z(),
+            sim_.state(),  sim_.shear_stress_x(), sim_.shear_stress_z()};
+  }
+  static std::vector<std::pair<std::string, std::string>> field_units() {
+    return {{"slip_x", "m"},        {"slip_z", "m"}, {"slip_rate_x", "m/s"},   {"slip_rate_z", "m/s"},
+            {"state", "s"},         {"shear_stress_x", "Pa"}, {"shear_stress_z", "Pa"}};
+  }
+
   const SimulationConfig& config_;
   const Simulation3d& sim_;
+  StationSampler2d stations_;
+  std::vector<double> station_values_;  // fields x stations, field-major
 };
 
 // The time loop of a new run (resume_from == nullptr) or of a resumed one.

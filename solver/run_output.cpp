@@ -199,8 +199,22 @@ void RunOutput::initialise_buffers(const SlipSamplingSetup& slip_sampling) {
   snapshot_fields_ = snapshot_names_.size();
   snapshot_field_buffer_.reserve(snapshot_fields_ * node_count_ * static_cast<std::size_t>(options_.snapshot_chunk));
   station_count_ = options_.station_x.size();
-  station_fields_ = options_.normal_stress_snapshots ? 6 : 5;
-  if (station_count_ > 0) station_buffer_.reserve(station_buffer_rows * (3 + station_fields_ * station_count_));
+  if ((nodes_z_ > 1) != !options_.station_fields.empty() ||
+      options_.station_z.size() != (nodes_z_ > 1 ? station_count_ : 0))
+    throw std::invalid_argument("RunOutputOptions.station_fields and station_z are given exactly for a 2D interface "
+                                "(nodes_z > 1), station_z with one value per station");
+  if (nodes_z_ > 1) {
+    for (const auto& [name, units] : options_.station_fields) {
+      station_names_.push_back(name);
+      station_units_.push_back(units);
+    }
+  } else {
+    // A line: five fields, six (the opening) with normal_stress_snapshots.
+    const std::size_t fields = options_.normal_stress_snapshots ? 6 : 5;
+    station_names_.assign(std::begin(station_field_names), std::begin(station_field_names) + fields);
+    station_units_.assign(std::begin(station_field_units), std::begin(station_field_units) + fields);
+  }
+  if (station_count_ > 0) station_buffer_.reserve(station_buffer_rows * (3 + station_names_.size() * station_count_));
   if (options_.front_slip_rate > 0.0) rupture_front_.assign(node_count_, nan_value);
   if (slip_sampling.delta_th > 0.0) slip_sampler_.emplace(slip_sampling.delta_th, node_count_);
 
@@ -264,13 +278,15 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
   if (station_count_ > 0) {
     const Handle group = io::create_group(file, "stations");
     write_fixed_vector(group, "x", options_.station_x, "m");
+    if (nodes_z_ > 1) write_fixed_vector(group, "z", options_.station_z, "m");
     const io::ExtendibleLayout series{.chunk_rows = station_buffer_rows};
     create_extendible(group, "time", series, "s");
     create_extendible(group, "max_slip_rate", series, "m/s");
-    create_extendible(group, "moment_rate", series, "N/s per m (mu * sum(v) dx)");
+    create_extendible(group, "moment_rate", series,
+                      nodes_z_ > 1 ? "N m/s (mu * sum(v_x) dx dz)" : "N/s per m (mu * sum(v) dx)");
     const io::ExtendibleLayout fields{.columns = station_count_, .chunk_rows = station_buffer_rows};
-    for (std::size_t f = 0; f < station_fields_; ++f)
-      create_extendible(group, station_field_names[f], fields, station_field_units[f]);
+    for (std::size_t f = 0; f < station_names_.size(); ++f)
+      create_extendible(group, station_names_[f], fields, station_units_[f]);
   }
   if (!rupture_front_.empty()) {
     const Handle group = io::create_group(file, "rupture_front");
@@ -326,44 +342,41 @@ void RunOutput::append_stations(double time, std::span<const double> slip,
                                 std::span<const double> slip_rate, std::span<const double> shear_stress,
                                 std::span<const double> state, double normal_stress,
                                 double max_slip_rate, double moment_rate) {
-  if (station_fields_ != 5)
+  if (options_.normal_stress_snapshots)
     throw std::invalid_argument("append_stations: the file records the normal stress and opening per station");
-  append_station_row(time, slip, slip_rate, shear_stress, state, {}, {}, normal_stress, max_slip_rate, moment_rate);
+  // The normal stress of identical bodies: the same value at every station.
+  station_uniform_.assign(station_count_, normal_stress);
+  const std::span<const double> fields[] = {slip, slip_rate, shear_stress, state, station_uniform_};
+  append_stations(time, fields, max_slip_rate, moment_rate);
 }
 
 void RunOutput::append_stations(double time, std::span<const double> slip,
                                 std::span<const double> slip_rate, std::span<const double> shear_stress,
                                 std::span<const double> state, std::span<const double> normal_stress,
                                 std::span<const double> opening, double max_slip_rate, double moment_rate) {
-  if (normal_stress.size() < station_count_ || opening.size() < station_count_)
-    throw std::invalid_argument("append_stations: normal_stress and opening have " +
-                                std::to_string(normal_stress.size()) + " and " + std::to_string(opening.size()) +
-                                " values, expected one per station (" + std::to_string(station_count_) + ")");
-  if (station_fields_ != 6)
+  if (!options_.normal_stress_snapshots)
     throw std::invalid_argument("append_stations: per-station normal stress and opening given but "
                                 "normal_stress_snapshots is not set");
-  append_station_row(time, slip, slip_rate, shear_stress, state, normal_stress, opening, 0.0, max_slip_rate,
-                     moment_rate);
+  const std::span<const double> fields[] = {slip, slip_rate, shear_stress, state, normal_stress, opening};
+  append_stations(time, fields, max_slip_rate, moment_rate);
 }
 
-// One station row; the normal stress and opening per station, or the normal
-// stress `uniform` at every one (and no opening).
-void RunOutput::append_station_row(double time, std::span<const double> slip,
-                                   std::span<const double> slip_rate, std::span<const double> shear_stress,
-                                   std::span<const double> state, std::span<const double> normal_stress,
-                                   std::span<const double> opening, double uniform, double max_slip_rate,
-                                   double moment_rate) {
+void RunOutput::append_stations(double time, std::span<const std::span<const double>> fields, double max_slip_rate,
+                                double moment_rate) {
   if (closed_) throw std::logic_error("RunOutput::append_stations after close: " + path_);
   if (station_count_ == 0) throw std::logic_error("RunOutput::append_stations without stations");
+  if (fields.size() != station_names_.size())
+    throw std::invalid_argument("append_stations: " + std::to_string(fields.size()) + " fields, the file has " +
+                                std::to_string(station_names_.size()));
+  for (std::size_t f = 0; f < fields.size(); ++f)
+    if (fields[f].size() < station_count_)
+      throw std::invalid_argument("append_stations: " + station_names_[f] + " has " +
+                                  std::to_string(fields[f].size()) + " values, expected one per station (" +
+                                  std::to_string(station_count_) + ")");
   station_buffer_.insert(station_buffer_.end(), {time, max_slip_rate, moment_rate});
-  for (const auto field : {slip, slip_rate, shear_stress, state})
+  for (const auto field : fields)
     station_buffer_.insert(station_buffer_.end(), field.begin(), field.begin() + station_count_);
-  if (normal_stress.empty())
-    station_buffer_.insert(station_buffer_.end(), station_count_, uniform);
-  else
-    station_buffer_.insert(station_buffer_.end(), normal_stress.begin(), normal_stress.begin() + station_count_);
-  if (!opening.empty()) station_buffer_.insert(station_buffer_.end(), opening.begin(), opening.begin() + station_count_);
-  if (station_buffer_.size() >= station_buffer_rows * (3 + station_fields_ * station_count_))
+  if (station_buffer_.size() >= station_buffer_rows * (3 + station_names_.size() * station_count_))
     write_out(WriteTrigger::buffer_full);
 }
 
@@ -466,7 +479,7 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
   if (station_count_ > 0) {
     const Handle group = io::open_group(file, "stations");
     for (const char* name : {"time", "max_slip_rate", "moment_rate"}) cut(group, name, cursor.station_rows);
-    for (std::size_t f = 0; f < station_fields_; ++f) cut(group, station_field_names[f], cursor.station_rows);
+    for (const std::string& name : station_names_) cut(group, name.c_str(), cursor.station_rows);
   }
   if (slip_sampler_) {
     // Crossings are single elements (NaN = not reached): those of levels a
@@ -653,7 +666,8 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
     slip_sampler_->clear_pending();
   }
 
-  const std::size_t row_width = 3 + station_fields_ * station_count_;
+  const std::size_t station_fields = station_names_.size();
+  const std::size_t row_width = 3 + station_fields * station_count_;
   const std::size_t station_rows = station_count_ ? station_buffer_.size() / row_width : 0;
   if (station_rows > 0) {
     const Handle group = io::open_group(file, "stations");
@@ -663,8 +677,8 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
       io::grow_rows(dset, station_rows_in_file_ + station_rows);
       io::write_rows(dset, station_rows_in_file_, station_rows, station_buffer_.data() + c, row_width);
     }
-    for (std::size_t f = 0; f < station_fields_; ++f) {
-      const Handle dset = io::open_dataset(group, station_field_names[f]);
+    for (std::size_t f = 0; f < station_fields; ++f) {
+      const Handle dset = io::open_dataset(group, station_names_[f]);
       io::grow_rows(dset, station_rows_in_file_ + station_rows);
       for (std::size_t r = 0; r < station_rows; ++r)
         io::write_rows(dset, station_rows_in_file_ + r, 1,

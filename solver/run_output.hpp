@@ -73,6 +73,11 @@ struct RunOutputOptions {
   std::vector<NodeParameter> node_parameters;
   bool snapshots_by_slip = false;     // trigger attribute: "slip_increment" instead of "time"
   std::vector<double> station_x;      // [m] on-fault stations (/stations); empty = none
+  // A 2D interface: the stations' z [m] (one per station_x) and their fields
+  // by name and units, given to append_stations in this order; /stations/z
+  // is written and moment_rate is mu * sum(v_x) dx dz [N m/s].
+  std::vector<double> station_z;
+  std::vector<std::pair<std::string, std::string>> station_fields;
   double front_slip_rate = 0.0;       // [m/s] /rupture_front threshold; 0 = no /rupture_front
   int timeseries_buffer_rows = 1024;  // rows held before a forced write-out; also the chunk length
   int snapshot_chunk = 8;             // snapshots held in memory before a forced write-out
@@ -150,6 +155,11 @@ class RunOutput {
                        std::span<const double> shear_stress, std::span<const double> state,
                        std::span<const double> normal_stress, std::span<const double> opening,
                        double max_slip_rate, double moment_rate);
+  // Any station row: one span of (at least) one value per station for each
+  // field, in the file's station field order (the five or six above, or
+  // RunOutputOptions::station_fields).
+  void append_stations(double time, std::span<const std::span<const double>> fields, double max_slip_rate,
+                       double moment_rate);
   // The per-node rupture-front arrival times [s] (NaN = not yet), written whole
   // at every write-out.  Only with front_slip_rate > 0.
   void set_rupture_front(std::span<const double> arrival_time);
@@ -218,15 +228,11 @@ class RunOutput {
   std::size_t snapshot_fields_ = 4;              // 6 with normal_stress_snapshots
   int nodes_x_ = 0, nodes_z_ = 1;                // nodes_z_ > 1: a 2D interface
   std::vector<double> snapshot_field_buffer_;  // fields x N per snapshot, field-major per snapshot
-  void append_station_row(double time, std::span<const double> slip, std::span<const double> slip_rate,
-                          std::span<const double> shear_stress, std::span<const double> state,
-                          std::span<const double> normal_stress, std::span<const double> opening,
-                          double uniform, double max_slip_rate,
-                          double moment_rate);
-  // Stations: per row, time, max slip rate, moment rate, then 5 (6 with
-  // normal_stress_snapshots: the opening) fields x stations.
+  // Stations: per row, time, max slip rate, moment rate, then fields x
+  // stations (a line: 5, 6 with normal_stress_snapshots: the opening).
   std::size_t station_count_ = 0;
-  std::size_t station_fields_ = 5;
+  std::vector<std::string> station_names_, station_units_;  // the fields, in order
+  std::vector<double> station_uniform_;                      // a uniform normal stress per station
   std::size_t station_rows_in_file_ = 0;
   std::vector<double> station_buffer_;
   std::vector<double> rupture_front_;  // per node; written whole at each write-out

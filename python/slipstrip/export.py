@@ -80,6 +80,9 @@ def export_seas(run_path, out_dir, overwrite: bool = False,
     with runfile.open_h5(run_path) as h5:
         if "stations" not in h5:
             raise KeyError(f"{run_path}: no /stations (set [output] stations = [x1, ...] in the config)")
+        if "z" in h5["stations"]:
+            raise ValueError(f"{run_path}: stations of a 2D interface (x, z): the SEAS text files describe "
+                             "stations of a one-dimensional interface only; read /stations with h5py")
         attrs = {k: str(runfile.decode_attr(v)) for k, v in h5.attrs.items() if k in
                  ("code_version", "git_hash", "start_time", "status")}
         config = tomllib.loads(str(runfile.decode_attr(h5.attrs["config"])))

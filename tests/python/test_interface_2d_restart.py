@@ -23,9 +23,12 @@ TINY_3D = REPO / "configs" / "3d" / "tiny.toml"
 SMALL = ["--set", "geometry.nodes=16", "--set", "geometry.nodes_z=8", "--set", "time.duration_transits=0.5"]
 # Every record a 2D interface has: time series every step, snapshots by time,
 # slip sampling (delta_th = 1e-8 m: 0.28 delta_th per step at v0), the
-# rupture front (|v| above 1.005 v0); 3 transits, 195 steps.
+# rupture front (|v| above 1.005 v0), three stations (x, z) (a node, between
+# nodes) recorded every 3e-6 s (about two steps of 1.43e-6 s); 3 transits, 195 steps.
 RECORDS = SMALL + ["--set", "time.duration_transits=3", "--set", "output.snapshot_interval=1e-5", "--set", "output.delta_th=1e-8",
-                   "--set", "output.front_slip_rate=2.01e-3"]
+                   "--set", "output.front_slip_rate=2.01e-3",
+                   "--set", "output.stations=[0.0, 0.1, 0.0703125]", "--set", "output.stations_z=[0.0, 0.2, 0.046875]",
+                   "--set", "output.station_interval=3e-6"]
 CASES = {
     "strips": [],
     "half-spaces": ["--set", 'geometry.height="inf"', "--set", "time.beta=0.24"],
@@ -103,6 +106,7 @@ def test_interrupted_twice_and_resumed_equals_uninterrupted(cli, tmp_path, case)
         # The records this test is about are there and not trivial.
         assert len(f["snapshots/time"]) >= 5 and f["slip_sampling/crossing_time"].shape[0] >= 5
         assert np.isfinite(f["rupture_front/arrival_time"][:]).any()
+        assert len(f["stations/time"]) >= 60 and f["stations/slip_z"].shape[1] == 3
     rng = random.Random(f"{SEED} 2D interface {case}")
     first = rng.randrange(1, total // 2)
     second = rng.randrange(first + 1, total)
@@ -184,7 +188,7 @@ def test_a_restart_point_of_another_grid_is_refused(cli, tmp_path):
     assert "slip_z has 120 values" in r.stderr and "128 nodes" in r.stderr
 
 
-def test_stations_are_refused_on_a_2d_interface(cli, tmp_path):
+def test_stations_without_z_positions_are_refused_on_a_2d_interface(cli, tmp_path):
     r = run_cli(cli, "run", TINY_3D, *SMALL, "--set", "output.stations=[0.1]", "--out", tmp_path / "x.h5",
                 "--quiet")
-    assert r.returncode == 2 and "output.stations" in r.stderr, r.stderr
+    assert r.returncode == 2 and "output.stations_z has 0 positions and output.stations 1" in r.stderr, r.stderr
