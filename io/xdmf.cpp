@@ -30,35 +30,38 @@ std::string data_item(const std::string& dimensions, const std::string& file, co
          xml_escaped(dataset) + "</DataItem>";
 }
 
-// A 2D interface: one grid per snapshot, times from the time dataset.
+// A 2D interface: one grid per snapshot, each with its time.
 std::string xdmf_interface_2d_text(const XdmfSpaceTime& d) {
+  if (d.times.size() != d.snapshot_count)
+    throw std::invalid_argument("XdmfSpaceTime.times has " + std::to_string(d.times.size()) +
+                                " values for " + std::to_string(d.snapshot_count) + " snapshots");
   const std::size_t nodes_x = d.node_count / d.nodes_z;
   const std::string nt = std::to_string(d.snapshot_count), nz = std::to_string(d.nodes_z),
-                    nx = std::to_string(nodes_x), field_dims = nt + " " + nz + " " + nx;
+                    nx = std::to_string(nodes_x), map_dims = "1 " + nz + " " + nx,
+                    field_dims = nt + " " + nz + " " + nx;
   std::string text =
       "<?xml version=\"1.0\" ?>\n"
       "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
       "<Xdmf Version=\"3.0\">\n"
       "  <Domain>\n"
-      "    <Grid Name=\"interface\" GridType=\"Collection\" CollectionType=\"Temporal\">\n"
-      "      <Time TimeType=\"List\">\n"
-      "        " + data_item(nt, d.h5_file_name, d.time_dataset) + "\n"
-      "      </Time>\n";
+      "    <Grid Name=\"interface\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (std::size_t s = 0; s < d.snapshot_count; ++s) {
+    char time[32];
+    std::snprintf(time, sizeof time, "%.17g", d.times[s]);
     // XDMF orders dimensions slowest first: (z, x), as the datasets are stored.
     text += "      <Grid Name=\"snapshot " + std::to_string(s) + "\" GridType=\"Uniform\">\n"
+            "        <Time Value=\"" + std::string(time) + "\"/>\n"
             "        <Topology TopologyType=\"2DRectMesh\" Dimensions=\"" + nz + " " + nx + "\"/>\n"
             "        <Geometry GeometryType=\"VXVY\">\n"
             "          " + data_item(nx, d.h5_file_name, "/grid/x") + "\n"
             "          " + data_item(nz, d.h5_file_name, "/grid/z") + "\n"
             "        </Geometry>\n";
+    // Snapshot s of the field: start (s, 0, 0), stride 1, count (1, nz, nx)
+    // of the whole dataset's dimensions.
+    const std::string slab = "|" + std::to_string(s) + " 0 0:1 1 1:" + map_dims + ":" + field_dims;
     for (const std::string& field : d.fields)
       text += "        <Attribute Name=\"" + xml_escaped(field) + "\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-              "          <DataItem ItemType=\"HyperSlab\" Dimensions=\"1 " + nz + " " + nx + "\" Type=\"HyperSlab\">\n"
-              "            <DataItem Dimensions=\"3 3\" Format=\"XML\">" + std::to_string(s) + " 0 0 1 1 1 1 " + nz +
-              " " + nx + "</DataItem>\n"
-              "            " + data_item(field_dims, d.h5_file_name, d.snapshot_group + "/" + field) + "\n"
-              "          </DataItem>\n"
+              "          " + data_item(map_dims, d.h5_file_name, d.snapshot_group + "/" + field + slab) + "\n"
               "        </Attribute>\n";
     text += "      </Grid>\n";
   }

@@ -21,13 +21,20 @@ struct XdmfSpaceTime {
   // nodes; fields are <group>/<name> [snapshot_count, nodes_z, nodes_x] and
   // the axes /grid/x and /grid/z.
   std::size_t nodes_z = 1;
+  // A 2D interface: the snapshot_count snapshot times [s] (the values of
+  // time_dataset), written into the XML, one per grid of the collection.
+  std::vector<double> times;
 };
 
 // The XDMF 3 text: a 2DRectMesh whose first coordinate is x and second is time
 // (ParaView shows it as an x-t image; its axes are in m and s).  A 2D
 // interface (nodes_z > 1): a temporal collection of one 2DRectMesh (x, z) per
-// snapshot, whose times are /snapshots/time and whose fields are hyperslabs
-// (one snapshot) of the [snapshots, nodes_z, nodes_x] datasets.
+// snapshot, each with its <Time Value> (the times, to 17 digits: the double
+// exactly) and fields that are hyperslabs (one snapshot) of the
+// [snapshots, nodes_z, nodes_x] datasets in XDMF 3's form
+// "file:/dataset|start:stride:count:dimensions", the form ParaView's XDMF 3
+// reader (vtkXdmf3Reader) reads; it aborts on a <Time TimeType="List"> and
+// reads no values from XDMF 2's HyperSlab DataItem.
 std::string xdmf_space_time_text(const XdmfSpaceTime& description);
 
 // "RUN.h5" -> "RUN.xdmf" (any other name gets ".xdmf" appended).

@@ -474,6 +474,11 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
   {
     const Handle group = io::open_group(file, "snapshots");
     cut(group, "time", cursor.snapshots);
+    if (nodes_z_ > 1) {  // the times the XDMF sidecar lists
+      snapshot_times_.resize(cursor.snapshots);
+      if (cursor.snapshots > 0)
+        io::read_rows(io::open_dataset(group, "time"), 0, cursor.snapshots, snapshot_times_.data());
+    }
     for (const std::string& name : snapshot_names_) cut(group, name.c_str(), cursor.snapshots);
   }
   if (station_count_ > 0) {
@@ -586,6 +591,7 @@ void RunOutput::update_xdmf_sidecar() {
   description.node_count = node_count_;
   description.nodes_z = static_cast<std::size_t>(nodes_z_);
   description.fields = snapshot_names_;
+  description.times = snapshot_times_;
   io::write_xdmf_sidecar(io::xdmf_sidecar_path(path_), description);
   snapshots_in_sidecar_ = snapshots_in_file_;
 }
@@ -652,6 +658,8 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
         io::write_rows(dset, snapshots_in_file_ + s, 1, snapshot_field_buffer_.data() + (snapshot_fields_ * s + f) * node_count_);
     }
     snapshots_in_file_ += snapshots;
+    if (nodes_z_ > 1)
+      snapshot_times_.insert(snapshot_times_.end(), snapshot_time_buffer_.begin(), snapshot_time_buffer_.end());
     snapshot_time_buffer_.clear();
     snapshot_field_buffer_.clear();
   }

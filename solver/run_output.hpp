@@ -219,6 +219,7 @@ class RunOutput {
   std::size_t timeseries_rows_in_file_ = 0;
   std::size_t snapshots_in_file_ = 0;
   std::size_t snapshots_in_sidecar_ = 0;  // rows the XDMF sidecar (RUN.xdmf) describes
+  std::vector<double> snapshot_times_;    // a 2D interface: the times of the snapshots in the file (its sidecar lists them)
   std::size_t crossing_rows_in_file_ = 0;
 
   // Buffered rows, row-major.
