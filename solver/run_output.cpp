@@ -111,6 +111,15 @@ void write_fixed_vector(hid_t group, const std::string& name, std::span<const do
   write_units(group, name, units);
 }
 
+// The names and the units of fields given as (name, units) pairs.
+void split_fields(const std::vector<std::pair<std::string, std::string>>& fields, std::vector<std::string>& names,
+                  std::vector<std::string>& units) {
+  for (const auto& [name, unit] : fields) {
+    names.push_back(name);
+    units.push_back(unit);
+  }
+}
+
 void require_positive(int value, const char* name) {
   if (value < 1)
     throw std::invalid_argument(std::string("RunOutputOptions.") + name + " = " +
@@ -184,10 +193,7 @@ void RunOutput::initialise_buffers(const SlipSamplingSetup& slip_sampling) {
     throw std::invalid_argument("RunOutputOptions.interface_2d_fields and SlipSamplingSetup.z are given exactly "
                                 "for a 2D interface (nodes_z > 1), z with one value per node");
   if (nodes_z_ > 1) {
-    for (const auto& [name, units] : options_.interface_2d_fields) {
-      snapshot_names_.push_back(name);
-      snapshot_units_.push_back(units);
-    }
+    split_fields(options_.interface_2d_fields, snapshot_names_, snapshot_units_);
   } else {
     snapshot_names_.assign(std::begin(snapshot_names), std::end(snapshot_names));
     snapshot_units_.assign(std::begin(snapshot_units), std::end(snapshot_units));
@@ -204,10 +210,7 @@ void RunOutput::initialise_buffers(const SlipSamplingSetup& slip_sampling) {
     throw std::invalid_argument("RunOutputOptions.station_fields and station_z are given exactly for a 2D interface "
                                 "(nodes_z > 1), station_z with one value per station");
   if (nodes_z_ > 1) {
-    for (const auto& [name, units] : options_.station_fields) {
-      station_names_.push_back(name);
-      station_units_.push_back(units);
-    }
+    split_fields(options_.station_fields, station_names_, station_units_);
   } else {
     // A line: five fields, six (the opening) with normal_stress_snapshots.
     const std::size_t fields = options_.normal_stress_snapshots ? 6 : 5;

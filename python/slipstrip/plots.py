@@ -222,6 +222,16 @@ def stability(table_csv, out_png, dpi: int = 150):
     return out_png
 
 
+def interface_2d_frame(ax, length: float, width: float, title: str) -> None:
+    """The axes of a 2D interface drawn to scale: x over [0, length], z over [0, width] [m]."""
+    ax.set_xlim(0.0, length)
+    ax.set_ylim(0.0, width)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("z [m]")
+    ax.set_title(title, fontsize=9)
+
+
 def interface_2d_map_axes(run, axes, times, front_slip_rate: float | None = None,
                           vmin: float | None = None, vmax: float | None = None) -> list[dict]:
     """A 2D interface (docs/3d.md): on each of `axes`, the map of
@@ -259,12 +269,7 @@ def interface_2d_map_axes(run, axes, times, front_slip_rate: float | None = None
         front = None
         if speed.min() < front_slip_rate < speed.max():
             front = ax.contour(x, z, speed, levels=[front_slip_rate], colors="cyan", linewidths=1.0)
-        ax.set_xlim(0.0, run.length)
-        ax.set_ylim(0.0, run.width)
-        ax.set_aspect("equal")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("z [m]")
-        ax.set_title(f"t = {t[k]:.4g} s", fontsize=9)
+        interface_2d_frame(ax, run.length, run.width, f"t = {t[k]:.4g} s")
         maps.append({"time": float(t[k]), "index": k, "speed": speed, "mesh": mesh, "front": front,
                      "front_slip_rate": front_slip_rate})
     return maps

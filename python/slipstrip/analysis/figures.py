@@ -196,6 +196,7 @@ def plot_hypocentres(catalog: dict, info: RunInfo, out_dir: Path, pdf: bool = Fa
     """A 2D interface: each event's hypocentre (x_start, z_start) over the
     interface, coloured by its start time, the marker's area proportional to
     the event's area A."""
+    from .. import plots
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6, 6 * info.W / info.L + 1.0))
     area = np.asarray(catalog["A"], float)
@@ -203,12 +204,7 @@ def plot_hypocentres(catalog: dict, info: RunInfo, out_dir: Path, pdf: bool = Fa
     sc = ax.scatter(catalog["x_start"], catalog["z_start"], s=sizes, c=np.asarray(catalog["t_start"], float),
                     cmap="viridis", edgecolors="k", linewidths=0.3)
     fig.colorbar(sc, ax=ax, label="t_start [s]")
-    ax.set_xlim(0.0, info.L)
-    ax.set_ylim(0.0, info.W)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("z [m]")
-    ax.set_title(f"{len(area)} events: hypocentres (marker area ~ event area)", fontsize=9)
+    plots.interface_2d_frame(ax, info.L, info.W, f"{len(area)} events: hypocentres (marker area ~ event area)")
     return _save(fig, out_dir, "hypocentres", pdf)
 
 
