@@ -53,7 +53,6 @@ def plot_main(argv: list[str]) -> int:
     parser.add_argument("--overwrite", action="store_true", help="replace an existing --out file")
     args = parser.parse_args(argv)
 
-    from . import plots  # matplotlib is imported only when plotting
     from .runfile import open_run
 
     try:
@@ -84,6 +83,10 @@ def plot_main(argv: list[str]) -> int:
     out = args.out or f"{kind}.png"
     if not _outputs_ok({"--out": out}, [args.run], args.overwrite):
         return 2
+    # matplotlib is imported only when plotting: it is most of the command's
+    # start-up time, and the refusals above need none of it.
+    from . import plots
+
     try:
         if kind == "maps":
             plots.interface_2d_maps(args.run, out, times=times, dpi=args.dpi)

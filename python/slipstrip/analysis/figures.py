@@ -6,7 +6,6 @@ import math
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 from ..runfile import open_h5, read_times
 from .criteria import NodalSlipGroups
@@ -111,6 +110,7 @@ def plot_pdfs(catalog: dict, info: RunInfo, stats_: dict, out_dir: Path, pdf: bo
     """p(u/D), p(T v0/D), p(M0/(mu D L)) with the power-law and log-normal fits (Fig. 1c-e);
     on a 2D interface p(M0/(mu D L W)) and a fourth panel p(A/(L W))."""
     plt = _plt()
+    from scipy import stats  # imported where used: most of the commands' start-up time
     obs = normalised_observables(catalog, info)
     large = obs["u"] >= 1.0
     labels = observable_labels(info)

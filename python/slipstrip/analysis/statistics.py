@@ -8,7 +8,10 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy import optimize, stats
+
+# scipy is imported inside the functions that fit or test: it is most of the
+# start-up time of every `python3 -m slipstrip` command (analyze, transition,
+# report) and the commands' error paths (a missing or foreign file) need none of it.
 
 from .reading import RunInfo
 
@@ -118,6 +121,8 @@ def _power_law_mle(x: np.ndarray, lo: float, hi: float) -> tuple[float, float]:
 
     def nll(a):  # per sample
         return a * mean_log + _log_norm(a, lo, hi)
+
+    from scipy import optimize
 
     res = optimize.minimize_scalar(nll, bounds=(-10.0, 20.0), method="bounded",
                                    options={"xatol": 1e-10})
@@ -232,6 +237,8 @@ def fit_lognormal(values, n_bootstrap: int = 500, seed: int = 0) -> LognormalFit
     x = x[np.isfinite(x) & (x > 0)]
     if x.size < MIN_FIT_EVENTS:
         return LognormalFit(math.nan, math.nan, int(x.size), math.nan, math.nan, math.nan)
+    from scipy import stats
+
     shape, _, scale = stats.lognorm.fit(x, floc=0)
     mu, sigma = math.log(scale), float(shape)
     res = stats.kstest(x, "lognorm", args=(sigma, 0, scale))
@@ -281,6 +288,8 @@ def stationarity(catalog: dict, info: RunInfo, t_total: float | None = None, t_b
     span = t_total - t_begin
     first = (t >= t_begin) & (t < t_begin + 0.2 * span)
     last = t > t_begin + 0.8 * span
+    from scipy import stats
+
     obs = normalised_observables(catalog, info)
     out = {"t_total": t_total, "t_begin": t_begin, "n_first": int(first.sum()), "n_last": int(last.sum())}
     for name, x in obs.items():
