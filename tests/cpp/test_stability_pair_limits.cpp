@@ -148,8 +148,8 @@ TEST_CASE("a stiffening base: growth rates and Lc of a strip tend to the rigid b
   // Lc does not tend to the rigid base's: the base's standing waves, which a
   // rigid base does not have, grow at O(1/r) (above) at wavelengths where the
   // strip on a rigid base is stable, so the shortest unstable wavelength of any
-  // finite stiffness stays below the rigid Lc (0.625 m at r = 1e3, 0.634 m at
-  // 1e4, rigid 0.7247 m).  What tends to the rigid base is the growth there:
+  // finite stiffness stays below the rigid Lc (0.7247 m): here below 0.65 m.
+  // What tends to the rigid base is the growth there:
   // at L = 0.65 m (stable on the rigid base) the fastest growth falls as O(1/r),
   // ratio 0.1 per decade, tolerance 10 % as above.
   const double lc_rigid = pair_critical_wavelength(on_rigid, 0.05, 50.0);
