@@ -38,6 +38,12 @@ struct BlockStripHistory::Scratch {
   std::vector<double> phase_re, phase_im;  // e^{i theta_k B/2} of the located design
 };
 
+int automatic_block_length(std::size_t most_normal_modes, int direct_block) {
+  int block = 2 * direct_block;
+  while (static_cast<std::size_t>(block) < most_normal_modes) block *= 2;
+  return block;
+}
+
 BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,
                                      const BlockHistoryDesign& design, const CancelCheck& cancelled)
     : dt_(kernels.time_step), eta_(material.radiation_damping()),
@@ -54,11 +60,7 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
 
   std::size_t most = 0;
   for (int q = 0; q < n_modes_; ++q) most = std::max(most, first[q + 1] - first[q]);
-  block_ = design.block;
-  if (block_ == 0) {
-    block_ = 2 * direct_block_;
-    while (static_cast<std::size_t>(block_) < most) block_ *= 2;
-  }
+  block_ = design.block == 0 ? automatic_block_length(most, direct_block_) : design.block;
   if (!is_power_of_two(block_) || block_ < 2 * direct_block_)
     throw std::invalid_argument("BlockStripHistory: block = " + std::to_string(block_) +
                                 " must be a power of two >= 2 direct_block");

@@ -51,6 +51,10 @@ struct BlockHistoryDesign {
   int nufft_half_width = 12;  // NUFFT accuracy ~5e-13 (kernels/nufft.hpp)
 };
 
+// The block length B of BlockHistoryDesign::block = 0: the smallest power of
+// two >= `most_normal_modes` (of any Fourier mode) and >= 2 direct_block.
+int automatic_block_length(std::size_t most_normal_modes, int direct_block);
+
 class BlockStripHistory final : public HistoryOperator {
  public:
   BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,

@@ -58,6 +58,21 @@ std::vector<int> half_space_windows(std::span<const double> h, const HalfSpaceOp
   return window;
 }
 
+void set_near_field_range(HalfSpaceOperatorDesign& design, std::span<const double> h) {
+  std::vector<double> moving;  // the modes that move (h > 0), as half_space_windows sees them
+  moving.push_back(0.0);
+  for (double value : h)
+    if (value > 0.0) moving.push_back(value);
+  const std::vector<int> window = half_space_windows(moving, design);
+  double tau_max = 0.0, h_min = std::numeric_limits<double>::infinity();
+  for (std::size_t q = 1; q < moving.size(); ++q) {
+    tau_max = std::max(tau_max, window[q] * moving[q]);
+    h_min = std::min(h_min, moving[q]);
+  }
+  design.near_field_tau_max = tau_max;
+  design.near_field_h_min = moving.size() > 1 ? h_min : 0.0;
+}
+
 std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& material, double time_step,
                                                       std::span<const double> h_of, std::span<const int> window,
                                                       int block, const HalfSpaceOperatorDesign& design,
@@ -71,11 +86,11 @@ std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& mat
   const double static_value = half_space_static_value(shape);
   // Stored lags reach tau = W h <= near_field_tau + lags h_max; the far field
   // starts at tau = W h >= near_field_tau.
-  double tau_near_max = 0.0;
+  double tau_near_max = design.near_field_tau_max;
   for (int q = 1; q < n_modes; ++q) tau_near_max = std::max(tau_near_max, window[q] * h_of[q]);
   // The near-field sum must reach down to the smallest h (h_of[1] on a
   // one-dimensional interface, whose wavenumbers increase with q).
-  double h_min = std::numeric_limits<double>::infinity();
+  double h_min = design.near_field_h_min > 0.0 ? design.near_field_h_min : std::numeric_limits<double>::infinity();
   for (int q = 1; q < n_modes; ++q) h_min = std::min(h_min, h_of[q]);
   const ExponentialSum near =
       n_modes > 1

@@ -36,7 +36,17 @@ struct HalfSpaceOperatorDesign {
   // empty: simd::instruction_set(), the widest this CPU supports.  The copies
   // agree to rounding (FMA contraction); tests and benchmarks pick one here.
   std::optional<simd::InstructionSet> instruction_set;
+  // The near-field exponential sum is fitted over h = c_s |k| dt from the
+  // smallest h of the operator's modes up to their largest stored window.  An
+  // operator holding part of a larger one's modes (one process of a 2D
+  // interface split over processes) is given the whole one's range here
+  // (set_near_field_range), so its modes get the same fit; 0: its own modes'.
+  double near_field_h_min = 0.0, near_field_tau_max = 0.0;
 };
+
+// Sets design.near_field_h_min and near_field_tau_max to the range of the
+// modes h (h = c_s |k| dt; entries 0, the uniform mode, are skipped).
+void set_near_field_range(HalfSpaceOperatorDesign& design, std::span<const double> h);
 
 // Most Taylor terms a design may ask for (the block-end update keeps them on the stack).
 inline constexpr int kMaxTaylorTerms = 32;

@@ -10,39 +10,93 @@
 
 namespace slipstrip {
 
-InterfaceWavevectors interface_wavevectors(const InterfaceGrid2d& grid) {
+namespace {
+void check_grid(const InterfaceGrid2d& grid) {
   if (!(grid.length_x > 0) || !(grid.length_z > 0) || grid.nodes_x < 1 || grid.nodes_z < 1)
     throw std::invalid_argument("interface grid: lengths must be > 0 and node counts >= 1");
+}
+}  // namespace
+
+InterfaceModeSet interface_modes_all(const InterfaceGrid2d& grid) {
+  check_grid(grid);
   const int half_x = grid.nodes_x / 2 + 1;
-  InterfaceWavevectors k;
-  k.kx.resize(grid.modes());
-  k.kz.resize(grid.modes());
-  k.magnitude.resize(grid.modes());
-  for (int qz = 0; qz < grid.nodes_z; ++qz) {
-    const int signed_qz = qz <= grid.nodes_z / 2 ? qz : qz - grid.nodes_z;
-    const double kz = 2.0 * std::numbers::pi * static_cast<double>(signed_qz) / grid.length_z;
+  InterfaceModeSet modes;
+  modes.qx.reserve(grid.modes());
+  modes.qz.reserve(grid.modes());
+  for (int qz = 0; qz < grid.nodes_z; ++qz)
     for (int qx = 0; qx < half_x; ++qx) {
-      const std::size_t m = static_cast<std::size_t>(qz) * half_x + qx;
-      // The same expression as the one-dimensional interface's wavenumbers.
-      k.kx[m] = 2.0 * std::numbers::pi * static_cast<double>(qx) / grid.length_x;
-      k.kz[m] = kz;
-      k.magnitude[m] = std::hypot(k.kx[m], kz);
+      modes.qx.push_back(qx);
+      modes.qz.push_back(qz);
+    }
+  return modes;
+}
+
+InterfaceModeSet interface_mode_columns(const InterfaceGrid2d& grid, int qx_begin, int qx_count) {
+  check_grid(grid);
+  if (qx_begin < 0 || qx_count < 0 || qx_begin + qx_count > grid.nodes_x / 2 + 1)
+    throw std::invalid_argument("interface_mode_columns: columns " + std::to_string(qx_begin) + " + " +
+                                std::to_string(qx_count) + " outside 0.." + std::to_string(grid.nodes_x / 2));
+  InterfaceModeSet modes;
+  for (int qx = qx_begin; qx < qx_begin + qx_count; ++qx)
+    for (int qz = 0; qz < grid.nodes_z; ++qz) {
+      modes.qx.push_back(qx);
+      modes.qz.push_back(qz);
+    }
+  return modes;
+}
+
+InterfaceWavevectors interface_wavevectors(const InterfaceGrid2d& grid, const InterfaceModeSet& modes) {
+  check_grid(grid);
+  const std::size_t n = modes.size();
+  InterfaceWavevectors k;
+  k.kx.resize(n);
+  k.kz.resize(n);
+  k.magnitude.resize(n);
+  for (std::size_t m = 0; m < n; ++m) {
+    const int qx = modes.qx[m], qz = modes.qz[m];
+    const int signed_qz = qz <= grid.nodes_z / 2 ? qz : qz - grid.nodes_z;
+    // The same expression as the one-dimensional interface's wavenumbers.
+    k.kx[m] = 2.0 * std::numbers::pi * static_cast<double>(qx) / grid.length_x;
+    k.kz[m] = 2.0 * std::numbers::pi * static_cast<double>(signed_qz) / grid.length_z;
+    k.magnitude[m] = std::hypot(k.kx[m], k.kz[m]);
+  }
+  return k;
+}
+
+InterfaceWavevectors interface_wavevectors(const InterfaceGrid2d& grid) {
+  return interface_wavevectors(grid, interface_modes_all(grid));
+}
+
+namespace {
+bool holds_uniform_mode(const InterfaceModeSet& modes) {
+  for (std::size_t s = 0; s < modes.size(); ++s)
+    if (modes.qx[s] == 0 && modes.qz[s] == 0) return true;
+  return false;
+}
+}  // namespace
+
+InterfaceWavevectors interface_operator_wavevectors(const InterfaceGrid2d& grid, const InterfaceModeSet& modes) {
+  InterfaceWavevectors k = interface_wavevectors(grid, modes);
+  if (!holds_uniform_mode(modes)) {
+    // The idle uniform mode in front (the operators need it first).
+    k.kx.insert(k.kx.begin(), 0.0);
+    k.kz.insert(k.kz.begin(), 0.0);
+    k.magnitude.insert(k.magnitude.begin(), 0.0);
+  }
+  const std::size_t first = k.magnitude.size() - modes.size();  // 1 with the idle uniform mode
+  if (grid.nodes_z % 2 == 0 && grid.nodes_z > 1) {
+    for (std::size_t m = 0; m < modes.size(); ++m) {
+      if (modes.qz[m] != grid.nodes_z / 2) continue;
+      k.kx.push_back(k.kx[first + m]);
+      k.kz.push_back(-k.kz[first + m]);
+      k.magnitude.push_back(k.magnitude[first + m]);
     }
   }
   return k;
 }
 
 InterfaceWavevectors interface_operator_wavevectors(const InterfaceGrid2d& grid) {
-  InterfaceWavevectors k = interface_wavevectors(grid);
-  if (grid.nodes_z % 2 == 0 && grid.nodes_z > 1) {
-    const std::size_t half_x = grid.nodes_x / 2 + 1, row = static_cast<std::size_t>(grid.nodes_z / 2) * half_x;
-    for (std::size_t qx = 0; qx < half_x; ++qx) {
-      k.kx.push_back(k.kx[row + qx]);
-      k.kz.push_back(-k.kz[row + qx]);
-      k.magnitude.push_back(k.magnitude[row + qx]);
-    }
-  }
-  return k;
+  return interface_operator_wavevectors(grid, interface_modes_all(grid));
 }
 
 double interface_2d_beta_limit(const InterfaceGrid2d& grid, double beta_1d) {
@@ -56,10 +110,15 @@ double interface_2d_beta_limit(const InterfaceGrid2d& grid, double beta_1d) {
 InterfaceHistory2d::InterfaceHistory2d(const InterfaceGrid2d& grid,
                                        std::unique_ptr<HistoryOperator> inplane,
                                        std::unique_ptr<HistoryOperator> antiplane)
+    : InterfaceHistory2d(grid, interface_modes_all(grid), std::move(inplane), std::move(antiplane)) {}
+
+InterfaceHistory2d::InterfaceHistory2d(const InterfaceGrid2d& grid, const InterfaceModeSet& modes,
+                                       std::unique_ptr<HistoryOperator> inplane,
+                                       std::unique_ptr<HistoryOperator> antiplane)
     : grid_(grid), inplane_(std::move(inplane)), antiplane_(std::move(antiplane)) {
   if (!inplane_ || !antiplane_)
     throw std::invalid_argument("InterfaceHistory2d: needs an in-plane and an antiplane operator");
-  const InterfaceWavevectors k = interface_operator_wavevectors(grid_);
+  const InterfaceWavevectors k = interface_operator_wavevectors(grid_, modes);
   const std::size_t n = k.magnitude.size();
   if (static_cast<std::size_t>(inplane_->modes()) != n ||
       static_cast<std::size_t>(antiplane_->modes()) != n ||
@@ -68,7 +127,22 @@ InterfaceHistory2d::InterfaceHistory2d(const InterfaceGrid2d& grid,
     throw std::invalid_argument(
         "InterfaceHistory2d: the in-plane and antiplane operators must have the grid's " +
         std::to_string(n) + " operator modes, one time step and one radiation damping");
-  if (n > grid_.modes()) nyquist_row_ = static_cast<std::size_t>(grid_.nodes_z / 2) * (grid_.nodes_x / 2 + 1);
+  first_ = holds_uniform_mode(modes) ? 0 : 1;
+  // The extra operator modes, in the order interface_operator_wavevectors appends them.
+  for (std::size_t s = 0; s < modes.size() && n > first_ + modes.size(); ++s)
+    if (modes.qz[s] == grid_.nodes_z / 2) extra_slot_.push_back(s);
+  if (grid_.nodes_x % 2 == 0) {
+    // Slot of each qz of the x-Nyquist column, if the set holds it.
+    const int nz = grid_.nodes_z;
+    std::vector<std::size_t> column(nz, modes.size());
+    std::size_t held = 0;
+    for (std::size_t s = 0; s < modes.size(); ++s)
+      if (modes.qx[s] == grid_.nodes_x / 2) column[modes.qz[s]] = s, ++held;
+    if (held != 0 && held != static_cast<std::size_t>(nz))
+      throw std::invalid_argument("InterfaceHistory2d: a mode set must hold all or none of the x-Nyquist column");
+    if (held != 0)
+      for (int qz = 0; qz <= nz / 2; ++qz) x_nyquist_pairs_.emplace_back(column[qz], column[(nz - qz) % nz]);
+  }
   cos_.resize(n);
   sin_.resize(n);
   for (std::size_t m = 0; m < n; ++m) {
@@ -82,22 +156,30 @@ InterfaceHistory2d::InterfaceHistory2d(const InterfaceGrid2d& grid,
   }
   along_.assign(n, 0.0);
   across_.assign(n, 0.0);
-  history_x_.assign(grid_.modes(), 0.0);
-  history_z_.assign(grid_.modes(), 0.0);
+  history_x_.assign(modes.size(), 0.0);
+  history_z_.assign(modes.size(), 0.0);
 }
 
 InterfaceHistory2d InterfaceHistory2d::build(const ElasticMaterial& material, double strip_height,
                                              const InterfaceGrid2d& grid, double time_step,
                                              const CancelCheck& cancelled,
                                              const StripOperatorFactory& strip_operator) {
+  return build(material, strip_height, grid, interface_modes_all(grid), time_step, cancelled, strip_operator);
+}
+
+InterfaceHistory2d InterfaceHistory2d::build(const ElasticMaterial& material, double strip_height,
+                                             const InterfaceGrid2d& grid, const InterfaceModeSet& modes,
+                                             double time_step, const CancelCheck& cancelled,
+                                             const StripOperatorFactory& strip_operator,
+                                             const HalfSpaceOperatorDesign& half_space) {
   ElasticMaterial inplane = material, antiplane = material;
   inplane.plane = PlaneCondition::strain;  // a body invariant along the crest of the mode
   antiplane.plane = PlaneCondition::antiplane;
-  const std::vector<double> magnitude = interface_operator_wavevectors(grid).magnitude;
+  const std::vector<double> magnitude = interface_operator_wavevectors(grid, modes).magnitude;
   if (is_half_space(strip_height))
     return InterfaceHistory2d(
-        grid, std::make_unique<HalfSpaceHistory>(inplane, magnitude, time_step, HalfSpaceOperatorDesign{}, cancelled),
-        std::make_unique<HalfSpaceHistory>(antiplane, magnitude, time_step, HalfSpaceOperatorDesign{}, cancelled));
+        grid, modes, std::make_unique<HalfSpaceHistory>(inplane, magnitude, time_step, half_space, cancelled),
+        std::make_unique<HalfSpaceHistory>(antiplane, magnitude, time_step, half_space, cancelled));
   // One operator at a time: the kernels (one copy of every mode's normal
   // modes) are freed before the next ones are computed.
   auto make = [&](const ElasticMaterial& body) -> std::unique_ptr<HistoryOperator> {
@@ -106,7 +188,7 @@ InterfaceHistory2d InterfaceHistory2d::build(const ElasticMaterial& material, do
     return std::make_unique<StripHistory>(body, kernels, cancelled);
   };
   auto inplane_operator = make(inplane);
-  return InterfaceHistory2d(grid, std::move(inplane_operator), make(antiplane));
+  return InterfaceHistory2d(grid, modes, std::move(inplane_operator), make(antiplane));
 }
 
 namespace {
@@ -141,9 +223,15 @@ ModeOperatorStats InterfaceHistory2d::stats() const {
 void InterfaceHistory2d::push(std::span<const std::complex<double>> slip_rate_x,
                               std::span<const std::complex<double>> slip_rate_z) {
   const std::size_t n = history_x_.size(), n_operator = along_.size();
-  // Operator mode m < n is grid mode m; the extra z-Nyquist row takes its grid row's input.
-  for (std::size_t m = 0; m < n_operator; ++m) {
-    const std::size_t g = m < n ? m : nyquist_row_ + (m - n);
+  // Operator mode first_ + m is slot m; the extra z-Nyquist modes take their
+  // slot's input; an idle uniform mode (first_ = 1) stays at zero input.
+  const std::size_t f = first_;
+  for (std::size_t m = 0; m < n; ++m) {
+    along_[f + m] = cos_[f + m] * slip_rate_x[m] + sin_[f + m] * slip_rate_z[m];
+    across_[f + m] = cos_[f + m] * slip_rate_z[m] - sin_[f + m] * slip_rate_x[m];
+  }
+  for (std::size_t m = f + n; m < n_operator; ++m) {
+    const std::size_t g = extra_slot_[m - f - n];
     along_[m] = cos_[m] * slip_rate_x[g] + sin_[m] * slip_rate_z[g];
     across_[m] = cos_[m] * slip_rate_z[g] - sin_[m] * slip_rate_x[g];
   }
@@ -151,28 +239,22 @@ void InterfaceHistory2d::push(std::span<const std::complex<double>> slip_rate_x,
   antiplane_->push(across_);
   const auto h_along = inplane_->history(), h_across = antiplane_->history();
   for (std::size_t m = 0; m < n; ++m) {
-    history_x_[m] = cos_[m] * h_along[m] - sin_[m] * h_across[m];
-    history_z_[m] = sin_[m] * h_along[m] + cos_[m] * h_across[m];
+    history_x_[m] = cos_[f + m] * h_along[f + m] - sin_[f + m] * h_across[f + m];
+    history_z_[m] = sin_[f + m] * h_along[f + m] + cos_[f + m] * h_across[f + m];
   }
   // z-Nyquist row: the average over kz = +-pi/dz (no coupling term).
-  for (std::size_t m = n; m < n_operator; ++m) {
-    const std::size_t g = nyquist_row_ + (m - n);
+  for (std::size_t m = f + n; m < n_operator; ++m) {
+    const std::size_t g = extra_slot_[m - f - n];
     history_x_[g] = 0.5 * (history_x_[g] + (cos_[m] * h_along[m] - sin_[m] * h_across[m]));
     history_z_[g] = 0.5 * (history_z_[g] + (sin_[m] * h_along[m] + cos_[m] * h_across[m]));
   }
   // x-Nyquist column: its Hermitian part, h(qz) <- (h(qz) + conj h(-qz)) / 2,
   // the average over kx = +-pi/dx.
-  if (grid_.nodes_x % 2 == 0) {
-    const std::size_t half_x = grid_.nodes_x / 2 + 1, qx = grid_.nodes_x / 2;
-    const int nz = grid_.nodes_z;
-    for (int qz = 0; qz <= nz / 2; ++qz) {
-      const std::size_t a = static_cast<std::size_t>(qz) * half_x + qx;
-      const std::size_t b = static_cast<std::size_t>((nz - qz) % nz) * half_x + qx;
-      for (auto* h : {&history_x_, &history_z_}) {
-        const std::complex<double> mean = 0.5 * ((*h)[a] + std::conj((*h)[b]));
-        (*h)[a] = mean;
-        (*h)[b] = std::conj(mean);
-      }
+  for (const auto& [a, b] : x_nyquist_pairs_) {
+    for (auto* h : {&history_x_, &history_z_}) {
+      const std::complex<double> mean = 0.5 * ((*h)[a] + std::conj((*h)[b]));
+      (*h)[a] = mean;
+      (*h)[b] = std::conj(mean);
     }
   }
 }

@@ -18,7 +18,10 @@
 // problem in both directions; it is taken with k-hat = x, so a field
 // independent of z sees exactly the in-plane operator along x.
 //
-// Mode layout: RealFft2d's [qz][qx] (kernels/fft.hpp).
+// Mode layout: RealFft2d's [qz][qx] (kernels/fft.hpp) on one process; a
+// process of a run split over several (FFTW's MPI transform with transposed
+// output) holds whole columns qx of modes stored as [qx][qz]
+// (InterfaceModeSet).
 //
 // Nyquist modes.  On an even grid the Nyquist wavenumber pi/dz stands for both
 // +pi/dz and -pi/dz (likewise pi/dx), and the coupling term c s (S_P - S_SH)
@@ -33,9 +36,11 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
+#include "kernels/half_space_design.hpp"
 #include "kernels/history_convolution.hpp"
 
 namespace slipstrip {
@@ -46,6 +51,20 @@ struct InterfaceGrid2d {
   std::size_t modes() const { return static_cast<std::size_t>(nodes_x / 2 + 1) * nodes_z; }
 };
 
+// The grid modes a process holds, in the order of its spectra: slot s is the
+// mode (qx[s], qz[s]), qx = 0..nodes_x/2, qz = 0..nodes_z-1 (RealFft2d's
+// indices).
+struct InterfaceModeSet {
+  std::vector<int> qx, qz;
+  std::size_t size() const { return qx.size(); }
+};
+// All modes in RealFft2d's [qz][qx] order.
+InterfaceModeSet interface_modes_all(const InterfaceGrid2d& grid);
+// The columns qx = qx_begin .. qx_begin + qx_count - 1, every qz, stored
+// [qx][qz]: the modes FFTW's MPI r2c transform with FFTW_MPI_TRANSPOSED_OUT
+// leaves on one process.
+InterfaceModeSet interface_mode_columns(const InterfaceGrid2d& grid, int qx_begin, int qx_count);
+
 // Wavevector of each mode of the grid (RealFft2d's layout): kx, kz [1/m] and
 // |k| = hypot(kx, kz).  kx = 2 pi qx / L_x is computed exactly as for a
 // one-dimensional interface, so the modes with kz = 0 get the 2D designs bit
@@ -54,10 +73,19 @@ struct InterfaceWavevectors {
   std::vector<double> kx, kz, magnitude;
 };
 InterfaceWavevectors interface_wavevectors(const InterfaceGrid2d& grid);
+// The same for the modes of a set, slot by slot (bit for bit the values of
+// those modes in the whole grid's list).
+InterfaceWavevectors interface_wavevectors(const InterfaceGrid2d& grid, const InterfaceModeSet& modes);
 
 // The operators' mode list: the grid's modes, then (nodes_z even and > 1)
 // the z-Nyquist row again with kz = -pi/dz.
 InterfaceWavevectors interface_operator_wavevectors(const InterfaceGrid2d& grid);
+// The same for a set: its modes, then its modes with qz = nodes_z/2 again
+// (kz = -pi/dz), in slot order.  The 2D operators carry the uniform mode
+// first (the shear echo's delay line), so a set without it (a process of a
+// split run other than the first) gets an idle uniform mode in front: zero
+// input, its output unused.
+InterfaceWavevectors interface_operator_wavevectors(const InterfaceGrid2d& grid, const InterfaceModeSet& modes);
 
 // Largest time.beta for which every mode's discrete operator is passive:
 // the one-dimensional limit `beta_1d` (reached at the Nyquist wavenumber pi/dx
@@ -74,6 +102,13 @@ class InterfaceHistory2d {
   // both with the same time step and radiation damping.
   InterfaceHistory2d(const InterfaceGrid2d& grid, std::unique_ptr<HistoryOperator> inplane,
                      std::unique_ptr<HistoryOperator> antiplane);
+  // The same over the modes of a set only (the operators built over
+  // interface_operator_wavevectors(grid, modes).magnitude): the part of a run
+  // split over processes that one process holds.  A set holding part of the
+  // x-Nyquist column (qx = nodes_x/2, nodes_x even) is refused: its
+  // projection pairs qz with nodes_z - qz.
+  InterfaceHistory2d(const InterfaceGrid2d& grid, const InterfaceModeSet& modes,
+                     std::unique_ptr<HistoryOperator> inplane, std::unique_ptr<HistoryOperator> antiplane);
 
   // Makes a strip operator from its material (plane strain or antiplane) and
   // kernels: the modal StripHistory or the block BlockStripHistory (the same
@@ -90,6 +125,14 @@ class InterfaceHistory2d {
                                   const InterfaceGrid2d& grid, double time_step,
                                   const CancelCheck& cancelled = {},
                                   const StripOperatorFactory& strip_operator = {});
+  // The same over the modes of a set (designs shared among its own modes of
+  // equal |k|), half-spaces with `half_space` (set_near_field_range of the
+  // whole grid's modes gives a part the whole operator's near-field fit).
+  static InterfaceHistory2d build(const ElasticMaterial& material, double strip_height,
+                                  const InterfaceGrid2d& grid, const InterfaceModeSet& modes,
+                                  double time_step, const CancelCheck& cancelled = {},
+                                  const StripOperatorFactory& strip_operator = {},
+                                  const HalfSpaceOperatorDesign& half_space = {});
 
   const InterfaceGrid2d& grid() const { return grid_; }
   double time_step() const { return inplane_->time_step(); }
@@ -117,7 +160,13 @@ class InterfaceHistory2d {
  private:
   InterfaceGrid2d grid_;
   std::unique_ptr<HistoryOperator> inplane_, antiplane_;
-  std::size_t nyquist_row_ = 0;     // first mode of the z-Nyquist row (0: none)
+  // Operator mode first_ + s is slot s; first_ = 1 when operator mode 0 is an
+  // idle uniform mode (a set without the uniform mode).  Operator mode
+  // first_ + modes() + j is the slot extra_slot_[j] (qz = nodes_z/2) with -kz.
+  std::size_t first_ = 0;
+  std::vector<std::size_t> extra_slot_;
+  // The x-Nyquist column's pairs of slots (qz, nodes_z - qz), qz = 0..nodes_z/2.
+  std::vector<std::pair<std::size_t, std::size_t>> x_nyquist_pairs_;
   std::vector<double> cos_, sin_;  // k-hat per operator mode
   std::vector<std::complex<double>> along_, across_, history_x_, history_z_;
 };

@@ -24,18 +24,27 @@ namespace slipstrip {
 // Fourier mode carries more than ~100 normal modes (bench_kernels_history:
 // 1.8x faster at 150 modes per Fourier mode, 55x at 6000) but needs ~2-3x the
 // memory, so below that the modal one is kept.
+std::size_t most_normal_modes(const StripKernels& kernels) {
+  std::size_t most = 0;
+  for (std::size_t q = 0; q + 1 < kernels.first_oscillator.size(); ++q)
+    most = std::max(most, kernels.first_oscillator[q + 1] - kernels.first_oscillator[q]);
+  return most;
+}
+
 std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& material,
                                                     const StripKernels& kernels,
                                                     HistoryAlgorithm algorithm,
-                                                    const CancelCheck& cancelled) {
-  if (algorithm == HistoryAlgorithm::automatic) {
-    std::size_t most = 0;
-    for (std::size_t q = 0; q + 1 < kernels.first_oscillator.size(); ++q)
-      most = std::max(most, kernels.first_oscillator[q + 1] - kernels.first_oscillator[q]);
+                                                    const CancelCheck& cancelled,
+                                                    std::size_t most_normal_modes_override) {
+  const std::size_t most =
+      most_normal_modes_override > 0 ? most_normal_modes_override : most_normal_modes(kernels);
+  if (algorithm == HistoryAlgorithm::automatic)
     algorithm = most >= kBlockHistoryThreshold ? HistoryAlgorithm::block : HistoryAlgorithm::modal;
+  if (algorithm == HistoryAlgorithm::block) {
+    BlockHistoryDesign design;
+    if (most_normal_modes_override > 0) design.block = automatic_block_length(most, design.direct_block);
+    return std::make_unique<BlockStripHistory>(material, kernels, design, cancelled);
   }
-  if (algorithm == HistoryAlgorithm::block)
-    return std::make_unique<BlockStripHistory>(material, kernels, BlockHistoryDesign{}, cancelled);
   return std::make_unique<StripHistory>(material, kernels, cancelled);
 }
 

@@ -59,11 +59,18 @@ void check_saved_state(std::span<const SavedField> fields, const SimulationState
 // docs/theory.md 11.1); "auto" takes the block one when some Fourier mode
 // carries kBlockHistoryThreshold normal modes or more.  Used by the 1D
 // interface and by each of the 2D interface's in-plane and antiplane operators.
+// `most_normal_modes` > 0 replaces the kernels' own largest count of normal
+// modes per Fourier mode, for the automatic choice and the block length B:
+// kernels holding part of an operator's modes (one process of a split run)
+// then choose as the whole operator does.
 inline constexpr std::size_t kBlockHistoryThreshold = 128;
 std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& material,
                                                     const StripKernels& kernels,
                                                     HistoryAlgorithm algorithm,
-                                                    const CancelCheck& cancelled = {});
+                                                    const CancelCheck& cancelled = {},
+                                                    std::size_t most_normal_modes = 0);
+// The largest number of normal modes of any Fourier mode of `kernels`.
+std::size_t most_normal_modes(const StripKernels& kernels);
 
 class Simulation {
  public:

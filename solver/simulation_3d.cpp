@@ -47,13 +47,46 @@ double time_step_3d(const SimulationConfig& c) {
                          c.time.beta);
 }
 
+// One process: RealFft2d and the operator over every mode.
+class SerialSpectralStep final : public InterfaceSpectralStep {
+ public:
+  SerialSpectralStep(const SimulationConfig& config, double time_step, const CancelCheck& cancelled)
+      : history_(InterfaceHistory2d::build(
+            config.material, config.geometry.height, interface_grid(config), time_step, cancelled,
+            [&](const ElasticMaterial& body, const StripKernels& kernels) {
+              return make_strip_history(body, kernels, config.time.history, cancelled);
+            })),
+        fft_(config.geometry.nodes, config.geometry.nodes_z),
+        spectrum_x_(fft_.modes()), spectrum_z_(fft_.modes()) {}
+
+  InterfaceSlab slab() const override { return {0, fft_.nodes_z()}; }
+  void history(std::span<const double> rate_x, std::span<const double> rate_z, std::span<double> history_x,
+               std::span<double> history_z) override {
+    transform_push_invert(fft_, history_, spectrum_x_, spectrum_z_, rate_x, rate_z, history_x, history_z);
+  }
+  const InterfaceHistory2d& history_operator() const override { return history_; }
+  InterfaceHistory2d& history_operator() override { return history_; }
+  double sum(double local) const override { return local; }
+  double max(double local) const override { return local; }
+
+ private:
+  InterfaceHistory2d history_;
+  RealFft2d fft_;
+  std::vector<std::complex<double>> spectrum_x_, spectrum_z_;
+};
+
 }  // namespace
+
+std::unique_ptr<InterfaceSpectralStep> serial_spectral_step(const SimulationConfig& config, double time_step,
+                                                           const CancelCheck& cancelled) {
+  return std::make_unique<SerialSpectralStep>(config, time_step, cancelled);
+}
 
 Simulation3d::Simulation3d(const SimulationConfig& config, const CancelCheck& cancelled)
     : Simulation3d(config, {}, cancelled) {}
 
 Simulation3d::Simulation3d(const SimulationConfig& config, std::span<const double> initial_state,
-                           const CancelCheck& cancelled)
+                           const CancelCheck& cancelled, const SpectralStepFactory& spectral)
     : config_(checked_3d(config)), nodes_x_(config.geometry.nodes), nodes_z_(config.geometry.nodes_z),
       dx_(config.geometry.length / config.geometry.nodes), dz_(config.geometry.width / config.geometry.nodes_z),
       dt_(time_step_3d(config)), eta_(config.material.radiation_damping()),
@@ -61,29 +94,29 @@ Simulation3d::Simulation3d(const SimulationConfig& config, std::span<const doubl
       tau0_(frictional_strength(config.friction, config.loading.normal_stress, v0_,
                                 steady_state(config.friction, v0_))),
       local_(config.friction, config.loading.normal_stress, eta_),
-      history_(InterfaceHistory2d::build(
-          config.material, config.geometry.height, interface_grid(config), dt_, cancelled,
-          [&](const ElasticMaterial& body, const StripKernels& kernels) {
-            return make_strip_history(body, kernels, config.time.history, cancelled);
-          })),
-      fft_(nodes_x_, nodes_z_) {
-  const std::size_t n = fft_.nodes();
+      spectral_(spectral ? spectral(config_, dt_, cancelled) : serial_spectral_step(config_, dt_, cancelled)) {
+  const InterfaceSlab slab = spectral_->slab();
+  if (slab.first_row < 0 || slab.rows < 1 || slab.first_row + slab.rows > nodes_z_)
+    throw std::invalid_argument("Simulation3d: rows " + std::to_string(slab.first_row) + " + " +
+                                std::to_string(slab.rows) + " outside the interface's " + std::to_string(nodes_z_));
+  const std::size_t n = static_cast<std::size_t>(nodes_x_) * slab.rows;
   for (auto* v : {&slip_x_, &slip_z_, &slip_rate_x_, &slip_rate_z_, &state_, &shear_stress_x_,
                   &shear_stress_z_, &speed_, &previous_speed_, &previous_state_, &previous_rate_x_,
-                  &previous_rate_z_, &load_x_, &load_z_, &load_magnitude_, &work_})
+                  &previous_rate_z_, &load_x_, &load_z_, &load_magnitude_, &rate_perturbation_x_,
+                  &rate_perturbation_z_})
     v->assign(n, 0.0);
-  spectrum_x_.assign(fft_.modes(), 0.0);
-  spectrum_z_.assign(fft_.modes(), 0.0);
   initialise(initial_state);
 }
 
 void Simulation3d::initialise(std::span<const double> initial_state) {
-  const std::size_t n = nodes();
+  // The whole interface's initial state, then this process's rows of it.
+  const std::size_t n = static_cast<std::size_t>(nodes_x_) * nodes_z_;
+  const std::size_t first = static_cast<std::size_t>(nodes_x_) * spectral_->slab().first_row;
   if (!initial_state.empty()) {
     if (initial_state.size() != n)
       throw std::invalid_argument("Simulation3d: the initial state has " + std::to_string(initial_state.size()) +
                                   " values, the interface " + std::to_string(n) + " nodes");
-    std::copy(initial_state.begin(), initial_state.end(), state_.begin());
+    std::copy_n(initial_state.begin() + first, nodes(), state_.begin());
   } else {
     // [initial] at every node from its x: white noise (noise_modes = 0) is
     // drawn node by node, so it varies along z too; the sine, the Gaussian bump
@@ -92,7 +125,7 @@ void Simulation3d::initialise(std::span<const double> initial_state) {
     for (std::size_t i = 0; i < n; ++i) x[i] = static_cast<double>(i % nodes_x_) * dx_;
     const std::vector<double> phi_ss(n, steady_state(config_.friction, v0_));
     const std::vector<double> phi = perturbed_steady_state(config_.initial, x, config_.geometry.length, phi_ss);
-    std::copy(phi.begin(), phi.end(), state_.begin());
+    std::copy_n(phi.begin() + first, nodes(), state_.begin());
   }
   // t = 0: no history; tau_h = tau_0 + eta v0 along x.
   std::fill(load_x_.begin(), load_x_.end(), tau0_ + eta_ * v0_);
@@ -115,7 +148,7 @@ void Simulation3d::solve(bool initial) {
   } catch (const BatchFailure& e) {
     std::ostringstream msg;
     msg << "local friction solve failed at node (ix, iz) = (" << e.index % nodes_x_ << ", "
-        << e.index / nodes_x_ << "), t = " << time_ << " s, step " << step_index_ << ": " << e.what();
+        << e.index / nodes_x_ + spectral_->slab().first_row << "), t = " << time_ << " s, step " << step_index_ << ": " << e.what();
     throw SimulationError(msg.str());
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -134,13 +167,11 @@ void Simulation3d::step() {
   // History at t_{n+1} from the slip-rate perturbations up to t_n; the first
   // sample enters at half weight, as in the 2D solver (solver/simulation.cpp).
   const double first_sample_weight = step_index_ == 0 ? 0.5 : 1.0;
-  for (std::size_t i = 0; i < n; ++i) work_[i] = first_sample_weight * (slip_rate_x_[i] - v0_);
-  fft_.forward(work_, spectrum_x_);
-  for (std::size_t i = 0; i < n; ++i) work_[i] = first_sample_weight * slip_rate_z_[i];
-  fft_.forward(work_, spectrum_z_);
-  history_.push(spectrum_x_, spectrum_z_);
-  fft_.inverse(history_.history_x(), load_x_);
-  fft_.inverse(history_.history_z(), load_z_);
+  for (std::size_t i = 0; i < n; ++i) {
+    rate_perturbation_x_[i] = first_sample_weight * (slip_rate_x_[i] - v0_);
+    rate_perturbation_z_[i] = first_sample_weight * slip_rate_z_[i];
+  }
+  spectral_->history(rate_perturbation_x_, rate_perturbation_z_, load_x_, load_z_);
   const double drive = tau0_ + eta_ * v0_;
   for (std::size_t i = 0; i < n; ++i) {
     load_x_[i] = drive - load_x_[i];
@@ -166,8 +197,8 @@ void Simulation3d::check_finite(const char* what) const {
         std::isfinite(slip_z_[i]) && std::isfinite(shear_stress_x_[i]) && std::isfinite(shear_stress_z_[i]))
       continue;
     std::ostringstream msg;
-    msg << "non-finite " << what << " at node (ix, iz) = (" << i % nodes_x_ << ", " << i / nodes_x_
-        << "), t = " << time_ << " s, step " << step_index_ << ": slip_rate = (" << slip_rate_x_[i] << ", "
+    msg << "non-finite " << what << " at node (ix, iz) = (" << i % nodes_x_ << ", "
+        << i / nodes_x_ + spectral_->slab().first_row << "), t = " << time_ << " s, step " << step_index_ << ": slip_rate = (" << slip_rate_x_[i] << ", "
         << slip_rate_z_[i] << ") m/s, state = " << state_[i] << " s";
     throw SimulationError(msg.str());
   }
@@ -185,7 +216,7 @@ SimulationState Simulation3d::save_state() const {
   saved.slip_rate_z = slip_rate_z_;
   saved.shear_stress_z = shear_stress_z_;
   saved.speed = speed_;
-  saved.history = history_.save_state();
+  saved.history = spectral_->history_operator().save_state();
   return saved;
 }
 
@@ -201,20 +232,26 @@ void Simulation3d::restore_state(const SimulationState& saved) {
                                {"shear_stress_z", &saved.shear_stress_z, &shear_stress_z_},
                                {"speed", &saved.speed, &speed_}};
   check_saved_state(fields, saved, nodes(), "saved 2D-interface state");
-  history_.restore_state(saved.history);
+  spectral_->history_operator().restore_state(saved.history);
   for (const auto& f : fields) std::copy(f.saved->begin(), f.saved->end(), f.target->begin());
   time_ = saved.time;
   step_index_ = saved.step_index;
 }
 
-double Simulation3d::max_slip_rate() const { return *std::max_element(speed_.begin(), speed_.end()); }
+// On one process sum() and max() return their argument, so these are the
+// plain sums over all nodes.
+double Simulation3d::max_slip_rate() const {
+  return spectral_->max(*std::max_element(speed_.begin(), speed_.end()));
+}
 
 double Simulation3d::mean_slip_x() const {
-  return std::accumulate(slip_x_.begin(), slip_x_.end(), 0.0) / static_cast<double>(nodes());
+  const double nodes_total = static_cast<double>(static_cast<std::size_t>(nodes_x_) * nodes_z_);
+  return spectral_->sum(std::accumulate(slip_x_.begin(), slip_x_.end(), 0.0)) / nodes_total;
 }
 
 double Simulation3d::mean_shear_stress_x() const {
-  return std::accumulate(shear_stress_x_.begin(), shear_stress_x_.end(), 0.0) / static_cast<double>(nodes());
+  const double nodes_total = static_cast<double>(static_cast<std::size_t>(nodes_x_) * nodes_z_);
+  return spectral_->sum(std::accumulate(shear_stress_x_.begin(), shear_stress_x_.end(), 0.0)) / nodes_total;
 }
 
 }  // namespace slipstrip

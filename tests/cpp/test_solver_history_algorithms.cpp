@@ -15,22 +15,11 @@
 
 #include "solver/simulation.hpp"
 #include "kernels/block_strip_history.hpp"
+#include "field_test_helpers.hpp"
 
 using namespace slipstrip;
 
 namespace {
-
-double max_abs(std::span<const double> x) {
-  double m = 0;
-  for (double v : x) m = std::max(m, std::abs(v));
-  return m;
-}
-
-double max_abs_difference(std::span<const double> a, std::span<const double> b) {
-  double d = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
-}
 
 // Largest difference over the whole run, relative to the largest value over
 // the whole run (a field that passes through zero has no per-step scale).
