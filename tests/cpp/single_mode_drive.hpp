@@ -6,9 +6,17 @@
 #include <numbers>
 #include <vector>
 
+#include "kernels/elastic_material.hpp"
 #include "kernels/history_convolution.hpp"
 
 namespace slipstrip::testing {
+
+// A material with another plane condition: the rotated 2D-interface tests drive
+// the in-plane and antiplane operators of one material.
+inline ElasticMaterial with_plane(ElasticMaterial m, PlaneCondition plane) {
+  m.plane = plane;
+  return m;
+}
 
 // Slip rate of the slip profile g(t) = sin^4(pi t / T) on [0, T] (C^3, so its
 // Laplace transform decays like s^-5 and numerical inversions converge fast).

@@ -29,16 +29,12 @@
 #include "single_mode_drive.hpp"
 
 using namespace slipstrip;
+using testing::with_plane;
 using cplx = std::complex<double>;
 constexpr double pi = std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 namespace {
-
-ElasticMaterial with_plane(ElasticMaterial m, PlaneCondition plane) {
-  m.plane = plane;
-  return m;
-}
 
 // Z_d(z) of one mode's discrete operator (docs/theory.md 6.3), built directly
 // from the kernels' weights and phases.

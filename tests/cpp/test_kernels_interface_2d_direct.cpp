@@ -41,16 +41,12 @@
 #include "single_mode_drive.hpp"
 
 using namespace slipstrip;
+using testing::with_plane;
 using cplx = std::complex<double>;
 constexpr double pi = std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 namespace {
-
-ElasticMaterial with_plane(ElasticMaterial m, PlaneCondition plane) {
-  m.plane = plane;
-  return m;
-}
 
 struct Source {
   int node, direction, onset;  // onset t_a = onset dt
