@@ -249,6 +249,11 @@ void initial_rule(const SimulationConfig& c) {
                               " needs initial.local_width > 0 [m] (got " +
                               format_config_number(init.local_width) +
                               "): the perturbation is a Gaussian of that standard deviation");
+  if (init.local_width_z > 0.0 && c.geometry.nodes_z == 1)
+    throw ConfigRuleError({"local_width_z"},
+                          "initial.local_width_z = " + format_config_number(init.local_width_z) +
+                              " on a one-dimensional interface (geometry.nodes_z = 1): expected 0 (the bump "
+                              "is a Gaussian in x; its width in z needs a 2D interface)");
 }
 
 // A position on the periodic interface: 0 <= x <= L for a point such as a bump's
@@ -660,6 +665,22 @@ constexpr ConfigKey kKeys[] = {
      .allowed = non_negative, .rule_text = "> 0 if local_amplitude != 0",
      .help = "standard deviation of the bump", .comment = "standard deviation [m]",
      .bind = real_member<&C::initial, &InitialConfig::local_width>()},
+    {.section = "initial", .name = "local_center_z", .unit = "m", .rule_text = "0 <= z <= W",
+     .help = "on a 2D interface (`geometry.nodes_z` > 1, docs/3d.md): z of the centre of the bump",
+     .comment = "[m] (2D interface)",
+     .bind = real_member<&C::initial, &InitialConfig::local_center_z>(),
+     .real_rule = [](const C& c, double z) {
+       if (!(z >= 0.0 && z <= c.geometry.width))
+         throw KeyOutOfRange(format_config_number(z), "a position 0 <= z <= geometry.width = " +
+                                                          format_config_number(c.geometry.width) + " [m]");
+     }},
+    {.section = "initial", .name = "local_width_z", .unit = "m", .noun = "a width",
+     .allowed = non_negative, .allowed_note = " (0 = the same bump on every row z)",
+     .rule_text = "0 on a one-dimensional interface",
+     .help = "on a 2D interface: standard deviation of the bump in z, which makes it a patch "
+             "centred at (`local_center`, `local_center_z`); 0 = the same bump on every row z",
+     .comment = "standard deviation in z [m] (2D interface); 0 = uniform in z",
+     .bind = real_member<&C::initial, &InitialConfig::local_width_z>()},
 
     // [time] ----------------------------------------------------------------
     // Below ~1e-3 the number of steps per shear echo (and the strip operator's

@@ -88,6 +88,10 @@ struct InitialConfig {
   double local_amplitude = 0.0;      // [initial] local_amplitude: relative bump in phi (Gaussian)
   double local_center = 0.0;         // [initial] local_center x [m]
   double local_width = 0.0;          // [initial] local_width [m]
+  // A 2D interface: the bump is also a Gaussian in z (a patch) when
+  // local_width_z > 0; 0 = the same bump on every row z.
+  double local_center_z = 0.0;       // [initial] local_center_z z [m]
+  double local_width_z = 0.0;        // [initial] local_width_z [m]
 };
 
 // How the strip's history operator is applied (both give the same discrete

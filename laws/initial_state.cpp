@@ -45,6 +45,13 @@ std::vector<double> unit_noise(const InitialConfig& init, std::span<const double
 
 std::vector<double> perturbed_steady_state(const InitialConfig& init, std::span<const double> x,
                                            double length, std::span<const double> phi_ss) {
+  return perturbed_steady_state(init, x, {}, length, 0.0, phi_ss);
+}
+
+std::vector<double> perturbed_steady_state(const InitialConfig& init, std::span<const double> x,
+                                           std::span<const double> z, double length, double width,
+                                           std::span<const double> phi_ss) {
+  const bool patch = init.local_width_z > 0.0 && !z.empty();
   const std::vector<double> noise =
       init.noise_amplitude != 0.0 ? unit_noise(init, x, length) : std::vector<double>(x.size(), 0.0);
   std::vector<double> state(x.size());
@@ -57,7 +64,12 @@ std::vector<double> perturbed_steady_state(const InitialConfig& init, std::span<
       phi += phi_ss[i] * init.sine_amplitude * std::sin(2.0 * pi * init.sine_mode * x[i] / length + pi / 2.0);
     if (init.local_amplitude != 0.0 && init.local_width > 0.0) {
       const double d = std::remainder(x[i] - init.local_center, length);  // periodic distance to the centre
-      phi += phi_ss[i] * init.local_amplitude * std::exp(-0.5 * (d / init.local_width) * (d / init.local_width));
+      double shape = std::exp(-0.5 * (d / init.local_width) * (d / init.local_width));
+      if (patch) {
+        const double dz = std::remainder(z[i] - init.local_center_z, width);
+        shape *= std::exp(-0.5 * (dz / init.local_width_z) * (dz / init.local_width_z));
+      }
+      phi += phi_ss[i] * init.local_amplitude * shape;
     }
     if (!(phi > 0.0))
       throw std::invalid_argument(

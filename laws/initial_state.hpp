@@ -27,5 +27,12 @@ namespace slipstrip {
 // std::invalid_argument, naming the keys, if the perturbations make phi <= 0.
 std::vector<double> perturbed_steady_state(const InitialConfig& init, std::span<const double> x,
                                            double length, std::span<const double> phi_ss);
+// The same on a 2D interface, nodes at (x, z) with periods `length` and
+// `width`: with init.local_width_z > 0 the Gaussian bump is also a Gaussian in
+// z about init.local_center_z (a patch); otherwise every term is the one of x
+// above, bit for bit.
+std::vector<double> perturbed_steady_state(const InitialConfig& init, std::span<const double> x,
+                                           std::span<const double> z, double length, double width,
+                                           std::span<const double> phi_ss);
 
 }  // namespace slipstrip

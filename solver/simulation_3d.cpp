@@ -118,13 +118,18 @@ void Simulation3d::initialise(std::span<const double> initial_state) {
                                   " values, the interface " + std::to_string(n) + " nodes");
     std::copy_n(initial_state.begin() + first, nodes(), state_.begin());
   } else {
-    // [initial] at every node from its x: white noise (noise_modes = 0) is
-    // drawn node by node, so it varies along z too; the sine, the Gaussian bump
-    // and band-limited noise are functions of x, the same on every row.
-    std::vector<double> x(n);
-    for (std::size_t i = 0; i < n; ++i) x[i] = static_cast<double>(i % nodes_x_) * dx_;
+    // [initial] at every node from its (x, z): white noise (noise_modes = 0)
+    // is drawn node by node, so it varies along z too; the sine and
+    // band-limited noise are functions of x, the same on every row; the
+    // Gaussian bump too unless initial.local_width_z > 0 makes it a patch.
+    std::vector<double> x(n), z(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] = static_cast<double>(i % nodes_x_) * dx_;
+      z[i] = static_cast<double>(i / nodes_x_) * dz_;
+    }
     const std::vector<double> phi_ss(n, steady_state(config_.friction, v0_));
-    const std::vector<double> phi = perturbed_steady_state(config_.initial, x, config_.geometry.length, phi_ss);
+    const std::vector<double> phi = perturbed_steady_state(config_.initial, x, z, config_.geometry.length,
+                                                           config_.geometry.width, phi_ss);
     std::copy_n(phi.begin() + first, nodes(), state_.begin());
   }
   // t = 0: no history; tau_h = tau_0 + eta v0 along x.

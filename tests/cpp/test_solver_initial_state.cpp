@@ -15,6 +15,7 @@
 #include "laws/initial_state.hpp"
 #include "laws/portable_normal.hpp"
 #include "solver/simulation.hpp"
+#include "solver/simulation_3d.hpp"
 
 using namespace slipstrip;
 using slipstrip::testing::contains;
@@ -204,4 +205,44 @@ TEST_CASE("a perturbation that makes phi non-positive is refused, naming the key
   const std::vector<double> phi_ss(x.size(), phi_steady);
   CHECK_THROWS_WITH_AS(perturbed_steady_state(init, x, length, phi_ss),
                        doctest::Contains("initial.noise_amplitude"), std::invalid_argument);
+}
+
+TEST_CASE("a 2D interface's bump is a patch in (x, z) with local_width_z > 0; a line refuses the key") {
+  // 16 x 8 nodes over 0.25 m x 0.125 m; the patch near z = W (periodic in z).
+  const std::string base =
+      "[geometry]\nlength = 0.25\nwidth = 0.125\nheight = 0.025\nnodes = 16\nnodes_z = 8\n"
+      "[friction]\ncharacteristic_slip = 1.667e-7\n[loading]\ndriving_velocity = 2e-3\n"
+      "[time]\nbeta = 0.24\n"
+      "[initial]\nlocal_amplitude = -0.5\nlocal_center = 0.0625\nlocal_width = 0.03\n";
+  const Simulation3d uniform(load_config_string(base));
+  const Simulation3d patch(load_config_string(base + "local_center_z = 0.11\nlocal_width_z = 0.02\n"));
+  const int nx = 16, nz = 8;
+  const double dx = 0.25 / nx, dz = 0.125 / nz;
+  for (int iz = 0; iz < nz; ++iz)
+    for (int ix = 0; ix < nx; ++ix) {
+      const std::size_t i = static_cast<std::size_t>(iz) * nx + ix;
+      // Without local_width_z every row is row 0, bit for bit (the 1-D bump).
+      CHECK(uniform.state()[i] == uniform.state()[static_cast<std::size_t>(ix)]);
+      // With it: phi_ss (1 + A g(x) h(z)), so (phi/phi_ss - 1)/A = g h, where
+      // phi_ss (1 + A g) is the uniform run's value.  Relative 1e-14: a few
+      // roundings of products and of phi_ss's recovery.
+      const double dxc = std::remainder(ix * dx - 0.0625, 0.25), dzc = std::remainder(iz * dz - 0.11, 0.125);
+      const double g = std::exp(-0.5 * (dxc / 0.03) * (dxc / 0.03)),
+                   h = std::exp(-0.5 * (dzc / 0.02) * (dzc / 0.02));
+      const double steady = uniform.state()[i] / (1.0 - 0.5 * g);
+      const double expected = steady * (1.0 - 0.5 * g * h);
+      CHECK(std::abs(patch.state()[i] - expected) <= 1e-14 * steady);
+    }
+  // Localised in z: at the patch's x centre (g = 1), the row at z = 0.109 m is
+  // weakened by 0.5 h = 0.499, the row at z = 0.047 m by 0.5 h = 0.0035.
+  auto weakening = [&](int iz) { return 1.0 - patch.state()[static_cast<std::size_t>(iz) * nx + 4] /
+                                                  (uniform.state()[static_cast<std::size_t>(iz) * nx + 4] / 0.5); };
+  CHECK(weakening(7) > 0.49);
+  CHECK(weakening(3) < 0.01);
+  // On a line, and outside the interface, the keys are refused by name.
+  CHECK(contains(error_of("[initial]\nlocal_amplitude = -0.5\nlocal_width = 0.1\nlocal_width_z = 0.01\n"),
+                 "initial.local_width_z = 0.01 on a one-dimensional interface"));
+  CHECK(contains(error_of(base + "local_center_z = 0.2\nlocal_width_z = 0.02\n"),
+                 "initial.local_center_z = 0.2 is out of range"));
+  CHECK(contains(error_of(base + "local_width_z = -0.02\n"), "initial.local_width_z = -0.02 is out of range"));
 }
