@@ -16,4 +16,5 @@ export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:abort_on_error=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 regex="^($(IFS='|'; echo "${tests[*]}"))\$"
-(cd build-asan && ctest --output-on-failure -R "$regex")
+# -j: the tests are independent (the fast tier runs them side by side too).
+(cd build-asan && ctest --output-on-failure -j "$(nproc)" -R "$regex")
