@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -147,15 +148,47 @@ FaceDiscreteModes face_discrete_modes(const ElasticMaterial& m, double height, O
   return out;
 }
 
+namespace {
+std::vector<double> interface_wavenumbers(double length, int nodes) {
+  std::vector<double> k(static_cast<std::size_t>(nodes / 2 + 1));
+  for (std::size_t q = 0; q < k.size(); ++q) k[q] = 2.0 * pi * static_cast<int>(q) / length;
+  return k;
+}
+}  // namespace
+
 FaceModalHistory::FaceModalHistory(const ElasticMaterial& m, double height, OuterFace face, double length,
                                    int nodes, double time_step)
+    : FaceModalHistory(m, height, face, interface_wavenumbers(length, nodes), time_step) {}
+
+FaceModalHistory::FaceModalHistory(const ElasticMaterial& m, double height, OuterFace face,
+                                   std::span<const double> wavenumbers, double time_step)
     : dt_(time_step),
       impedance_x_(m.shear_modulus / m.shear_wave_speed()),
       impedance_y_(m.density * m.dilatational_wave_speed()) {
-  const int n_modes = nodes / 2 + 1;
+  const int n_modes = static_cast<int>(wavenumbers.size());
+  if (n_modes < 1) throw std::invalid_argument("FaceModalHistory: needs at least one wavenumber");
   first_.assign(1, 0);
+  // The design of each distinct |k| (the modes +-kz of a 2D interface share it).
+  std::map<double, int> designed;
   for (int q = 0; q < n_modes; ++q) {
-    const auto d = face_discrete_modes(m, height, face, 2.0 * pi * q / length, dt_);
+    const auto known = designed.find(wavenumbers[q]);
+    if (known != designed.end()) {
+      // The stored values of the earlier mode (copies: push_back may reallocate).
+      const std::size_t from = first_[known->second], count = first_[known->second + 1] - from;
+      for (std::size_t i = 0; i < count; ++i) {
+        const double c = cos_[from + i], s = sin_[from + i];
+        const FaceMatrix w = weight_[from + i];
+        cos_.push_back(c);
+        sin_.push_back(s);
+        weight_.push_back(w);
+      }
+      const FaceMatrix sum = weight_sum_[known->second];
+      weight_sum_.push_back(sum);
+      first_.push_back(weight_.size());
+      continue;
+    }
+    designed.emplace(wavenumbers[q], q);
+    const FaceDiscreteModes d = face_discrete_modes(m, height, face, wavenumbers[q], dt_);
     FaceMatrix sum;
     for (std::size_t i = 0; i < d.phase.size(); ++i) {
       cos_.push_back(std::cos(d.phase[i]));

@@ -69,8 +69,14 @@ class FaceHistory {
 
 class FaceModalHistory final : public FaceHistory {
  public:
+  // Fourier modes q = 0..nodes/2 of a periodic interface of length `length`.
   FaceModalHistory(const ElasticMaterial& material, double height, OuterFace outer_face,
                    double length, int nodes, double time_step);
+  // One Fourier mode per wavenumber |k| of the list (the first 0: the uniform
+  // mode), e.g. the |k| of a 2D interface's modes (docs/3d.md); the discrete
+  // weights of each distinct |k| are designed once and shared bit for bit.
+  FaceModalHistory(const ElasticMaterial& material, double height, OuterFace outer_face,
+                   std::span<const double> wavenumbers, double time_step);
 
   double time_step() const override { return dt_; }
   double shear_impedance() const override { return impedance_x_; }

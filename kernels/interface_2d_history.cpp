@@ -6,7 +6,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "kernels/face_history.hpp"
 #include "kernels/half_space_history.hpp"
+#include "kernels/inplane_pair_history.hpp"
+#include "kernels/two_body_history.hpp"
 
 namespace slipstrip {
 
@@ -158,6 +161,15 @@ InterfaceHistory2d::InterfaceHistory2d(const InterfaceGrid2d& grid, const Interf
   across_.assign(n, 0.0);
   history_x_.assign(modes.size(), 0.0);
   history_z_.assign(modes.size(), 0.0);
+  pair_ = dynamic_cast<InplanePairHistory*>(inplane_.get());
+  if (pair_) {
+    opening_.assign(n, 0.0);
+    normal_.assign(modes.size(), 0.0);
+  }
+}
+
+double InterfaceHistory2d::normal_radiation_damping() const {
+  return pair_ ? pair_->normal_radiation_damping() : 0.0;
 }
 
 InterfaceHistory2d InterfaceHistory2d::build(const ElasticMaterial& material, double strip_height,
@@ -191,6 +203,39 @@ InterfaceHistory2d InterfaceHistory2d::build(const ElasticMaterial& material, do
   return InterfaceHistory2d(grid, modes, std::move(inplane_operator), make(antiplane));
 }
 
+InterfaceHistory2d InterfaceHistory2d::build_pair(const InterfaceBody& top, const std::optional<InterfaceBody>& bottom,
+                                                  const InterfaceGrid2d& grid, double time_step,
+                                                  const CancelCheck& cancelled,
+                                                  const StripOperatorFactory& strip_operator) {
+  const std::vector<double> magnitude = interface_operator_wavevectors(grid).magnitude;
+  // In-plane: each body's 2x2 face operator at |k| (kernels/face_history.hpp).
+  auto face = [&](const InterfaceBody& body) -> std::unique_ptr<FaceHistory> {
+    if (is_half_space(body.height))
+      throw std::invalid_argument(
+          "InterfaceHistory2d::build_pair: a half-space body's 2x2 operator over a 2D interface's |k| is not "
+          "built (finite heights and a rigid base only)");
+    ElasticMaterial m = body.material;
+    m.plane = PlaneCondition::strain;  // a body invariant along the crest of the mode
+    return std::make_unique<FaceModalHistory>(m, body.height, body.outer_face, magnitude, time_step);
+  };
+  // Antiplane: each body's pair-normalised operator (kernels/two_body_history.hpp);
+  // the outer face does not change an SH body's response.
+  auto sh = [&](const InterfaceBody& body) -> std::unique_ptr<HistoryOperator> {
+    ElasticMaterial m = body.material;
+    m.plane = PlaneCondition::antiplane;
+    if (is_half_space(body.height))
+      return std::make_unique<HalfSpaceHistory>(m, magnitude, time_step, HalfSpaceOperatorDesign{}, cancelled);
+    const StripKernels kernels = compute_strip_kernels(m, body.height, magnitude, time_step, cancelled);
+    if (strip_operator) return strip_operator(m, kernels);
+    return std::make_unique<StripHistory>(m, kernels, cancelled);
+  };
+  auto inplane = std::make_unique<InplanePairHistory>(face(top), bottom ? face(*bottom) : nullptr);
+  throw_if_cancelled(cancelled, "the in-plane pair's operators");
+  auto sh_top = sh(top);
+  auto antiplane = std::make_unique<TwoBodyHistory>(std::move(sh_top), bottom ? sh(*bottom) : nullptr);
+  return InterfaceHistory2d(grid, std::move(inplane), std::move(antiplane));
+}
+
 namespace {
 constexpr const char* kInterface2dKind = "interface 2d";
 }  // namespace
@@ -222,6 +267,12 @@ ModeOperatorStats InterfaceHistory2d::stats() const {
 
 void InterfaceHistory2d::push(std::span<const std::complex<double>> slip_rate_x,
                               std::span<const std::complex<double>> slip_rate_z) {
+  push(slip_rate_x, slip_rate_z, {});
+}
+
+void InterfaceHistory2d::push(std::span<const std::complex<double>> slip_rate_x,
+                              std::span<const std::complex<double>> slip_rate_z,
+                              std::span<const std::complex<double>> opening_stress) {
   const std::size_t n = history_x_.size(), n_operator = along_.size();
   // Operator mode first_ + m is slot m; the extra z-Nyquist modes take their
   // slot's input; an idle uniform mode (first_ = 1) stays at zero input.
@@ -235,7 +286,14 @@ void InterfaceHistory2d::push(std::span<const std::complex<double>> slip_rate_x,
     along_[m] = cos_[m] * slip_rate_x[g] + sin_[m] * slip_rate_z[g];
     across_[m] = cos_[m] * slip_rate_z[g] - sin_[m] * slip_rate_x[g];
   }
-  inplane_->push(along_);
+  if (pair_ && !opening_stress.empty()) {
+    // The opening stress is a normal traction: the same in every frame.
+    for (std::size_t m = 0; m < n; ++m) opening_[f + m] = opening_stress[m];
+    for (std::size_t m = f + n; m < n_operator; ++m) opening_[m] = opening_stress[extra_slot_[m - f - n]];
+    pair_->push(along_, opening_);
+  } else {
+    inplane_->push(along_);
+  }
   antiplane_->push(across_);
   const auto h_along = inplane_->history(), h_across = antiplane_->history();
   for (std::size_t m = 0; m < n; ++m) {
@@ -248,10 +306,19 @@ void InterfaceHistory2d::push(std::span<const std::complex<double>> slip_rate_x,
     history_x_[g] = 0.5 * (history_x_[g] + (cos_[m] * h_along[m] - sin_[m] * h_across[m]));
     history_z_[g] = 0.5 * (history_z_[g] + (sin_[m] * h_along[m] + cos_[m] * h_across[m]));
   }
+  if (pair_) {
+    const auto normal = pair_->normal_stress();
+    for (std::size_t m = 0; m < n; ++m) normal_[m] = normal[f + m];
+    for (std::size_t m = f + n; m < n_operator; ++m) {
+      const std::size_t g = extra_slot_[m - f - n];
+      normal_[g] = 0.5 * (normal_[g] + normal[m]);
+    }
+  }
   // x-Nyquist column: its Hermitian part, h(qz) <- (h(qz) + conj h(-qz)) / 2,
   // the average over kx = +-pi/dx.
   for (const auto& [a, b] : x_nyquist_pairs_) {
-    for (auto* h : {&history_x_, &history_z_}) {
+    for (auto* h : {&history_x_, &history_z_, &normal_}) {
+      if (h->empty()) continue;  // normal_: pairs only
       const std::complex<double> mean = 0.5 * ((*h)[a] + std::conj((*h)[b]));
       (*h)[a] = mean;
       (*h)[b] = std::conj(mean);

@@ -32,14 +32,24 @@
 // (kz = +pi/dz and -pi/dz, sharing one design) and averaged, and the x-Nyquist
 // column is projected onto its Hermitian part (the average over kx = +-pi/dx).
 // Resolved modes are untouched.
+//
+// Dissimilar bodies (build_pair): the in-plane operator is the 1D in-plane
+// pair's (InplanePairHistory: each body's 2x2 face operator at |k|, continuous
+// tractions, the slip component along k-hat, the normal stress) and the
+// antiplane one the 1D antiplane pair's (TwoBodyHistory).  The normal stress
+// of each mode is the in-plane pair's, fed with the slip along k-hat (and the
+// opening stress of the contact step); the SH problem carries no normal
+// stress.  It gets the same Nyquist treatment as the shear history.
 #include <complex>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
+#include "kernels/face_response.hpp"
 #include "kernels/half_space_design.hpp"
 #include "kernels/history_convolution.hpp"
 
@@ -94,6 +104,17 @@ InterfaceWavevectors interface_operator_wavevectors(const InterfaceGrid2d& grid,
 // that sets the time step.
 double interface_2d_beta_limit(const InterfaceGrid2d& grid, double beta_1d);
 
+class InplanePairHistory;
+
+// One body of a dissimilar pair (docs/bodies.md): material (its plane
+// condition is replaced per operator), height (finite; +inf a half-space) and
+// outer face.
+struct InterfaceBody {
+  ElasticMaterial material;
+  double height = 0.0;
+  OuterFace outer_face = OuterFace::driven;
+};
+
 class InterfaceHistory2d {
  public:
   // in-plane (plane strain) and antiplane operators built over the |k| list
@@ -134,6 +155,20 @@ class InterfaceHistory2d {
                                   const StripOperatorFactory& strip_operator = {},
                                   const HalfSpaceOperatorDesign& half_space = {});
 
+  // Two different bodies (docs/3d.md, "Dissimilar bodies"): the in-plane
+  // operator is InplanePairHistory over each finite body's FaceModalHistory
+  // at the operator modes' |k| (a half-space's 2x2 operator over a list of |k|
+  // is not built: std::invalid_argument), the antiplane one TwoBodyHistory over
+  // each body's pair-normalised strip operator (strip_operator, by default
+  // the modal StripHistory; HalfSpaceHistory for a half-space).  bottom =
+  // nullopt is a rigid base.  The time step must make every finite body's
+  // shear echo a whole number of steps (two_body_time_step); a bottom height
+  // is used as given.
+  static InterfaceHistory2d build_pair(const InterfaceBody& top, const std::optional<InterfaceBody>& bottom,
+                                       const InterfaceGrid2d& grid, double time_step,
+                                       const CancelCheck& cancelled = {},
+                                       const StripOperatorFactory& strip_operator = {});
+
   const InterfaceGrid2d& grid() const { return grid_; }
   double time_step() const { return inplane_->time_step(); }
   double radiation_damping() const { return inplane_->radiation_damping(); }
@@ -147,6 +182,18 @@ class InterfaceHistory2d {
   // No allocation.
   void push(std::span<const std::complex<double>> slip_rate_x,
             std::span<const std::complex<double>> slip_rate_z);
+  // Dissimilar in-plane bodies: the same with the spectrum of the opening
+  // stress d at t_n [Pa] (kernels/inplane_pair_history.hpp; empty: none);
+  // afterwards normal_stress() holds the compressive normal stress
+  // perturbation at t_{n+1}.
+  void push(std::span<const std::complex<double>> slip_rate_x, std::span<const std::complex<double>> slip_rate_z,
+            std::span<const std::complex<double>> opening_stress);
+  // True for dissimilar bodies (the in-plane operator is an InplanePairHistory).
+  bool variable_normal_stress() const { return pair_ != nullptr; }
+  std::span<const std::complex<double>> normal_stress() const { return normal_; }
+  // eta_y of the in-plane pair [Pa s/m] (the gap rate is the opening stress
+  // over it); 0 without variable normal stress.
+  double normal_radiation_damping() const;
   std::span<const std::complex<double>> history_x() const { return history_x_; }
   std::span<const std::complex<double>> history_z() const { return history_z_; }
 
@@ -168,6 +215,8 @@ class InterfaceHistory2d {
   // The x-Nyquist column's pairs of slots (qz, nodes_z - qz), qz = 0..nodes_z/2.
   std::vector<std::pair<std::size_t, std::size_t>> x_nyquist_pairs_;
   std::vector<double> cos_, sin_;  // k-hat per operator mode
+  InplanePairHistory* pair_ = nullptr;  // inplane_ when it is one, else null
+  std::vector<std::complex<double>> opening_, normal_;  // per operator mode, per slot (pairs only)
   std::vector<std::complex<double>> along_, across_, history_x_, history_z_;
 };
 
