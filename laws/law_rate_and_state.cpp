@@ -14,6 +14,7 @@
 #include "config/simulation_config.hpp"
 #include "friction/batch_solve.hpp"
 #include "friction/friction_law.hpp"
+#include "friction/normal_stress_response.hpp"
 #include "friction/parameter_profile.hpp"
 
 namespace slipstrip {
@@ -109,42 +110,14 @@ class RateAndStateLaw final : public InterfaceLaw {
   // In-plane dissimilar bodies: sigma varies, and the friction sees
   // sigma_eff, which relaxes towards it (Prakash & Clifton 1993; Cochard &
   // Rice 2000; docs/bodies.md).  Node by node with the scalar routines (the
-  // batch ones take one sigma for all nodes); the same predictor-corrector as
-  // the batch step, with sigma_eff advanced like the state:
-  //   sigma_p, phi_p from (v_old);  v_p = solve(sigma_p, phi_p);
-  //   sigma_eff, phi from ((v_old + v_p)/2);  v = solve(sigma_eff, phi)
-  // (phi after sigma_eff: the Linker-Dieterich response follows sigma_eff).
-  // sigma_eff over a step solves d sigma_eff/dt = -r (sigma_eff - sigma(t)), sigma
-  // linear in t between the two levels, exactly for the rate r held fixed.
-  // Where the faces are open (sigma = 0 exactly, Simulation's contact step) the
-  // shear traction is zero instead of the friction.
-  double relaxed(double effective_old, double sigma_old, double sigma_new, double slip_rate, double dt) const {
-    const auto& in = config_.interface;
-    const double rate = in.normal_stress_time > 0.0
-                            ? 1.0 / in.normal_stress_time
-                            : (std::abs(slip_rate) + config_.friction.v_star) / normal_stress_slip_;
-    const double x = rate * dt;
-    const double decay = std::exp(-x);
-    const double ramp = x > 0.0 ? -std::expm1(-x) / x : 1.0;  // (1 - e^-x) / x
-    return sigma_new + (effective_old - sigma_old) * decay - (sigma_new - sigma_old) * ramp;
-  }
-
-  // The state over a step with the Linker-Dieterich response (docs/bodies.md §4):
-  // d ln(phi)/dt = g(v, phi)/phi - (alpha/B) d ln(sigma_eff)/dt.  The second
-  // part alone is exact: phi scales by r = (e_new/e_old)^(-alpha/B) over the
-  // step; Strang splitting (sqrt(r), the exact evolve_state, sqrt(r)) keeps the
-  // predictor-corrector second order.  alpha = 0 is evolve_state itself.
-  double evolve_state_with_normal_stress(const FrictionParameters& p, double phi_old, double slip_rate, double dt,
-                                         double effective_old, double effective_new) const {
-    // effective_old = 0 only after a long opening (sigma_eff decayed to 0): no
-    // finite ratio, the contact starts afresh.
-    if (p.linker_dieterich == 0.0 || !(effective_old > 0.0)) return evolve_state(p, phi_old, slip_rate, dt);
-    const double half = std::pow(effective_new / effective_old, -0.5 * p.linker_dieterich / state_log_coefficient(p));
-    return half * evolve_state(p, half * phi_old, slip_rate, dt);
-  }
-
+  // batch ones take one sigma for all nodes): the predictor-corrector of
+  // friction/normal_stress_response.hpp.  Where the faces are open (sigma = 0
+  // exactly, Simulation's contact step) the shear traction is zero instead of
+  // the friction.
   void solve_with_normal_stress(InterfaceFields& fields, double dt, bool initial) {
     const LocalSolveParameters params{config_.friction, config_.loading.normal_stress, eta_, per_node_};
+    const NormalStressMemory memory{config_.interface.normal_stress_time, normal_stress_slip_,
+                                    config_.friction.v_star};
     const std::size_t n = fields.x.size();
     std::size_t i = 0;
     try {
@@ -157,31 +130,12 @@ class RateAndStateLaw final : public InterfaceLaw {
               solve_slip_rate(p, fields.normal_stress[i], eta_, tau, fields.state[i], driving_velocity_);
           continue;
         }
-        const double v_old = fields.previous_slip_rate[i], phi_old = fields.previous_state[i];
-        const double s_old = fields.previous_normal_stress[i], s_new = fields.normal_stress[i];
-        const double e_old = fields.effective_normal_stress[i];
-        if (s_new == 0.0) {
-          // Open (docs/bodies.md §4): no traction, so the slip rate makes the
-          // shear traction zero; the state evolves with that slip rate and
-          // sigma_eff relaxes towards sigma = 0 by the same law as in contact.
-          // No Linker-Dieterich part while open: no contact whose state could
-          // respond, and ln(sigma_eff) diverges as sigma_eff -> 0.
-          const double v = tau / eta_;
-          const double v_mid = 0.5 * (v_old + v);
-          fields.state[i] = evolve_state(p, phi_old, v_mid, dt);
-          fields.effective_normal_stress[i] = relaxed(e_old, s_old, s_new, v_mid, dt);
-          fields.slip_rate[i] = v;
-          continue;
-        }
-        const double e_p = relaxed(e_old, s_old, s_new, v_old, dt);
-        const double phi_p = evolve_state_with_normal_stress(p, phi_old, v_old, dt, e_old, e_p);
-        const double v_p = solve_slip_rate(p, e_p, eta_, tau, phi_p, v_old);
-        const double v_mid = 0.5 * (v_old + v_p);
-        const double e = relaxed(e_old, s_old, s_new, v_mid, dt);
-        const double phi = evolve_state_with_normal_stress(p, phi_old, v_mid, dt, e_old, e);
-        fields.state[i] = phi;
-        fields.effective_normal_stress[i] = e;
-        fields.slip_rate[i] = solve_slip_rate(p, e, eta_, tau, phi, v_p);
+        const NormalStressNodeStep s = normal_stress_node_step(
+            p, memory, eta_, tau, fields.previous_slip_rate[i], fields.previous_state[i],
+            fields.previous_normal_stress[i], fields.normal_stress[i], fields.effective_normal_stress[i], dt);
+        fields.state[i] = s.state;
+        fields.effective_normal_stress[i] = s.effective_normal_stress;
+        fields.slip_rate[i] = s.slip_rate;
       }
     } catch (const LocalSolveFailure& e) {
       throw InterfaceFailure("local friction solve failed", i, e.what());

@@ -19,6 +19,8 @@
 // traction alone (t_b = E_b v_b + h_b with t_b = 0 while open).
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <span>
 
 namespace slipstrip {
 
@@ -38,6 +40,18 @@ inline NormalContact normal_contact(double contact, double gap, double eta_y, do
   // faces are exactly touching with no traction.
   if (closed > 0.0) return {closed, opening_stress, 0.0};
   return {0.0, -contact, 0.0};
+}
+
+// The contact step of node i (the fields of a simulation, one value per node):
+// its normal stress, opening stress and gap at the new level.  Returns whether
+// the node has an opening stress (open or closing: the operators must see it).
+inline bool contact_step(std::size_t i, double contact, double eta_y, double dt, std::span<double> normal_stress,
+                         std::span<double> opening_stress, std::span<double> gap) {
+  const NormalContact c = normal_contact(contact, gap[i], eta_y, dt);
+  normal_stress[i] = c.normal_stress;
+  opening_stress[i] = c.opening_stress;
+  gap[i] = c.gap;
+  return c.opening_stress != 0.0;
 }
 
 // The gap reported (Simulation::opening()): 0 where the faces are in contact

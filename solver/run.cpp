@@ -182,7 +182,7 @@ class InterfaceRun {
     if (stations_.empty()) return;
     const auto all = fields();
     const std::size_t count = stations_.size();
-    std::array<std::span<const double>, 7> at_stations;
+    std::array<std::span<const double>, 9> at_stations;
     for (std::size_t f = 0; f < all.size(); ++f) {
       const auto values = stations_.sample(all[f]);
       std::copy(values.begin(), values.end(), station_values_.begin() + static_cast<std::ptrdiff_t>(f * count));
@@ -191,18 +191,34 @@ class InterfaceRun {
     double sum_rate = 0.0;
     for (double v : sim_.slip_rate_x()) sum_rate += v;
     const double mu_dxdz = config_.material.shear_modulus * sim_.dx() * sim_.dz();
-    output.append_stations(sim_.time(), at_stations, sim_.max_slip_rate(), mu_dxdz * sum_rate);
+    output.append_stations(sim_.time(), std::span<const std::span<const double>>(at_stations.data(), all.size()),
+                           sim_.max_slip_rate(), mu_dxdz * sum_rate);
   }
 
  private:
-  // The snapshot and station fields, in the file's order.
-  std::array<std::span<const double>, 7> fields() const {
-    return {sim_.slip_x(), sim_.slip_z(), sim_.slip_rate_x(), sim_.slip_rate_z(),
-            sim_.state(),  sim_.shear_stress_x(), sim_.shear_stress_z()};
+  // The snapshot and station fields, in the file's order: seven, and the
+  // normal stress and opening for dissimilar bodies (docs/3d.md).
+  struct Fields {
+    std::array<std::span<const double>, 9> spans;
+    std::size_t count;
+    std::size_t size() const { return count; }
+    std::span<const double> operator[](std::size_t f) const { return spans[f]; }
+    operator std::span<const std::span<const double>>() const { return {spans.data(), count}; }
+  };
+  Fields fields() const {
+    return {{sim_.slip_x(), sim_.slip_z(), sim_.slip_rate_x(), sim_.slip_rate_z(), sim_.state(),
+             sim_.shear_stress_x(), sim_.shear_stress_z(), sim_.normal_stress(), sim_.opening()},
+            sim_.variable_normal_stress() ? 9u : 7u};
   }
-  static std::vector<std::pair<std::string, std::string>> field_units() {
-    return {{"slip_x", "m"},        {"slip_z", "m"}, {"slip_rate_x", "m/s"},   {"slip_rate_z", "m/s"},
-            {"state", "s"},         {"shear_stress_x", "Pa"}, {"shear_stress_z", "Pa"}};
+  std::vector<std::pair<std::string, std::string>> field_units() const {
+    std::vector<std::pair<std::string, std::string>> units = {
+        {"slip_x", "m"}, {"slip_z", "m"}, {"slip_rate_x", "m/s"}, {"slip_rate_z", "m/s"},
+        {"state", "s"},  {"shear_stress_x", "Pa"}, {"shear_stress_z", "Pa"}};
+    if (sim_.variable_normal_stress()) {
+      units.emplace_back("normal_stress", "Pa");
+      units.emplace_back("opening", "m");
+    }
+    return units;
   }
 
   const SimulationConfig& config_;

@@ -218,11 +218,9 @@ void Simulation::update_normal_stress() {
           << " s, step " << step_index_ + 1 << ": " << contact << " Pa";
       throw SimulationError(msg.str());
     }
-    const NormalContact c = normal_contact(contact, gap_[i], eta_y, dt_);
-    normal_stress_[i] = c.normal_stress;
-    opening_stress_[i] = c.opening_stress;
-    gap_[i] = c.gap;
-    any_opening_stress_ = any_opening_stress_ || c.opening_stress != 0.0;
+    const bool opening =
+        contact_step(static_cast<std::size_t>(i), contact, eta_y, dt_, normal_stress_, opening_stress_, gap_);
+    any_opening_stress_ = any_opening_stress_ || opening;
   }
   update_opening_outputs();
 }

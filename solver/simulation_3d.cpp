@@ -2,12 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
+#include "friction/normal_stress_response.hpp"
+#include "kernels/two_body_history.hpp"
 #include "laws/initial_state.hpp"
+#include "solver/interface_contact.hpp"
 
 namespace slipstrip {
 
@@ -26,13 +31,16 @@ const SimulationConfig& checked_3d(const SimulationConfig& c) {
   if (c.material.plane != PlaneCondition::strain)
     refuse("material.plane = \"" + std::string(kPlaneConditionNames[static_cast<int>(c.material.plane)]) +
            "\" is not allowed with a 2D interface: expected \"strain\" (the bodies are 3D; slip has x and z parts)");
-  // Two identical bodies only: the dissimilar-body operators are not rotated yet.
-  if (c.bottom.body != BodyKind::mirror)
-    refuse("bottom.body = \"" + std::string(kBodyKindNames[static_cast<int>(c.bottom.body)]) +
-           "\" is not allowed with a 2D interface: expected \"mirror\" (dissimilar bodies are 2D only)");
-  if (c.top.outer_face != OuterFace::driven)
-    refuse("top.outer_face = \"" + std::string(kOuterFaceNames[static_cast<int>(c.top.outer_face)]) +
-           "\" is not allowed with a 2D interface: expected \"driven\"");
+  // Dissimilar bodies: finite heights (a half-space's 2x2 face operator over
+  // the |k| of a 2D interface is not built) or a rigid base.
+  if (c.bottom.body != BodyKind::mirror && is_half_space(c.geometry.height))
+    refuse("geometry.height = inf is not allowed with bottom.body = \"" +
+           std::string(kBodyKindNames[static_cast<int>(c.bottom.body)]) +
+           "\" on a 2D interface: expected a finite height (a half-space in a dissimilar pair is 1D only; "
+           "two half-spaces: bottom.body = \"mirror\")");
+  if (c.bottom.body == BodyKind::elastic && is_half_space(c.bottom.height))
+    refuse("bottom.height = inf is not allowed on a 2D interface: expected a finite height (a half-space in "
+           "a dissimilar pair is 1D only)");
   if (c.interface.law != InterfaceLawName::rate_and_state)
     refuse("interface.law must be \"rate_and_state\"");
   if (c.friction_along_x.any()) refuse("friction parameters must be numbers, not profiles along x");
@@ -40,29 +48,59 @@ const SimulationConfig& checked_3d(const SimulationConfig& c) {
   return c;
 }
 
-double time_step_3d(const SimulationConfig& c) {
+bool dissimilar(const SimulationConfig& c) { return c.bottom.body != BodyKind::mirror; }
+
+// The time step and the bottom height the operators use.  Identical bodies:
+// the 2D step at min(dx, dz).  Dissimilar ones: the antiplane operators carry
+// each finite body's shear echo with an exact delay line, so it must be a
+// whole number of steps (two_body_time_step; a rigid base has none).
+TwoBodyTiming timing_3d(const SimulationConfig& c) {
   const auto grid = interface_grid(c);
-  return strip_time_step(c.material, c.geometry.height,
-                         std::min(grid.length_x / grid.nodes_x, grid.length_z / grid.nodes_z),
-                         c.time.beta);
+  const double dx_min = std::min(grid.length_x / grid.nodes_x, grid.length_z / grid.nodes_z);
+  if (c.bottom.body == BodyKind::elastic)
+    return two_body_time_step(c.material, c.geometry.height, bottom_material(c), c.bottom.height, dx_min,
+                              c.time.beta);
+  const double dt = strip_time_step(c.material, c.geometry.height, dx_min, c.time.beta);
+  const double bottom = c.bottom.body == BodyKind::rigid ? std::numeric_limits<double>::quiet_NaN()
+                                                          : c.geometry.height;
+  return TwoBodyTiming{dt, c.geometry.height, bottom, 0.0};
 }
 
 // One process: RealFft2d and the operator over every mode.
 class SerialSpectralStep final : public InterfaceSpectralStep {
  public:
   SerialSpectralStep(const SimulationConfig& config, double time_step, const CancelCheck& cancelled)
-      : history_(InterfaceHistory2d::build(
-            config.material, config.geometry.height, interface_grid(config), time_step, cancelled,
-            [&](const ElasticMaterial& body, const StripKernels& kernels) {
-              return make_strip_history(body, kernels, config.time.history, cancelled);
-            })),
+      : history_(build_history(config, time_step, cancelled)),
         fft_(config.geometry.nodes, config.geometry.nodes_z),
-        spectrum_x_(fft_.modes()), spectrum_z_(fft_.modes()) {}
+        spectrum_x_(fft_.modes()), spectrum_z_(fft_.modes()) {
+    if (history_.variable_normal_stress()) {
+      spectrum_opening_.assign(fft_.modes(), 0.0);
+      spectrum_normal_.assign(fft_.modes(), 0.0);
+    }
+  }
 
   InterfaceSlab slab() const override { return {0, fft_.nodes_z()}; }
   void history(std::span<const double> rate_x, std::span<const double> rate_z, std::span<double> history_x,
                std::span<double> history_z) override {
     transform_push_invert(fft_, history_, spectrum_x_, spectrum_z_, rate_x, rate_z, history_x, history_z);
+  }
+  bool variable_normal_stress() const override { return history_.variable_normal_stress(); }
+  void history(std::span<const double> rate_x, std::span<const double> rate_z,
+               std::span<const double> opening_stress, std::span<double> history_x, std::span<double> history_z,
+               std::span<double> normal_stress) override {
+    fft_.forward(rate_x, spectrum_x_);
+    fft_.forward(rate_z, spectrum_z_);
+    if (opening_stress.empty()) {
+      history_.push(spectrum_x_, spectrum_z_, {});
+    } else {
+      fft_.forward(opening_stress, spectrum_opening_);
+      history_.push(spectrum_x_, spectrum_z_, spectrum_opening_);
+    }
+    fft_.inverse(history_.history_x(), history_x);
+    fft_.inverse(history_.history_z(), history_z);
+    // inverse() may overwrite its input: a copy of the operator's output.
+    std::copy(history_.normal_stress().begin(), history_.normal_stress().end(), spectrum_normal_.begin());
+    fft_.inverse(spectrum_normal_, normal_stress);
   }
   const InterfaceHistory2d& history_operator() const override { return history_; }
   InterfaceHistory2d& history_operator() override { return history_; }
@@ -70,12 +108,32 @@ class SerialSpectralStep final : public InterfaceSpectralStep {
   double max(double local) const override { return local; }
 
  private:
+  static InterfaceHistory2d build_history(const SimulationConfig& config, double time_step,
+                                          const CancelCheck& cancelled) {
+    const auto strip_operator = [&](const ElasticMaterial& body, const StripKernels& kernels) {
+      return make_strip_history(body, kernels, config.time.history, cancelled);
+    };
+    if (!dissimilar(config))
+      return InterfaceHistory2d::build(config.material, config.geometry.height, interface_grid(config), time_step,
+                                       cancelled, strip_operator);
+    const InterfaceBody top{config.material, config.geometry.height, config.top.outer_face};
+    std::optional<InterfaceBody> bottom;
+    if (config.bottom.body == BodyKind::elastic)
+      bottom = InterfaceBody{bottom_material(config), timing_3d(config).bottom_height, config.bottom.outer_face};
+    return InterfaceHistory2d::build_pair(top, bottom, interface_grid(config), time_step, cancelled, strip_operator);
+  }
+
   InterfaceHistory2d history_;
   RealFft2d fft_;
-  std::vector<std::complex<double>> spectrum_x_, spectrum_z_;
+  std::vector<std::complex<double>> spectrum_x_, spectrum_z_, spectrum_opening_, spectrum_normal_;
 };
 
 }  // namespace
+
+void InterfaceSpectralStep::history(std::span<const double>, std::span<const double>, std::span<const double>,
+                                    std::span<double>, std::span<double>, std::span<double>) {
+  throw std::logic_error("InterfaceSpectralStep: this spectral step carries no normal stress");
+}
 
 std::unique_ptr<InterfaceSpectralStep> serial_spectral_step(const SimulationConfig& config, double time_step,
                                                            const CancelCheck& cancelled) {
@@ -89,12 +147,22 @@ Simulation3d::Simulation3d(const SimulationConfig& config, std::span<const doubl
                            const CancelCheck& cancelled, const SpectralStepFactory& spectral)
     : config_(checked_3d(config)), nodes_x_(config.geometry.nodes), nodes_z_(config.geometry.nodes_z),
       dx_(config.geometry.length / config.geometry.nodes), dz_(config.geometry.width / config.geometry.nodes_z),
-      dt_(time_step_3d(config)), eta_(config.material.radiation_damping()),
+      dt_(timing_3d(config).time_step), eta_(config.material.radiation_damping()),
       v0_(config.loading.driving_velocity),
       tau0_(frictional_strength(config.friction, config.loading.normal_stress, v0_,
                                 steady_state(config.friction, v0_))),
+      bottom_height_used_(timing_3d(config).bottom_height),
       local_(config.friction, config.loading.normal_stress, eta_),
       spectral_(spectral ? spectral(config_, dt_, cancelled) : serial_spectral_step(config_, dt_, cancelled)) {
+  if (dissimilar(config_)) {
+    if (!spectral_->variable_normal_stress())
+      throw std::invalid_argument(
+          "bottom.body = \"" + std::string(kBodyKindNames[static_cast<int>(config_.bottom.body)]) +
+          "\" is not allowed with this spectral step (a 2D interface split over processes): expected \"mirror\"");
+    // The pair's instantaneous response (kernels/inplane_pair_history.hpp).
+    eta_ = spectral_->history_operator().radiation_damping();
+    local_ = LocalSolveParameters(config_.friction, config_.loading.normal_stress, eta_);
+  }
   const InterfaceSlab slab = spectral_->slab();
   if (slab.first_row < 0 || slab.rows < 1 || slab.first_row + slab.rows > nodes_z_)
     throw std::invalid_argument("Simulation3d: rows " + std::to_string(slab.first_row) + " + " +
@@ -105,6 +173,13 @@ Simulation3d::Simulation3d(const SimulationConfig& config, std::span<const doubl
                   &previous_rate_z_, &load_x_, &load_z_, &load_magnitude_, &rate_perturbation_x_,
                   &rate_perturbation_z_})
     v->assign(n, 0.0);
+  if (dissimilar(config_)) {
+    // Steady sliding: sigma = sigma_eff = sigma0 (the history is empty).
+    normal_stress_.assign(n, config_.loading.normal_stress);
+    previous_normal_stress_ = effective_normal_stress_ = normal_stress_;
+    gap_.assign(n, 0.0);
+    opening_stress_ = opening_ = opening_rate_ = normal_perturbation_ = gap_;
+  }
   initialise(initial_state);
 }
 
@@ -143,6 +218,11 @@ void Simulation3d::solve(bool initial) {
   const std::size_t n = nodes();
   for (std::size_t i = 0; i < n; ++i)
     load_magnitude_[i] = std::sqrt(load_x_[i] * load_x_[i] + load_z_[i] * load_z_[i]);
+  if (variable_normal_stress()) {
+    solve_with_normal_stress(initial);
+    directions();
+    return;
+  }
   try {
     if (initial) {
       std::fill(speed_.begin(), speed_.end(), v0_);  // the guess
@@ -156,6 +236,11 @@ void Simulation3d::solve(bool initial) {
         << e.index / nodes_x_ + spectral_->slab().first_row << "), t = " << time_ << " s, step " << step_index_ << ": " << e.what();
     throw SimulationError(msg.str());
   }
+  directions();
+}
+
+void Simulation3d::directions() {
+  const std::size_t n = nodes();
   for (std::size_t i = 0; i < n; ++i) {
     // v parallel to the load; a load of zero has no direction and sticks.
     const double m = load_magnitude_[i];
@@ -164,6 +249,77 @@ void Simulation3d::solve(bool initial) {
     slip_rate_z_[i] = speed_[i] * along_z;
     shear_stress_x_[i] = load_x_[i] - eta_ * slip_rate_x_[i];
     shear_stress_z_[i] = load_z_[i] - eta_ * slip_rate_z_[i];
+  }
+}
+
+// Node by node with the scalar routines on the magnitudes (the batch ones take
+// one sigma for all nodes), as the 1D pair's law does on the signed slip rate
+// (laws/law_rate_and_state.cpp): |tau_h| - eta |v| = sigma_eff f(|v|, phi).
+void Simulation3d::solve_with_normal_stress(bool initial) {
+  const std::size_t n = nodes();
+  const FrictionParameters& p = config_.friction;
+  const auto& in = config_.interface;
+  const NormalStressMemory memory{in.normal_stress_time,
+                                  in.normal_stress_slip > 0.0 ? in.normal_stress_slip : p.characteristic_slip,
+                                  p.v_star};
+  std::size_t i = 0;
+  try {
+    for (i = 0; i < n; ++i) {
+      if (initial) {
+        effective_normal_stress_[i] = normal_stress_[i];
+        speed_[i] = solve_slip_rate(p, normal_stress_[i], eta_, load_magnitude_[i], state_[i], v0_);
+        continue;
+      }
+      const NormalStressNodeStep s =
+          normal_stress_node_step(p, memory, eta_, load_magnitude_[i], previous_speed_[i], previous_state_[i],
+                                  previous_normal_stress_[i], normal_stress_[i], effective_normal_stress_[i], dt_);
+      speed_[i] = s.slip_rate;
+      state_[i] = s.state;
+      effective_normal_stress_[i] = s.effective_normal_stress;
+    }
+  } catch (const std::exception& e) {
+    std::ostringstream msg;
+    msg << "local friction solve failed at node (ix, iz) = (" << i % nodes_x_ << ", "
+        << i / nodes_x_ + spectral_->slab().first_row << "), t = " << time_ << " s, step " << step_index_ << ": "
+        << e.what();
+    throw SimulationError(msg.str());
+  }
+}
+
+// The normal stress at t_{n+1} and the contact step per node, as the 1D pair's
+// (Simulation::update_normal_stress): where the contact normal stress would not
+// be compressive the faces open, or with interface.opening = "stop" the run
+// stops naming the node.
+void Simulation3d::update_normal_stress() {
+  const std::size_t n = nodes();
+  std::copy(normal_stress_.begin(), normal_stress_.end(), previous_normal_stress_.begin());
+  const double sigma0 = config_.loading.normal_stress;
+  const double eta_y = spectral_->history_operator().normal_radiation_damping();
+  const bool stop = config_.interface.opening == OpeningResponse::stop;
+  any_opening_stress_ = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double contact = sigma0 + normal_perturbation_[i];
+    if ((stop && !(contact > 0.0)) || !std::isfinite(contact)) {
+      std::ostringstream msg;
+      msg << (std::isfinite(contact) ? "interface opening" : "non-finite normal stress") << " at node (ix, iz) = ("
+          << i % nodes_x_ << ", " << i / nodes_x_ + spectral_->slab().first_row << "), t = " << time_ + dt_
+          << " s, step " << step_index_ + 1 << ": the compressive normal stress would be " << contact
+          << " Pa (loading.normal_stress = " << sigma0 << " Pa)";
+      if (std::isfinite(contact))
+        msg << "; interface.opening = \"stop\" ends the run here (\"open\" lets the faces separate; docs/bodies.md)";
+      throw SimulationError(msg.str());
+    }
+    const bool opening = contact_step(i, contact, eta_y, dt_, normal_stress_, opening_stress_, gap_);
+    any_opening_stress_ = any_opening_stress_ || opening;
+  }
+  update_opening_outputs();
+}
+
+void Simulation3d::update_opening_outputs() {
+  const double eta_y = spectral_->history_operator().normal_radiation_damping();
+  for (std::size_t i = 0; i < nodes(); ++i) {
+    opening_rate_[i] = opening_stress_[i] / eta_y;
+    opening_[i] = reported_gap(normal_stress_[i], gap_[i], opening_rate_[i], dt_);
   }
 }
 
@@ -176,7 +332,15 @@ void Simulation3d::step() {
     rate_perturbation_x_[i] = first_sample_weight * (slip_rate_x_[i] - v0_);
     rate_perturbation_z_[i] = first_sample_weight * slip_rate_z_[i];
   }
-  spectral_->history(rate_perturbation_x_, rate_perturbation_z_, load_x_, load_z_);
+  if (variable_normal_stress()) {
+    // Some node open or closing at t_n: its faces move apart (docs/bodies.md §4).
+    spectral_->history(rate_perturbation_x_, rate_perturbation_z_,
+                       any_opening_stress_ ? std::span<const double>(opening_stress_) : std::span<const double>(),
+                       load_x_, load_z_, normal_perturbation_);
+    update_normal_stress();
+  } else {
+    spectral_->history(rate_perturbation_x_, rate_perturbation_z_, load_x_, load_z_);
+  }
   const double drive = tau0_ + eta_ * v0_;
   for (std::size_t i = 0; i < n; ++i) {
     load_x_[i] = drive - load_x_[i];
@@ -199,7 +363,8 @@ void Simulation3d::step() {
 void Simulation3d::check_finite(const char* what) const {
   for (std::size_t i = 0; i < nodes(); ++i) {
     if (std::isfinite(speed_[i]) && std::isfinite(state_[i]) && std::isfinite(slip_x_[i]) &&
-        std::isfinite(slip_z_[i]) && std::isfinite(shear_stress_x_[i]) && std::isfinite(shear_stress_z_[i]))
+        std::isfinite(slip_z_[i]) && std::isfinite(shear_stress_x_[i]) && std::isfinite(shear_stress_z_[i]) &&
+        (!variable_normal_stress() || std::isfinite(effective_normal_stress_[i])))
       continue;
     std::ostringstream msg;
     msg << "non-finite " << what << " at node (ix, iz) = (" << i % nodes_x_ << ", "
@@ -221,6 +386,10 @@ SimulationState Simulation3d::save_state() const {
   saved.slip_rate_z = slip_rate_z_;
   saved.shear_stress_z = shear_stress_z_;
   saved.speed = speed_;
+  saved.normal_stress = normal_stress_;
+  saved.effective_normal_stress = effective_normal_stress_;
+  saved.gap = gap_;
+  saved.opening_stress = opening_stress_;
   saved.history = spectral_->history_operator().save_state();
   return saved;
 }
@@ -235,12 +404,21 @@ void Simulation3d::restore_state(const SimulationState& saved) {
                                {"slip_z", &saved.slip_z, &slip_z_},
                                {"slip_rate_z", &saved.slip_rate_z, &slip_rate_z_},
                                {"shear_stress_z", &saved.shear_stress_z, &shear_stress_z_},
-                               {"speed", &saved.speed, &speed_}};
+                               {"speed", &saved.speed, &speed_},
+                               {"normal_stress", &saved.normal_stress, &normal_stress_},
+                               {"effective_normal_stress", &saved.effective_normal_stress, &effective_normal_stress_},
+                               {"gap", &saved.gap, &gap_},
+                               {"opening_stress", &saved.opening_stress, &opening_stress_}};
   check_saved_state(fields, saved, nodes(), "saved 2D-interface state");
   spectral_->history_operator().restore_state(saved.history);
   for (const auto& f : fields) std::copy(f.saved->begin(), f.saved->end(), f.target->begin());
   time_ = saved.time;
   step_index_ = saved.step_index;
+  if (variable_normal_stress()) {
+    any_opening_stress_ = std::any_of(opening_stress_.begin(), opening_stress_.end(),
+                                      [](double d) { return d != 0.0; });
+    update_opening_outputs();
+  }
 }
 
 // On one process sum() and max() return their argument, so these are the

@@ -14,6 +14,15 @@
 // makes v parallel to tau_h, and |v| solves the scalar local problem
 // |tau_h| - eta |v| = sigma0 f(|v|, phi): the 2D batch predictor-corrector
 // (friction/batch_solve.hpp) on the magnitudes, then v = |v| tau_h / |tau_h|.
+//
+// Dissimilar bodies (bottom.body = "elastic" or "rigid", outer faces driven or
+// clamped; docs/3d.md): the history operator is the rotated 1D pairs'
+// (InterfaceHistory2d::build_pair), the radiation damping the pair's, and the
+// normal stress varies: per node the contact step of the 1D pair
+// (solver/interface_contact.hpp: the faces open where it would be tensile),
+// and the friction sees the regularised normal stress sigma_eff
+// (friction/normal_stress_response.hpp), |tau| = sigma_eff f(|v|, phi), solved
+// node by node with the scalar routines on the magnitudes.
 #include <complex>
 #include <functional>
 #include <memory>
@@ -48,6 +57,15 @@ class InterfaceSpectralStep {
   // allocation.
   virtual void history(std::span<const double> rate_x, std::span<const double> rate_z,
                        std::span<double> history_x, std::span<double> history_z) = 0;
+  // Dissimilar in-plane bodies: whether this step carries the normal stress,
+  // and the same step with the opening stress d at t_n (empty: none) in and the
+  // compressive normal stress perturbation at t_{n+1} out.  The default
+  // carries none (a run split over processes poses identical bodies only) and
+  // throws std::logic_error if called.
+  virtual bool variable_normal_stress() const { return false; }
+  virtual void history(std::span<const double> rate_x, std::span<const double> rate_z,
+                       std::span<const double> opening_stress, std::span<double> history_x,
+                       std::span<double> history_z, std::span<double> normal_stress);
   // The operator over this process's Fourier modes.
   virtual const InterfaceHistory2d& history_operator() const = 0;
   virtual InterfaceHistory2d& history_operator() = 0;
@@ -109,6 +127,9 @@ class Simulation3d {
   double time_step() const { return dt_; }
   double radiation_damping() const { return eta_; }
   double reference_shear_stress() const { return tau0_; }  // steady sliding, along x
+  // The bottom body's height as its operators use it (its shear echo rounded
+  // to whole time steps, two_body_time_step); NaN for a rigid base.
+  double bottom_height_used() const { return bottom_height_used_; }
   const InterfaceHistory2d& history_operator() const { return spectral_->history_operator(); }
   // For `slipstrip bench` only (timing the operator alone after a run): any
   // push through it changes the simulation's history.
@@ -123,6 +144,16 @@ class Simulation3d {
   std::span<const double> shear_stress_z() const { return shear_stress_z_; }
 
   std::span<const double> speed() const { return speed_; }                    // |v| [m/s]
+
+  // Dissimilar in-plane bodies (docs/3d.md): the normal stress changes; these
+  // are empty otherwise.  Compressive normal stress sigma and the effective
+  // one sigma_eff the friction sees [Pa]; the opening gap [m] (0 in contact)
+  // and its rate [m/s], as the 1D pair's (solver/simulation.hpp).
+  bool variable_normal_stress() const { return !normal_stress_.empty(); }
+  std::span<const double> normal_stress() const { return normal_stress_; }
+  std::span<const double> effective_normal_stress() const { return effective_normal_stress_; }
+  std::span<const double> opening() const { return opening_; }
+  std::span<const double> opening_rate() const { return opening_rate_; }
 
   // Over the whole interface (every process takes part on a split run).
   double max_slip_rate() const;  // max |v| over the nodes
@@ -141,11 +172,15 @@ class Simulation3d {
  private:
   void initialise(std::span<const double> initial_state);
   void solve(bool initial);
+  void solve_with_normal_stress(bool initial);
+  void directions();  // v, tau from |v| and the load
+  void update_normal_stress();
+  void update_opening_outputs();
   void check_finite(const char* what) const;
 
   SimulationConfig config_;
   int nodes_x_, nodes_z_;
-  double dx_, dz_, dt_, eta_, v0_, tau0_;
+  double dx_, dz_, dt_, eta_, v0_, tau0_, bottom_height_used_;
   double time_ = 0.0;
   long long step_index_ = 0;
   LocalSolveParameters local_;
@@ -158,6 +193,10 @@ class Simulation3d {
   std::vector<double> previous_rate_x_, previous_rate_z_;
   std::vector<double> load_x_, load_z_, load_magnitude_;
   std::vector<double> rate_perturbation_x_, rate_perturbation_z_;
+  // Dissimilar bodies only (empty otherwise): as Simulation's.
+  std::vector<double> normal_stress_, previous_normal_stress_, effective_normal_stress_;
+  std::vector<double> gap_, opening_stress_, opening_, opening_rate_, normal_perturbation_;
+  bool any_opening_stress_ = false;
 };
 
 // The 2D interface's grid of a config (geometry.length, .width, .nodes, .nodes_z).
