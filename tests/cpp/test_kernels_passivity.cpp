@@ -13,6 +13,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -66,17 +67,69 @@ Discrete discretise(const ElasticMaterial& material, const Case& c) {
 // sin and cos of one angle from one argument reduction (glibc's sincos): the
 // reductions are most of the cost of these checks, in long double above all.
 void sin_cos(double x, double* s, double* c) { ::sincos(x, s, c); }
-void sin_cos(long double x, long double* s, long double* c) { ::sincosl(x, s, c); }
+
+// In long double glibc's sincosl reduces every argument above pi/4 by its
+// general (Payne-Hanek) reduction, which was most of the cost of the lossless
+// check.  Every angle here is a half angle, |x| <= pi, so x = n pi/2 + r with
+// |n| <= 2, |r| <= pi/4 is reduced with pi/2 in three long-double parts
+// (Cody-Waite): x - n P1 is exact (Sterbenz: x/2 <= n P1 <= 2x), the two
+// corrections each round once, so r is correct to about an ulp of itself,
+// however close x is to a multiple of pi/2 (the rest of pi/2 beyond P3 is
+// 2.5e-60).  sincosl(r) then takes no reduction, and the quadrant n only
+// swaps and negates.
+void sin_cos(long double x, long double* s, long double* c) {
+  constexpr long double half_pi_1 = 0xc90fdaa22168c235p-63L;   // pi/2 to 64 bits
+  constexpr long double half_pi_2 = -0xece675d1fc8f8cbbp-129L;  // pi/2 - half_pi_1
+  constexpr long double half_pi_3 = -0xb7ed8fbbacc19c60p-194L;  // the rest
+  constexpr long double two_over_pi = 1 / half_pi_1;
+  if (!(std::abs(x) <= 2 * half_pi_1)) {  // outside |x| <= pi: the general reduction
+    ::sincosl(x, s, c);
+    return;
+  }
+  // n nearest to x / (pi/2), |n| <= 2 (a tie may go either way; both reduce
+  // exactly).  Not std::nearbyint: it saves and restores the FPU state.
+  const int n = static_cast<int>(x * two_over_pi + (x < 0 ? -0.5L : 0.5L));
+  const long double r = ((x - n * half_pi_1) - n * half_pi_2) - n * half_pi_3;
+  long double sin_r, cos_r;
+  ::sincosl(r, &sin_r, &cos_r);
+  switch (n & 3) {  // sin and cos of r + n pi/2
+    case 0: *s = sin_r; *c = cos_r; break;
+    case 1: *s = cos_r; *c = -sin_r; break;
+    case 2: *s = -sin_r; *c = -cos_r; break;
+    default: *s = -cos_r; *c = sin_r; break;
+  }
+}
+
+// sin and cos of theta/2: all that r e^{i theta} - 1 needs of the angle, so
+// one pair serves every radius r sampled at that angle.
+template <class Real>
+struct HalfAngle {
+  Real s, c;
+};
+
+template <class Real>
+HalfAngle<Real> half_angle(Real theta) {
+  HalfAngle<Real> h;
+  sin_cos(Real(0.5) * theta, &h.s, &h.c);
+  return h;
+}
 
 // r e^{i theta} - 1 without the cancellation of cos(theta) - 1 near theta = 0
 // (which would otherwise swamp the O(r - 1) real parts we are testing):
 // cos(theta) - 1 = -2 sin^2(theta/2) and sin(theta) = 2 sin(theta/2) cos(theta/2),
 // both from the sine and cosine of theta/2, so each part is correct to a few ulps.
 template <class Real>
-std::complex<Real> exp_minus_one(Real r, Real theta) {
-  Real s, c;
-  sin_cos(Real(0.5) * theta, &s, &c);
-  return {(r - 1) - 2 * r * s * s, 2 * r * s * c};
+std::complex<Real> exp_minus_one(Real r, const HalfAngle<Real>& h) {
+  return {(r - 1) - 2 * r * h.s * h.s, 2 * r * h.s * h.c};
+}
+
+// |z| for the rounding-error scale below: the square root of the squared
+// norm, correct to a couple of ulps, which is all a scale needs.  std::abs
+// (hypot) also guards against overflow of the squares, which these magnitudes
+// (below ~1e20) cannot reach, at several times the cost.
+template <class Real>
+Real magnitude(const std::complex<Real>& z) {
+  return std::sqrt(std::norm(z));
 }
 
 // What Z_d needs of one mode that does not depend on z: built once per mode
@@ -112,27 +165,50 @@ struct ZValue {
 // next to z = -1: there theta + phi ~ 2 pi, and its rounding in double
 // (~4e-16 absolute) is a relative error 4e-16/|2 pi - theta - phi| in
 // z - e^{-i phi}; in long double the sum of two doubles is exact.
-template <class Real = double>
-ZValue z_operator(const Discrete& d, const std::vector<ModeTerm<Real>>& modes, double r_in,
-                  double theta_in) {
+//
+// Evaluated at several radii r for one angle theta at once: the sines and
+// cosines of the half angles do not depend on r, and they are most of the
+// cost (each radius's arithmetic is the same as if it were evaluated alone).
+template <class Real, std::size_t R>
+std::array<ZValue, R> z_operator(const Discrete& d, const std::vector<ModeTerm<Real>>& modes,
+                                 const std::array<double, R>& radii, double theta_in) {
   using C = std::complex<Real>;
-  const Real r = r_in, theta = theta_in, dt = d.dt;
-  const C zm1 = exp_minus_one(r, theta);
-  const C inv_zm1 = Real(1) / zm1;
-  C total = Real(d.eta) + Real(d.echo_weight) * inv_zm1;
-  Real scale = Real(d.eta) + Real(d.echo_weight) * std::abs(inv_zm1);
-  for (const auto& m : modes) {
-    // z cos(phi) - 1 = cos(phi) (z - 1) - 2 sin^2(phi/2)
-    const C numerator = m.cos_phase * zm1 - m.two_sin2_half;
-    // z^2 - 2 z cos(phi) + 1 = (z - e^{i phi})(z - e^{-i phi})
-    //                        = (r e^{i(theta-phi)} - 1)(r e^{i(theta+phi)} - 1)
-    const C denominator = exp_minus_one(r, theta - m.phase) * exp_minus_one(r, theta + m.phase);
-    const C ratio = numerator / denominator;
-    total += dt * m.weight * (inv_zm1 - ratio);
-    scale += dt * std::abs(m.weight) * (std::abs(inv_zm1) + std::abs(ratio));
+  const Real theta = theta_in, dt = d.dt;
+  const HalfAngle<Real> half = half_angle(theta);
+  std::array<C, R> zm1, inv_zm1, total;
+  std::array<Real, R> scale, abs_inv_zm1;
+  for (std::size_t i = 0; i < R; ++i) {
+    zm1[i] = exp_minus_one(Real(radii[i]), half);
+    inv_zm1[i] = Real(1) / zm1[i];
+    total[i] = Real(d.eta) + Real(d.echo_weight) * inv_zm1[i];
+    abs_inv_zm1[i] = std::abs(inv_zm1[i]);
+    scale[i] = Real(d.eta) + Real(d.echo_weight) * abs_inv_zm1[i];
   }
-  return {cplx(static_cast<double>(total.real()), static_cast<double>(total.imag())),
-          static_cast<double>(scale)};
+  for (const auto& m : modes) {
+    const HalfAngle<Real> below = half_angle(theta - m.phase), above = half_angle(theta + m.phase);
+    for (std::size_t i = 0; i < R; ++i) {
+      const Real r = radii[i];
+      // z cos(phi) - 1 = cos(phi) (z - 1) - 2 sin^2(phi/2)
+      const C numerator = m.cos_phase * zm1[i] - m.two_sin2_half;
+      // z^2 - 2 z cos(phi) + 1 = (z - e^{i phi})(z - e^{-i phi})
+      //                        = (r e^{i(theta-phi)} - 1)(r e^{i(theta+phi)} - 1)
+      const C denominator = exp_minus_one(r, below) * exp_minus_one(r, above);
+      const C ratio = numerator / denominator;
+      total[i] += dt * m.weight * (inv_zm1[i] - ratio);
+      scale[i] += dt * std::abs(m.weight) * (abs_inv_zm1[i] + magnitude(ratio));
+    }
+  }
+  std::array<ZValue, R> out;
+  for (std::size_t i = 0; i < R; ++i)
+    out[i] = {cplx(static_cast<double>(total[i].real()), static_cast<double>(total[i].imag())),
+              static_cast<double>(scale[i])};
+  return out;
+}
+
+template <class Real = double>
+ZValue z_operator(const Discrete& d, const std::vector<ModeTerm<Real>>& modes, double r,
+                  double theta) {
+  return z_operator(d, modes, std::array<double, 1>{r}, theta)[0];
 }
 
 // Wavenumber indices to test: all of them for small N, else a log-spaced set
@@ -174,19 +250,30 @@ struct PositivityResult {
   double theta_at_min = 0;
 };
 
-PositivityResult positivity(const Discrete& d, const std::vector<DiscreteMode>& modes, double r) {
-  PositivityResult out;
+// The smallest Re Z_d on circles of radius r at the angles of sample_angles,
+// for every radius of `radii` (from one pass over the angles).
+template <std::size_t R>
+std::array<PositivityResult, R> positivity(const Discrete& d, const std::vector<DiscreteMode>& modes,
+                                           const std::array<double, R>& radii) {
+  std::array<PositivityResult, R> out;
   const auto terms = mode_terms(modes);
   for (double theta : sample_angles(modes, d.echo_steps)) {
-    const auto zv = z_operator(d, terms, r, theta);
-    const double ratio = zv.value.real() / zv.scale;
-    if (ratio < out.min_re_over_scale) {
-      out.min_re_over_scale = ratio;
-      out.theta_at_min = theta;
+    const auto values = z_operator(d, terms, radii, theta);
+    for (std::size_t i = 0; i < R; ++i) {
+      const auto& zv = values[i];
+      const double ratio = zv.value.real() / zv.scale;
+      if (ratio < out[i].min_re_over_scale) {
+        out[i].min_re_over_scale = ratio;
+        out[i].theta_at_min = theta;
+      }
+      out[i].min_re_over_abs = std::min(out[i].min_re_over_abs, zv.value.real() / std::abs(zv.value));
     }
-    out.min_re_over_abs = std::min(out.min_re_over_abs, zv.value.real() / std::abs(zv.value));
   }
   return out;
+}
+
+PositivityResult positivity(const Discrete& d, const std::vector<DiscreteMode>& modes, double r) {
+  return positivity(d, modes, std::array<double, 1>{r})[0];
 }
 
 // The placement discrete_modes replaced (docs/theory.md, "The placement"): raw
@@ -243,9 +330,10 @@ TEST_CASE("discrete operator is positive real: every weight <= 0 and Re Z_d > 0 
           CHECK(m.phase > 0.0);
           CHECK(m.phase <= pi);
         }
-        const double radii[] = {1.0005, 1.01, 1.2};
+        const std::array<double, 3> radii = {1.0005, 1.01, 1.2};
+        const auto at_radius = positivity(d, modes, radii);
         for (int i = 0; i < 3; ++i) {
-          const auto p = positivity(d, modes, radii[i]);
+          const auto& p = at_radius[i];
           INFO("r = " << radii[i] << ": min Re Z_d / scale = " << p.min_re_over_scale
                       << " at theta = " << p.theta_at_min);
           // Strictly positive, and by more than rounding: each term is computed

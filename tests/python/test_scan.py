@@ -384,6 +384,9 @@ def test_edited_scan_reruns_changed_runs(binary, tmp_path, capfd):
 # ------------------------------------------------------------------ beyond one machine
 
 
+# Slow tier: a local Dask cluster's start-up (worker processes importing
+# distributed) is most of its cost, and it checks the scan's distribution, not physics.
+@pytest.mark.slow
 def test_dask_local_cluster(binary, tmp_path, capfd):
     distributed = pytest.importorskip("distributed")
     scan_file = write_scan(tmp_path / "s.toml", """

@@ -180,6 +180,9 @@ def test_relaunch_leaves_alone_a_run_whose_solver_outlived_its_scan(binary, tmp_
     assert row["status"] == "completed"
 
 
+# Slow tier: a local Dask cluster's start-up (worker processes importing
+# distributed) is most of its cost, and it checks the scan's distribution, not physics.
+@pytest.mark.slow
 def test_dask_scan_stop_reaches_the_workers_solvers(binary, tmp_path):
     distributed = pytest.importorskip("distributed")
     out = tmp_path / "out"
