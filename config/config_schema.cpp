@@ -414,8 +414,9 @@ constexpr ConfigKey kKeys[] = {
     // [top] -----------------------------------------------------------------
     {.section = "top", .name = "outer_face", .type = KeyType::choice,
      .help = "the top body's outer face: `driven` (tangential displacement moving with its share "
-             "of v0, normal stress prescribed) or `clamped` (both displacements prescribed; "
-             "antiplane only, where it is the same body response). The top body's material and "
+             "of v0, normal stress prescribed) or `clamped` (both displacements prescribed; in-plane "
+             "with bottom.body = `elastic` or `rigid`; antiplane, where it is the same body response). "
+             "The top body's material and "
              "height are [material] and geometry.height (docs/bodies.md)",
      .choices = names_of<kOuterFaceNames>,
      .bind = enum_member<&C::top, &TopBodyConfig::outer_face, kOuterFaceNames>()},
@@ -430,8 +431,9 @@ constexpr ConfigKey kKeys[] = {
     {.section = "bottom", .name = "body", .type = KeyType::choice,
      .help = "`mirror`: the mirror image of the top body (two identical bodies); `elastic`: the "
              "body described by the keys below (with `mirror` they must equal the top body's values, "
-             "and a --set of a top key carries over to them) (antiplane only for now); `rigid`: a rigid base, "
-             "whose face does not deform (antiplane only for now). docs/bodies.md",
+             "and a --set of a top key carries over to them); `rigid`: a rigid base, "
+             "whose face does not deform. On a 2D interface (geometry.nodes_z > 1) `elastic` needs finite "
+             "heights (docs/3d.md). docs/bodies.md",
      .choices = names_of<kBodyKindNames>,
      .bind = enum_member<&C::bottom, &BottomBodyConfig::body, kBodyKindNames>()},
     {.section = "bottom", .name = "shear_modulus", .unit = "Pa", .noun = "a modulus",
