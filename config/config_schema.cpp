@@ -296,8 +296,29 @@ void bottom_rule(const SimulationConfig& c) {
                           "(the per-body operators); the mirror pair's operator has driven faces");
 }
 
+// loading.drive = "mean_slip_rate" solves for one uniform shear stress around
+// the batch friction solve of two identical bodies (laws/law_rate_and_state.cpp):
+// refused where that is not the path of the run.
+std::string mean_slip_rate_refusal(const std::string& what, const std::string& allowed) {
+  return "loading.drive = \"mean_slip_rate\" is not supported with " + what + ": expected " + allowed +
+         " (or loading.drive = \"outer_faces\"; docs/transition.md)";
+}
+void loading_rule(const SimulationConfig& c) {
+  if (c.loading.drive != LoadingDrive::mean_slip_rate) return;
+  if (c.bottom.body != BodyKind::mirror)
+    throw ConfigRuleError({"drive"}, mean_slip_rate_refusal(
+                                         "bottom.body = \"" + std::string(kBodyKindNames[static_cast<int>(c.bottom.body)]) + "\"",
+                                         "bottom.body = \"mirror\" (two identical strips or half-spaces)"));
+  if (c.geometry.nodes_z > 1)
+    throw ConfigRuleError({"drive"}, mean_slip_rate_refusal("geometry.nodes_z = " + std::to_string(c.geometry.nodes_z),
+                                                            "geometry.nodes_z = 1 (a one-dimensional interface)"));
+}
+
 // Two forms of the normal-stress memory, one at a time (docs/bodies.md).
 void interface_rule(const SimulationConfig& c) {
+  if (c.loading.drive == LoadingDrive::mean_slip_rate && c.interface.law != InterfaceLawName::rate_and_state)
+    throw ConfigRuleError({"law"}, mean_slip_rate_refusal("interface.law = \"" + std::string(c.interface.law.name) + "\"",
+                                                          "interface.law = \"rate_and_state\""));
   if (c.interface.normal_stress_slip > 0.0 && c.interface.normal_stress_time > 0.0)
     throw ConfigRuleError({"normal_stress_time", "normal_stress_slip"},
                           "interface.normal_stress_slip = " + format_config_number(c.interface.normal_stress_slip) +
@@ -338,7 +359,7 @@ constexpr double top_height(const SimulationConfig& c) { return c.geometry.heigh
 // The sections, in reading order: a rule reads only keys of earlier sections
 // (geometry bounds the mode numbers, material sets c_s for duration_transits).
 constexpr ConfigSection kSections[] = {
-    {"geometry"}, {"material"}, {"top"}, {"bottom", bottom_rule}, {"loading"}, {"friction", friction_rule}, {"state"},
+    {"geometry"}, {"material"}, {"top"}, {"bottom", bottom_rule}, {"loading", loading_rule}, {"friction", friction_rule}, {"state"},
     {"interface", interface_rule}, {"initial", initial_rule}, {"time"}, {"output", output_rule},
 };
 
@@ -490,8 +511,21 @@ constexpr ConfigKey kKeys[] = {
     // [loading] -------------------------------------------------------------
     {.section = "loading", .name = "driving_velocity", .unit = "m/s", .noun = "a velocity",
      .allowed = positive, .generous = {1e-15, true, 1e3, true},
-     .help = "v0; outer faces move at +-v0/2 (the initial state is steady sliding at v0)",
+     .help = "v0; outer faces move at +-v0/2, or the mean slip rate is held at v0 (`drive`); the initial "
+             "state is steady sliding at v0",
      .comment = "v0 [m/s]", .bind = real_member<&C::loading, &LoadingConfig::driving_velocity>()},
+    {.section = "loading", .name = "drive", .type = KeyType::choice,
+     .rule_text = "`mean_slip_rate` needs bottom.body = \"mirror\", geometry.nodes_z = 1 and "
+                  "interface.law = \"rate_and_state\"",
+     .help = "what loads the uniform (k = 0) mode: `outer_faces`, the outer faces move at +-v0/2 (a "
+             "half-space's uniform mode then has only radiation damping, so a locked half-space interface is "
+             "never reloaded); `mean_slip_rate`, a uniform shear stress tau_0(t), solved for at every step, "
+             "keeps the mean slip rate over the nodes at v0 (the modes k != 0 are unchanged; tau_0 is recorded "
+             "as /timeseries/loading_shear_stress). Two identical bodies (strips or half-spaces) only "
+             "(docs/transition.md)",
+     .comment = "outer_faces | mean_slip_rate (tau_0(t) keeps the mean slip rate at v0)",
+     .choices = names_of<kLoadingDriveNames>,
+     .bind = enum_member<&C::loading, &LoadingConfig::drive, kLoadingDriveNames>()},
     {.section = "loading", .name = "normal_stress", .unit = "Pa", .noun = "a compressive stress",
      .allowed = positive, .generous = {1.0, true, 1e11, true}, .help = "sigma0, compressive",
      .comment = "sigma0 [Pa]", .bind = real_member<&C::loading, &LoadingConfig::normal_stress>(),

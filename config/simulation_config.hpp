@@ -27,9 +27,20 @@ struct GeometryConfig {
   int nodes_z = 1;       // [geometry] nodes_z
 };
 
+// What loads the interface's uniform (k = 0) mode (docs/transition.md, "Driving
+// the mean slip rate"):
+//   outer_faces    : the outer faces move at +-v0/2 (a half-space: only
+//                    radiation damping acts on the uniform mode)
+//   mean_slip_rate : a uniform shear stress tau_0(t), the unknown of every
+//                    step, keeps the mean slip rate over the nodes at v0; the
+//                    modes k != 0 are unchanged
+enum class LoadingDrive { outer_faces, mean_slip_rate };
+inline constexpr std::string_view kLoadingDriveNames[] = {"outer_faces", "mean_slip_rate"};  // index = enumerator
+
 struct LoadingConfig {
   double driving_velocity = 2e-3;  // [loading] driving_velocity v0 [m/s]
   double normal_stress = 1e6;      // [loading] normal_stress sigma0 [Pa]
+  LoadingDrive drive = LoadingDrive::outer_faces;  // [loading] drive
 };
 
 // How the interface closes the elastodynamic problem: the interface law

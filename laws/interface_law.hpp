@@ -13,6 +13,7 @@
 // one line SLIPSTRIP_INTERFACE_LAW(<name>) in config/interface_laws.inc
 // (docs/developing.md).
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -57,8 +58,11 @@ struct InterfaceStep {
 };
 
 // A node the law cannot solve.  Simulation adds the node's x, the time and
-// the step: "<what> at node <node> (x = ...), t = ..., step ...: <detail>".
+// the step: "<what> at node <node> (x = ...), t = ..., step ...: <detail>";
+// node = kWholeInterface for a failure of no single node (the uniform load of
+// loading.drive = "mean_slip_rate"): "<what>, t = ..., step ...: <detail>".
 struct InterfaceFailure : std::runtime_error {
+  static constexpr std::size_t kWholeInterface = static_cast<std::size_t>(-1);
   InterfaceFailure(std::string what_failed, std::size_t node_index, const std::string& detail)
       : std::runtime_error(detail), failed(std::move(what_failed)), node(node_index) {}
   std::string failed;  // e.g. "local friction solve failed"
@@ -73,6 +77,10 @@ class InterfaceLaw {
   virtual double driving_velocity() const = 0;
   // Steady-sliding shear stress tau_0 per node [Pa] (all zero for verification laws).
   virtual std::span<const double> reference_shear_stress() const = 0;
+  // loading.drive = "mean_slip_rate": the uniform shear stress tau_0(t) [Pa]
+  // that held the mean slip rate at v0 at the level last solved (the uniform
+  // part of the load; docs/transition.md).  NaN for a law or a drive without it.
+  virtual double loading_shear_stress() const { return std::numeric_limits<double>::quiet_NaN(); }
   // Every field at t = 0 (history empty).  Throws InterfaceFailure.
   virtual void initialise(InterfaceFields& fields) = 0;
   // Every field at step.time + step.dt, given the history stress there.

@@ -66,6 +66,7 @@ class LineRun {
     RunOutputOptions options = common_options(config_);
     options.station_x = config_.output.stations;
     options.normal_stress_snapshots = sim_.variable_normal_stress();
+    options.loading_shear_stress = config_.loading.drive == LoadingDrive::mean_slip_rate;
     if (config_.interface.law == InterfaceLawName::rate_and_state) {
       // The parameters every node ran with (profiles resolved), so the file is
       // interpretable without the profile files the config may name.
@@ -84,7 +85,11 @@ class LineRun {
   std::span<const double> front_slip_rate() const { return sim_.slip_rate(); }
   double mean_slip() const { return sim_.mean_slip(); }
   void append_timeseries(RunOutput& output) const {
-    output.append_timeseries(sim_.time(), sim_.max_slip_rate(), sim_.mean_slip(), sim_.mean_shear_stress());
+    if (config_.loading.drive == LoadingDrive::mean_slip_rate)
+      output.append_timeseries(sim_.time(), sim_.max_slip_rate(), sim_.mean_slip(), sim_.mean_shear_stress(),
+                               sim_.loading_shear_stress());
+    else
+      output.append_timeseries(sim_.time(), sim_.max_slip_rate(), sim_.mean_slip(), sim_.mean_shear_stress());
   }
   void write_snapshot(RunOutput& output) const {
     output.write_snapshot(sim_.time(), sim_.slip(), sim_.slip_rate(), sim_.state(), sim_.shear_stress(),

@@ -36,9 +36,10 @@ constexpr const char* station_field_names[6] = {"slip", "slip_rate", "shear_stre
                                                 "normal_stress", "opening"};
 constexpr const char* station_field_units[6] = {"m", "m/s", "Pa", "s", "Pa", "m"};
 constexpr std::size_t station_buffer_rows = 1024;
-constexpr const char* timeseries_names[4] = {"time", "max_slip_rate", "mean_slip",
-                                             "mean_shear_stress"};
-constexpr const char* timeseries_units[4] = {"s", "m/s", "m", "Pa"};
+// The fifth, loading_shear_stress, only with RunOutputOptions::loading_shear_stress.
+constexpr const char* timeseries_names[5] = {"time", "max_slip_rate", "mean_slip",
+                                             "mean_shear_stress", "loading_shear_stress"};
+constexpr const char* timeseries_units[5] = {"s", "m/s", "m", "Pa", "Pa"};
 // The fifth and sixth, normal_stress and opening (the gap), only with
 // RunOutputOptions::normal_stress_snapshots.
 constexpr const char* snapshot_names[6] = {"slip", "slip_rate", "state", "shear_stress", "normal_stress",
@@ -51,7 +52,7 @@ constexpr const char* units_table =
     "slip, mean_slip, x, delta_th, dx, D, L: m\n"
     "slip_rate, max_slip_rate, v0: m/s\n"
     "state (contact age phi): s\n"
-    "shear_stress, mean_shear_stress, mu: Pa\n";
+    "shear_stress, mean_shear_stress, loading_shear_stress, mu: Pa\n";
 
 }  // namespace
 
@@ -182,7 +183,8 @@ void RunOutput::initialise_buffers(const SlipSamplingSetup& slip_sampling) {
     throw std::invalid_argument("RunOutputOptions.gzip_level = " +
                                 std::to_string(options_.gzip_level) + ": allowed 0..9");
 
-  timeseries_buffer_.reserve(4 * static_cast<std::size_t>(options_.timeseries_buffer_rows));
+  timeseries_columns_ = options_.loading_shear_stress ? 5 : 4;
+  timeseries_buffer_.reserve(timeseries_columns_ * static_cast<std::size_t>(options_.timeseries_buffer_rows));
   snapshot_time_buffer_.reserve(static_cast<std::size_t>(options_.snapshot_chunk));
   nodes_z_ = slip_sampling.nodes_z;
   if (nodes_z_ < 1 || node_count_ % static_cast<std::size_t>(nodes_z_) != 0)
@@ -244,7 +246,8 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
   {
     const Handle group = io::create_group(file, "timeseries");
     const io::ExtendibleLayout layout{.chunk_rows = static_cast<hsize_t>(options_.timeseries_buffer_rows)};
-    for (int c = 0; c < 4; ++c) create_extendible(group, timeseries_names[c], layout, timeseries_units[c]);
+    for (std::size_t c = 0; c < timeseries_columns_; ++c)
+      create_extendible(group, timeseries_names[c], layout, timeseries_units[c]);
   }
   {
     const Handle group = io::create_group(file, "snapshots");
@@ -335,9 +338,23 @@ RunOutput::~RunOutput() {
 void RunOutput::append_timeseries(double time, double max_slip_rate, double mean_slip,
                                   double mean_shear_stress) {
   if (closed_) throw std::logic_error("RunOutput::append_timeseries after close: " + path_);
+  if (options_.loading_shear_stress)
+    throw std::logic_error("RunOutput::append_timeseries without the loading shear stress the file records: " + path_);
   timeseries_buffer_.insert(timeseries_buffer_.end(),
                             {time, max_slip_rate, mean_slip, mean_shear_stress});
-  if (timeseries_buffer_.size() >= 4 * static_cast<std::size_t>(options_.timeseries_buffer_rows))
+  if (timeseries_buffer_.size() >= timeseries_columns_ * static_cast<std::size_t>(options_.timeseries_buffer_rows))
+    write_out(WriteTrigger::buffer_full);
+}
+
+void RunOutput::append_timeseries(double time, double max_slip_rate, double mean_slip, double mean_shear_stress,
+                                  double loading_shear_stress) {
+  if (closed_) throw std::logic_error("RunOutput::append_timeseries after close: " + path_);
+  if (!options_.loading_shear_stress)
+    throw std::logic_error("RunOutput::append_timeseries with a loading shear stress the file does not record: " +
+                           path_);
+  timeseries_buffer_.insert(timeseries_buffer_.end(),
+                            {time, max_slip_rate, mean_slip, mean_shear_stress, loading_shear_stress});
+  if (timeseries_buffer_.size() >= timeseries_columns_ * static_cast<std::size_t>(options_.timeseries_buffer_rows))
     write_out(WriteTrigger::buffer_full);
 }
 
@@ -472,7 +489,7 @@ void RunOutput::reopen_file(const RunOutputCursor& cursor) {
   };
   {
     const Handle group = io::open_group(file, "timeseries");
-    for (const char* name : timeseries_names) cut(group, name, cursor.timeseries_rows);
+    for (std::size_t c = 0; c < timeseries_columns_; ++c) cut(group, timeseries_names[c], cursor.timeseries_rows);
   }
   {
     const Handle group = io::open_group(file, "snapshots");
@@ -635,14 +652,15 @@ bool RunOutput::write_out_unchecked(WriteTrigger trigger, const std::string* fin
   Handle file = open_unless_reader_holds(trigger);
   if (!file.valid()) return false;
 
-  const std::size_t timeseries_rows = timeseries_buffer_.size() / 4;
+  const std::size_t timeseries_rows = timeseries_buffer_.size() / timeseries_columns_;
   if (timeseries_rows > 0) {
     const Handle group = io::open_group(file, "timeseries");
-    for (int c = 0; c < 4; ++c) {
+    for (std::size_t c = 0; c < timeseries_columns_; ++c) {
       const Handle dset = io::open_dataset(group, timeseries_names[c]);
       io::grow_rows(dset, timeseries_rows_in_file_ + timeseries_rows);
-      // Column c of the interleaved rows (time, max slip rate, mean slip, mean stress).
-      io::write_rows(dset, timeseries_rows_in_file_, timeseries_rows, timeseries_buffer_.data() + c, 4);
+      // Column c of the interleaved rows (time, max slip rate, mean slip, mean stress[, load]).
+      io::write_rows(dset, timeseries_rows_in_file_, timeseries_rows, timeseries_buffer_.data() + c,
+                     timeseries_columns_);
     }
     timeseries_rows_in_file_ += timeseries_rows;
     timeseries_buffer_.clear();

@@ -91,6 +91,9 @@ struct RunOutputOptions {
   // dissimilar bodies, whose normal stress varies and whose faces may open;
   // otherwise the normal stress is loading.normal_stress and the gap 0).
   bool normal_stress_snapshots = false;
+  // /timeseries/loading_shear_stress [Pa] as a fifth time series: the uniform
+  // shear stress tau_0(t) of loading.drive = "mean_slip_rate".
+  bool loading_shear_stress = false;
   // A 2D interface (SlipSamplingSetup.nodes_z > 1): the snapshot fields by
   // name and units, each stored as [snapshots, nodes_z, nodes_x] (one chunk
   // per snapshot), given to write_snapshot in this order; the root attribute
@@ -136,6 +139,10 @@ class RunOutput {
 
   void append_timeseries(double time, double max_slip_rate, double mean_slip,
                          double mean_shear_stress);
+  // The same with /timeseries/loading_shear_stress [Pa]: exactly when
+  // RunOutputOptions::loading_shear_stress (the other form throws std::logic_error then).
+  void append_timeseries(double time, double max_slip_rate, double mean_slip, double mean_shear_stress,
+                         double loading_shear_stress);
   // normal_stress and opening: given exactly when RunOutputOptions::normal_stress_snapshots.
   void write_snapshot(double time, std::span<const double> slip, std::span<const double> slip_rate,
                       std::span<const double> state, std::span<const double> shear_stress,
@@ -223,7 +230,8 @@ class RunOutput {
   std::size_t crossing_rows_in_file_ = 0;
 
   // Buffered rows, row-major.
-  std::vector<double> timeseries_buffer_;  // 4 values per row
+  std::vector<double> timeseries_buffer_;  // timeseries_columns_ values per row
+  std::size_t timeseries_columns_ = 4;     // 5 with loading_shear_stress
   std::vector<double> snapshot_time_buffer_;
   std::vector<std::string> snapshot_names_, snapshot_units_;  // the fields, in order
   std::size_t snapshot_fields_ = 4;              // 6 with normal_stress_snapshots

@@ -94,6 +94,17 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
                        const InterfaceLawRegistry& laws)
     : config_(config), nodes_(config.geometry.nodes) {
   const auto& g = config_.geometry;
+  if (config_.loading.drive == LoadingDrive::mean_slip_rate) {
+    // The config schema refuses these too; a config built in code reaches here.
+    if (config_.bottom.body != BodyKind::mirror)
+      throw std::invalid_argument("loading.drive = \"mean_slip_rate\" is not supported with bottom.body = \"" +
+                                  std::string(kBodyKindNames[static_cast<int>(config_.bottom.body)]) +
+                                  "\": expected bottom.body = \"mirror\" (or loading.drive = \"outer_faces\")");
+    if (config_.interface.law != InterfaceLawName::rate_and_state)
+      throw std::invalid_argument("loading.drive = \"mean_slip_rate\" is not supported with interface.law = \"" +
+                                  std::string(config_.interface.law.name) +
+                                  "\": expected interface.law = \"rate_and_state\" (or loading.drive = \"outer_faces\")");
+  }
   dx_ = g.length / nodes_;
   fft_ = std::make_unique<RealFft>(nodes_);
   bottom_height_used_ = bottom_height(config_);
@@ -244,8 +255,9 @@ void Simulation::run_law(Call&& call) {
   } catch (const InterfaceFailure& e) {
     const std::size_t i = e.node;
     std::ostringstream msg;
-    msg << e.failed << " at node " << i << " (x = " << x_[i] << " m), t = " << time_
-        << " s, step " << step_index_ << ": " << e.what();
+    msg << e.failed;
+    if (i != InterfaceFailure::kWholeInterface) msg << " at node " << i << " (x = " << x_[i] << " m)";
+    msg << ", t = " << time_ << " s, step " << step_index_ << ": " << e.what();
     throw SimulationError(msg.str());
   }
 }
@@ -269,6 +281,11 @@ void Simulation::step() {
   for (int i = 0; i < nodes_; ++i)
     work_real_[i] = first_sample_weight * (slip_rate_[i] - driving_velocity_);
   fft_->forward(work_real_, spectrum_);
+  // loading.drive = "mean_slip_rate": the uniform mode is not the operator's;
+  // its stress is tau_0(t), solved for by the law, and its slip-rate
+  // perturbation is zero to the root-find tolerance: the residual is dropped,
+  // so the history has no uniform part.
+  if (config_.loading.drive == LoadingDrive::mean_slip_rate) spectrum_[0] = 0.0;
   if (any_opening_stress_) {
     // Some node is open or closing at t_n: its faces move apart (docs/bodies.md §4).
     fft_->forward(opening_stress_, opening_spectrum_);

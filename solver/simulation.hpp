@@ -127,6 +127,10 @@ class Simulation {
   double max_slip_rate() const;
   double mean_slip() const;
   double mean_shear_stress() const;
+  // loading.drive = "mean_slip_rate": the uniform shear stress tau_0(t) [Pa]
+  // that holds the mean slip rate at v0, at the level last solved by this
+  // object (after restore_state: from the next step on); NaN otherwise.
+  double loading_shear_stress() const { return law_->loading_shear_stress(); }
 
   // Steady sliding reference: tau_0 = strength(v0, phi_ss(v0)) (rate_and_state),
   // 0 for the verification laws: the value of every node when it is the same

@@ -45,6 +45,9 @@ const SimulationConfig& checked_3d(const SimulationConfig& c) {
     refuse("interface.law must be \"rate_and_state\"");
   if (c.friction_along_x.any()) refuse("friction parameters must be numbers, not profiles along x");
   if (c.interface.load_pulse_amplitude != 0.0) refuse("interface.load_pulse_amplitude must be 0");
+  if (c.loading.drive != LoadingDrive::outer_faces)
+    refuse("loading.drive = \"" + std::string(kLoadingDriveNames[static_cast<int>(c.loading.drive)]) +
+           "\" is not supported with a 2D interface: expected \"outer_faces\"");
   return c;
 }
 

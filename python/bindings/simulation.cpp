@@ -265,6 +265,8 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("max_slip_rate", read_locked(&Simulation::max_slip_rate), "[m/s]")
       .def_property_readonly("mean_slip", read_locked(&Simulation::mean_slip), "[m]")
       .def_property_readonly("mean_shear_stress", read_locked(&Simulation::mean_shear_stress), "[Pa]")
+      .def_property_readonly("loading_shear_stress", read_locked(&Simulation::loading_shear_stress),
+                             "tau_0(t) [Pa] of loading.drive = 'mean_slip_rate' at the last step; NaN otherwise")
       .def_property_readonly("_native_config", [](const PySimulation& sim) { return sim.config(); });
 
   py::class_<RunResult>(m, "RunResult")
