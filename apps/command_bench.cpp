@@ -62,7 +62,7 @@ Command add_bench_command(CLI::App& app) {
       ->delimiter(',');
   bench->add_flag("--pairs", o->dissimilar,
                   "Also time an in-plane dissimilar pair (bottom body: same height and wave speeds, twice mu "
-                  "and rho) at each finite height, and its ratio to the identical pair");
+                  "and rho; at inf a pair of half-spaces) at each height, and its ratio to the identical pair");
   bench->add_option("--history", o->history, "Strip history algorithm: auto, modal or block (same operator)")
       ->transform(CLI::CheckedTransformer(history_algorithms_by_name(), CLI::ignore_case));
   bench->add_option("--max-gib", o->max_operator_gib,

@@ -1,8 +1,9 @@
 // Time per push() of the two exact strip history operators, modal
 // (StripHistory, O(H/dx) per mode) and block (BlockStripHistory, O(log^2)),
 // on the same kernels, white-noise input.  Usage:
-//   bench_kernels_history NODES HEIGHT [STEPS] [DIRECT_BLOCK] [BLOCK]
-// L = 4 m, beta = 0.25, Table S1 material; prints one JSON line.  Threads:
+//   bench_kernels_history NODES HEIGHT [STEPS] [DIRECT_BLOCK] [BLOCK] [PLANE]
+// L = 4 m, beta = 0.25, Table S1 material, PLANE strain (default) or
+// antiplane; prints one JSON line.  Threads:
 // OMP_NUM_THREADS.  Steps default to two blocks so the far-field update is
 // included at its average rate.
 #include <chrono>
@@ -34,7 +35,7 @@ double time_pushes(HistoryOperator& op, int steps) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: %s NODES HEIGHT [STEPS] [DIRECT_BLOCK] [BLOCK]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s NODES HEIGHT [STEPS] [DIRECT_BLOCK] [BLOCK] [PLANE]\n", argv[0]);
     return 2;
   }
   const int nodes = std::atoi(argv[1]);
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
   if (argc > 4) design.direct_block = std::atoi(argv[4]);
   if (argc > 5) design.block = std::atoi(argv[5]);
   ElasticMaterial material;
+  if (argc > 6 && std::string(argv[6]) == "antiplane") material.plane = PlaneCondition::antiplane;
   const double length = 4.0, dx = length / nodes;
   const double dt = strip_time_step(material, height, dx, 0.25);
   const auto kernels = compute_strip_kernels(material, height, length, nodes, dt);

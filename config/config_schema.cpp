@@ -745,7 +745,8 @@ constexpr ConfigKey kKeys[] = {
              "mode every step (cost ∝ H/dx per Fourier mode), `block` uses FFT block "
              "convolutions and NUFFT-moved mode states (cost ∝ log²(H/dx), more memory); both "
              "are the same discrete operator to ~1e-13 (docs/performance.md). `auto` takes "
-             "`block` when a Fourier mode has ≥ 128 normal modes. Ignored for a half-space",
+             "`block` when a Fourier mode has ≥ 128 normal modes. The same for each finite body of an "
+             "in-plane pair of different bodies (its 2x2 operator). Ignored for a half-space",
      .comment = "(strip history algorithm; same operator)",
      .choices = names_of<kHistoryAlgorithmNames>,
      .bind = enum_member<&C::time, &TimeConfig::history, kHistoryAlgorithmNames>()},

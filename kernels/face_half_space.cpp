@@ -368,8 +368,15 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
   ring_y_ = ring_x_;
   running_x_.assign(n_modes, 0.0);
   running_y_ = history_x_ = history_y_ = running_x_;
-  far_x_.assign(pole_.size(), 0.0);
-  far_conj_x_ = far_y_ = far_conj_y_ = far_x_;
+  for (std::size_t k = 0; k < pole_.size(); ++k) {
+    pole_re_.push_back(pole_[k].real());
+    pole_im_.push_back(pole_[k].imag());
+    for (std::size_t e = 0; e < 3; ++e) {
+      weight_cos_[e].push_back(2.0 * pole_weight_[k][e].real());
+      weight_sin_[e].push_back(-2.0 * pole_weight_[k][e].imag());
+    }
+  }
+  for (auto& state : far_) state.assign(pole_.size(), 0.0);
 }
 
 void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<const complex> velocity_y) {
@@ -398,19 +405,49 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
       from_y[1] += w[1] * ring_y_[at];
       from_y[2] += w[2] * ring_y_[at];
     }
-    // Lags W + i: kernel 2 Re(w z^i), states sum_i z^i v_{n+1-W-i} (and conj(z)).
-    for (std::size_t k = first_pole_[q]; k < first_pole_[q + 1]; ++k) {
-      const complex z = pole_[k], zc = std::conj(z);
-      far_x_[k] = z * (far_x_[k] + old_x);
-      far_conj_x_[k] = zc * (far_conj_x_[k] + old_x);
-      far_y_[k] = z * (far_y_[k] + old_y);
-      far_conj_y_[k] = zc * (far_conj_y_[k] + old_y);
-      const auto& w = pole_weight_[k];
-      from_x[0] += w[0] * far_x_[k] + std::conj(w[0]) * far_conj_x_[k];
-      from_x[1] += w[1] * far_x_[k] + std::conj(w[1]) * far_conj_x_[k];
-      from_y[1] += w[1] * far_y_[k] + std::conj(w[1]) * far_conj_y_[k];
-      from_y[2] += w[2] * far_y_[k] + std::conj(w[2]) * far_conj_y_[k];
+    // Lags W + i: kernel 2 Re(w z^i) = wc Re z^i + ws Im z^i, states
+    // C = sum_i Re(z^i) v_{n+1-W-i}, S = sum_i Im(z^i) v_{n+1-W-i}:
+    // [C; S] <- [[Re z, -Im z], [Im z, Re z]] [C + v_{n-W}; S], per input component.
+    const std::size_t k0 = first_pole_[q], count = first_pole_[q + 1] - k0;
+    const double *zr = pole_re_.data() + k0, *zi = pole_im_.data() + k0;
+    const double *wc0 = weight_cos_[0].data() + k0, *ws0 = weight_sin_[0].data() + k0;
+    const double *wc1 = weight_cos_[1].data() + k0, *ws1 = weight_sin_[1].data() + k0;
+    const double *wc2 = weight_cos_[2].data() + k0, *ws2 = weight_sin_[2].data() + k0;
+    double *cxr = far_[0].data() + k0, *cxi = far_[1].data() + k0, *sxr = far_[2].data() + k0,
+           *sxi = far_[3].data() + k0;
+    double *cyr = far_[4].data() + k0, *cyi = far_[5].data() + k0, *syr = far_[6].data() + k0,
+           *syi = far_[7].data() + k0;
+    const double uxr = old_x.real(), uxi = old_x.imag(), uyr = old_y.real(), uyi = old_y.imag();
+    double x0r = 0.0, x0i = 0.0, x1r = 0.0, x1i = 0.0, y1r = 0.0, y1i = 0.0, y2r = 0.0, y2i = 0.0;
+#pragma omp simd reduction(+ : x0r, x0i, x1r, x1i, y1r, y1i, y2r, y2i)
+    for (std::size_t k = 0; k < count; ++k) {
+      const double a = zr[k], b = zi[k];
+      const double pxr = cxr[k] + uxr, pxi = cxi[k] + uxi, pyr = cyr[k] + uyr, pyi = cyi[k] + uyi;
+      const double ncxr = a * pxr - b * sxr[k], ncxi = a * pxi - b * sxi[k];
+      const double nsxr = b * pxr + a * sxr[k], nsxi = b * pxi + a * sxi[k];
+      const double ncyr = a * pyr - b * syr[k], ncyi = a * pyi - b * syi[k];
+      const double nsyr = b * pyr + a * syr[k], nsyi = b * pyi + a * syi[k];
+      cxr[k] = ncxr;
+      cxi[k] = ncxi;
+      sxr[k] = nsxr;
+      sxi[k] = nsxi;
+      cyr[k] = ncyr;
+      cyi[k] = ncyi;
+      syr[k] = nsyr;
+      syi[k] = nsyi;
+      x0r += wc0[k] * ncxr + ws0[k] * nsxr;
+      x0i += wc0[k] * ncxi + ws0[k] * nsxi;
+      x1r += wc1[k] * ncxr + ws1[k] * nsxr;
+      x1i += wc1[k] * ncxi + ws1[k] * nsxi;
+      y1r += wc1[k] * ncyr + ws1[k] * nsyr;
+      y1i += wc1[k] * ncyi + ws1[k] * nsyi;
+      y2r += wc2[k] * ncyr + ws2[k] * nsyr;
+      y2i += wc2[k] * ncyi + ws2[k] * nsyi;
     }
+    from_x[0] += complex(x0r, x0i);
+    from_x[1] += complex(x1r, x1i);
+    from_y[1] += complex(y1r, y1i);
+    from_y[2] += complex(y2r, y2i);
     // [[K^0, -i K^1], [i K^1, K^2]] (k > 0).
     history_x_[q] = from_x[0] - i * from_y[1];
     history_y_[q] = i * from_x[1] + from_y[2];
@@ -455,15 +492,18 @@ FaceMatrix FaceHalfSpaceHistory::symbol(int q, double theta) const {
   return out;
 }
 
+namespace {
+// The far-field states (far_), in their order.
+constexpr const char* kFarStateNames[8] = {"far_c_x_re", "far_c_x_im", "far_s_x_re", "far_s_x_im",
+                                           "far_c_y_re", "far_c_y_im", "far_s_y_re", "far_s_y_im"};
+}  // namespace
+
 void FaceHalfSpaceHistory::save_into(HistoryOperatorState& state, const std::string& prefix) const {
   state.add(prefix + "ring_x", ring_x_);
   state.add(prefix + "ring_y", ring_y_);
   state.add(prefix + "running_x", running_x_);
   state.add(prefix + "running_y", running_y_);
-  state.add(prefix + "far_x", far_x_);
-  state.add(prefix + "far_conj_x", far_conj_x_);
-  state.add(prefix + "far_y", far_y_);
-  state.add(prefix + "far_conj_y", far_conj_y_);
+  for (std::size_t i = 0; i < far_.size(); ++i) state.add(prefix + kFarStateNames[i], far_[i]);
   state.add(prefix + "history_x", history_x_);
   state.add(prefix + "history_y", history_y_);
   state.counters.emplace_back(prefix + "step", step_);
@@ -474,10 +514,7 @@ void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const
   state.copy_to(prefix + "ring_y", std::span<complex>(ring_y_));
   state.copy_to(prefix + "running_x", std::span<complex>(running_x_));
   state.copy_to(prefix + "running_y", std::span<complex>(running_y_));
-  state.copy_to(prefix + "far_x", std::span<complex>(far_x_));
-  state.copy_to(prefix + "far_conj_x", std::span<complex>(far_conj_x_));
-  state.copy_to(prefix + "far_y", std::span<complex>(far_y_));
-  state.copy_to(prefix + "far_conj_y", std::span<complex>(far_conj_y_));
+  for (std::size_t i = 0; i < far_.size(); ++i) state.copy_to(prefix + kFarStateNames[i], std::span<double>(far_[i]));
   state.copy_to(prefix + "history_x", std::span<complex>(history_x_));
   state.copy_to(prefix + "history_y", std::span<complex>(history_y_));
   step_ = state.counter(prefix + "step");
@@ -485,7 +522,8 @@ void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const
 
 std::size_t FaceHalfSpaceHistory::memory_bytes() const {
   return sizeof(complex) * (ring_x_.size() + ring_y_.size() + running_x_.size() + running_y_.size() +
-                            4 * far_x_.size() + history_x_.size() + history_y_.size() + pole_.size()) +
+                            history_x_.size() + history_y_.size() + pole_.size()) +
+         sizeof(double) * (far_.size() + 8) * pole_re_.size() +
          sizeof(pole_weight_[0]) * pole_weight_.size() + sizeof(lag_weight_[0]) * lag_weight_.size() +
          sizeof(static_weight_[0]) * static_weight_.size() + sizeof(correction_[0]) * correction_.size() +
          sizeof(double) * (wavenumber_.size() + h_.size()) +

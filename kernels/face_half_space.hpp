@@ -147,8 +147,14 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   // State.
   std::vector<std::complex<double>> ring_x_, ring_y_;  // last W_q inputs of mode q
   std::vector<std::complex<double>> running_x_, running_y_;
-  // Per exponential: sum_i z^i v and sum_i conj(z)^i v of the delayed inputs.
-  std::vector<std::complex<double>> far_x_, far_conj_x_, far_y_, far_conj_y_;
+  // The exponentials as push() reads them, one array per real quantity
+  // (contiguous, so the loop over a mode's exponentials vectorises): z, and
+  // per entry e the kernel 2 Re(w z^i) = weight_cos[e] Re z^i + weight_sin[e] Im z^i.
+  std::vector<double> pole_re_, pole_im_;
+  std::array<std::vector<double>, 3> weight_cos_, weight_sin_;
+  // State per exponential and input component (x, y): C = sum_i Re(z^i) v and
+  // S = sum_i Im(z^i) v of the delayed inputs, real and imaginary parts.
+  std::array<std::vector<double>, 8> far_;  // C_re, C_im, S_re, S_im of x, then of y
   std::vector<std::complex<double>> history_x_, history_y_;
 };
 

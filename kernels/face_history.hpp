@@ -65,6 +65,10 @@ class FaceHistory {
   virtual std::size_t memory_bytes() const = 0;
   // Recursions per step (modes, exponentials): the stats' "oscillators".
   virtual std::size_t discrete_modes() const = 0;
+  // Steps after which the pattern of per-step work repeats (a block
+  // algorithm's block; 1 when every step costs the same): benchmarks time a
+  // whole number of periods.
+  virtual int period() const { return 1; }
 };
 
 class FaceModalHistory final : public FaceHistory {

@@ -1,6 +1,7 @@
 #include "kernels/inplane_pair_history.hpp"
 
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 
 namespace slipstrip {
@@ -33,6 +34,11 @@ ModeOperatorStats InplanePairHistory::stats() const {
                        (top_x_.size() + top_y_.size() + bottom_x_.size() + bottom_y_.size() +
                         history_.size() + normal_.size());
   return s;
+}
+
+int InplanePairHistory::period() const {
+  const int top = top_->period(), bottom = bottom_ ? bottom_->period() : 1;
+  return std::lcm(top, bottom);
 }
 
 void InplanePairHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {

@@ -12,6 +12,7 @@
 #include "kernels/block_strip_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/kernel_cache.hpp"
+#include "kernels/face_block_history.hpp"
 #include "kernels/face_history.hpp"
 #include "kernels/face_half_space.hpp"
 #include "kernels/inplane_pair_history.hpp"
@@ -49,6 +50,25 @@ std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& mater
 }
 
 namespace {
+// One finite body's 2x2 operator in an in-plane pair of different bodies:
+// modal or block (the same operator, tests/cpp/test_kernels_face_block_history.cpp),
+// chosen by time.history as for the identical pair; `auto` counts the normal
+// modes of the uniform mode, which has the most.
+std::unique_ptr<FaceHistory> make_finite_body_history(const SimulationConfig& config, const ElasticMaterial& m,
+                                                      double height, OuterFace face, double time_step,
+                                                      const CancelCheck& cancelled) {
+  const auto& g = config.geometry;
+  HistoryAlgorithm algorithm = config.time.history;
+  if (algorithm == HistoryAlgorithm::automatic)
+    algorithm = face_discrete_modes(m, height, face, 0.0, time_step).phase.size() >= kBlockHistoryThreshold
+                    ? HistoryAlgorithm::block
+                    : HistoryAlgorithm::modal;
+  if (algorithm == HistoryAlgorithm::block)
+    return std::make_unique<FaceBlockHistory>(m, height, face, g.length, g.nodes, time_step, FaceBlockDesign{},
+                                              cancelled);
+  return std::make_unique<FaceModalHistory>(m, height, face, g.length, g.nodes, time_step);
+}
+
 // The operator of two identical copies of one body (material, height): the
 // whole history operator of a mirror pair, and each body's "pair-normalised"
 // operator otherwise (kernels/two_body_history.hpp).
@@ -138,7 +158,7 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
           throw std::invalid_argument(half_space_time_step_error(config_, m, body, dx_, dt_));
         }
       }
-      return std::make_unique<FaceModalHistory>(m, height, face, g.length, nodes_, dt_);
+      return make_finite_body_history(config_, m, height, face, dt_, cancelled);
     };
     auto top = body_operator(config_.material, g.height, config_.top.outer_face, "top");
     throw_if_cancelled(cancelled, "the top body's operator");

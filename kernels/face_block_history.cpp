@@ -1,0 +1,366 @@
+#include "kernels/face_block_history.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace slipstrip {
+namespace {
+using cplx = std::complex<double>;
+
+bool is_power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+// The real entries (a, b, d) of a Hermitian weight [[a, i b], [-i b, d]]; throws
+// if the weight is not of that form (to rounding), since the block operator
+// keeps only these three real kernels.
+void check_structure(const FaceMatrix& w) {
+  const double scale = w.max_abs();
+  const double off = std::max({std::abs(w.xx.imag()), std::abs(w.yy.imag()), std::abs(w.xy.real()),
+                               std::abs(w.yx.real()), std::abs(w.xy.imag() + w.yx.imag())});
+  if (off > 1e-14 * scale)
+    throw std::logic_error("FaceBlockHistory: a discrete mode weight is not of the form [[a, i b], [-i b, d]]");
+}
+
+// (x, y) * (k, l) written out (std::complex's operator* calls a NaN/inf check).
+inline void multiply_add(double kr, double ki, double xr, double xi, double& out_r, double& out_i) {
+  out_r += kr * xr - ki * xi;
+  out_i += kr * xi + ki * xr;
+}
+}  // namespace
+
+struct FaceBlockHistory::Scratch {
+  FftwBuffer<fftw_complex> level_x, level_y;  // 2s <= B complex values each
+  GaussianNufft::Scratch nufft;
+  std::vector<cplx> frequency_x, frequency_y;  // one value per theta_k of a mode
+  std::vector<cplx> series_x, series_y;        // B outputs
+};
+
+FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, OuterFace face, double length,
+                                   int nodes, double time_step, const FaceBlockDesign& design,
+                                   const CancelCheck& cancelled)
+    : dt_(time_step),
+      impedance_x_(m.shear_modulus / m.shear_wave_speed()),
+      impedance_y_(m.density * m.dilatational_wave_speed()),
+      direct_block_(design.direct_block) {
+  if (!is_power_of_two(direct_block_))
+    throw std::invalid_argument("FaceBlockHistory: direct_block = " + std::to_string(direct_block_) +
+                                " must be a power of two");
+  n_modes_ = nodes / 2 + 1;
+  // The discrete modes of every Fourier mode, as FaceModalHistory has them.
+  std::vector<double> phase;
+  std::vector<FaceMatrix> weight;
+  std::vector<std::size_t> first(1, 0);
+  for (int q = 0; q < n_modes_; ++q) {
+    throw_if_cancelled(cancelled, "the block face history operator");
+    const auto d = face_discrete_modes(m, height, face, 2.0 * std::numbers::pi * q / length, dt_);
+    phase.insert(phase.end(), d.phase.begin(), d.phase.end());
+    weight.insert(weight.end(), d.weight.begin(), d.weight.end());
+    first.push_back(phase.size());
+  }
+  std::size_t most = 0;
+  for (int q = 0; q < n_modes_; ++q) most = std::max(most, first[q + 1] - first[q]);
+  block_ = design.block;
+  if (block_ == 0) {
+    block_ = 2 * direct_block_;
+    while (static_cast<std::size_t>(block_) < most) block_ *= 2;
+  }
+  if (!is_power_of_two(block_) || block_ < 2 * direct_block_)
+    throw std::invalid_argument("FaceBlockHistory: block = " + std::to_string(block_) +
+                                " must be a power of two >= 2 direct_block");
+  const std::size_t B = block_;
+
+  // Frequencies +-phi_m with half weights: sum_m W_m cos(phi_m j) = sum_k (W_k/2) e^{i theta_k j}.
+  // C0 = 2E + dt sum_m W_m, summed in FaceModalHistory's order.
+  first_frequency_.assign(1, 0);
+  c0_a_.assign(n_modes_, 0.0);
+  c0_b_ = c0_d_ = c0_a_;
+  for (int q = 0; q < n_modes_; ++q) {
+    FaceMatrix sum;
+    for (std::size_t i = first[q]; i < first[q + 1]; ++i) {
+      check_structure(weight[i]);
+      for (double sign : {1.0, -1.0}) {
+        theta_.push_back(sign * phase[i]);
+        half_a_.push_back(0.5 * weight[i].xx.real());
+        half_b_.push_back(0.5 * weight[i].xy.imag());
+        half_d_.push_back(0.5 * weight[i].yy.real());
+      }
+      sum = sum + weight[i];
+    }
+    first_frequency_.push_back(theta_.size());
+    c0_a_[q] = 2.0 * impedance_x_ + dt_ * sum.xx.real();
+    c0_b_[q] = dt_ * sum.xy.imag();
+    c0_d_[q] = 2.0 * impedance_y_ + dt_ * sum.yy.real();
+  }
+  state_x_.assign(theta_.size(), 0.0);
+  state_y_ = state_x_;
+  // p_k = e^{i theta_k B/2}, once (the far field needs it at every block end).
+  for (double theta : theta_) {
+    half_block_phase_re_.push_back(std::cos(theta * 0.5 * static_cast<double>(B)));
+    half_block_phase_im_.push_back(std::sin(theta * 0.5 * static_cast<double>(B)));
+  }
+
+  nufft_ = std::make_unique<GaussianNufft>(block_, design.nufft_half_width);
+  const int threads = std::max(1, omp_get_max_threads());
+  for (int t = 0; t < threads; ++t)
+    scratch_.push_back({make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
+                        nufft_->make_scratch(2 * most), std::vector<cplx>(2 * most), std::vector<cplx>(2 * most),
+                        std::vector<cplx>(B), std::vector<cplx>(B)});
+
+  std::size_t spectrum_size = 0;
+  for (int s = direct_block_; s < block_; s *= 2) {
+    auto probe = make_fftw_buffer<fftw_complex>(2 * s);
+    levels_.push_back(
+        {s,
+         owned_plan(fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_FORWARD, FFTW_ESTIMATE),
+                    "FaceBlockHistory"),
+         owned_plan(fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE),
+                    "FaceBlockHistory"),
+         spectrum_size});
+    spectrum_size += static_cast<std::size_t>(n_modes_) * (s + 1);
+  }
+  spectrum_a_.assign(spectrum_size, 0.0);
+  spectrum_b_ = spectrum_d_ = spectrum_a_;
+
+  // Per mode and kernel: the lags K_j, j < B, by the adjoint NUFFT; the first
+  // direct_block lags for the direct sums, and per level the spectrum of
+  // [0, K_1..K_{2s-1}].
+  lag_a_.assign(static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
+  lag_b_ = lag_d_ = lag_a_;
+  auto& work = scratch_[0];
+  auto* buffer = reinterpret_cast<cplx*>(work.level_x.get());
+  const struct {
+    const std::vector<double>* half;
+    std::vector<double>* lag;
+    std::vector<cplx>* spectrum;
+  } kernels[3] = {{&half_a_, &lag_a_, &spectrum_a_}, {&half_b_, &lag_b_, &spectrum_b_},
+                  {&half_d_, &lag_d_, &spectrum_d_}};
+  for (int q = 0; q < n_modes_; ++q) {
+    throw_if_cancelled(cancelled, "the block face history operator");
+    const std::size_t f0 = first_frequency_[q], f1 = first_frequency_[q + 1];
+    for (const auto& kernel : kernels) {
+      for (std::size_t k = f0; k < f1; ++k) work.frequency_x[k - f0] = (*kernel.half)[k];
+      std::fill(work.series_x.begin(), work.series_x.end(), cplx(0.0));
+      if (f1 > f0)
+        nufft_->adjoint({theta_.data() + f0, f1 - f0}, {work.frequency_x.data(), f1 - f0}, work.series_x,
+                        work.nufft);
+      for (int j = 1; j < direct_block_; ++j) (*kernel.lag)[q * direct_block_ + j] = work.series_x[j].real();
+      for (const auto& level : levels_) {
+        const int s = level.size;
+        buffer[0] = 0.0;
+        for (int j = 1; j < 2 * s; ++j) buffer[j] = work.series_x[j].real();
+        fftw_execute_dft(level.forward.get(), work.level_x.get(), work.level_x.get());
+        std::copy(buffer, buffer + s + 1, kernel.spectrum->begin() + level.first_spectrum + q * (s + 1));
+      }
+    }
+  }
+
+  input_x_.assign(static_cast<std::size_t>(n_modes_) * B, 0.0);
+  input_y_ = accumulator_x_ = accumulator_y_ = input_x_;
+  running_x_.assign(n_modes_, 0.0);
+  running_y_ = history_x_ = history_y_ = running_x_;
+}
+
+FaceBlockHistory::~FaceBlockHistory() = default;
+
+std::size_t FaceBlockHistory::memory_bytes() const {
+  const std::size_t doubles = theta_.size() + half_a_.size() + half_b_.size() + half_d_.size() +
+                              half_block_phase_re_.size() + half_block_phase_im_.size() + c0_a_.size() +
+                              c0_b_.size() + c0_d_.size() + lag_a_.size() + lag_b_.size() + lag_d_.size();
+  const std::size_t complexes = spectrum_a_.size() + spectrum_b_.size() + spectrum_d_.size() + state_x_.size() +
+                                state_y_.size() + input_x_.size() + input_y_.size() + accumulator_x_.size() +
+                                accumulator_y_.size() + running_x_.size() + running_y_.size() +
+                                history_x_.size() + history_y_.size();
+  const std::size_t scratch =
+      scratch_.size() * sizeof(cplx) * (4 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency_x.size());
+  return sizeof(double) * doubles + sizeof(cplx) * complexes + scratch;
+}
+
+void FaceBlockHistory::convolve_level(int q, std::size_t l, int start, Scratch& scratch) {
+  // Inputs start..start+s-1 to outputs start+s..start+2s-1 (lags 1..2s-1, no
+  // wrap-around in a circular convolution of length 2s), both components.
+  const Level& level = levels_[l];
+  const int s = level.size;
+  const std::size_t B = block_;
+  auto* bx = reinterpret_cast<cplx*>(scratch.level_x.get());
+  auto* by = reinterpret_cast<cplx*>(scratch.level_y.get());
+  const cplx* in_x = input_x_.data() + q * B + start;
+  const cplx* in_y = input_y_.data() + q * B + start;
+  for (int j = 0; j < s; ++j) {
+    bx[j] = in_x[j];
+    by[j] = in_y[j];
+  }
+  for (int j = s; j < 2 * s; ++j) bx[j] = by[j] = 0.0;
+  fftw_execute_dft(level.forward.get(), scratch.level_x.get(), scratch.level_x.get());
+  fftw_execute_dft(level.forward.get(), scratch.level_y.get(), scratch.level_y.get());
+  const std::size_t at = level.first_spectrum + q * (s + 1);
+  const auto* ka = reinterpret_cast<const double*>(spectrum_a_.data() + at);
+  const auto* kb = reinterpret_cast<const double*>(spectrum_b_.data() + at);
+  const auto* kd = reinterpret_cast<const double*>(spectrum_d_.data() + at);
+  auto* x = reinterpret_cast<double*>(bx);
+  auto* y = reinterpret_cast<double*>(by);
+  // out_x = A X + i B Y,  out_y = -i B X + D Y; the kernels are real, so bins
+  // s+1..2s-1 of their spectra are the conjugates of bins s-1..1.
+  for (int j = 0; j < 2 * s; ++j) {
+    const int bin = j <= s ? j : 2 * s - j;
+    const double sign = j <= s ? 1.0 : -1.0;
+    const double ar = ka[2 * bin], ai = sign * ka[2 * bin + 1];
+    const double br = kb[2 * bin], bi = sign * kb[2 * bin + 1];
+    const double dr = kd[2 * bin], di = sign * kd[2 * bin + 1];
+    const double xr = x[2 * j], xi = x[2 * j + 1], yr = y[2 * j], yi = y[2 * j + 1];
+    double ox_r = 0.0, ox_i = 0.0, oy_r = 0.0, oy_i = 0.0;
+    multiply_add(ar, ai, xr, xi, ox_r, ox_i);
+    multiply_add(-bi, br, yr, yi, ox_r, ox_i);   // i B
+    multiply_add(bi, -br, xr, xi, oy_r, oy_i);   // -i B
+    multiply_add(dr, di, yr, yi, oy_r, oy_i);
+    x[2 * j] = ox_r;
+    x[2 * j + 1] = ox_i;
+    y[2 * j] = oy_r;
+    y[2 * j + 1] = oy_i;
+  }
+  fftw_execute_dft(level.backward.get(), scratch.level_x.get(), scratch.level_x.get());
+  fftw_execute_dft(level.backward.get(), scratch.level_y.get(), scratch.level_y.get());
+  cplx* out_x = accumulator_x_.data() + q * B + start + s;
+  cplx* out_y = accumulator_y_.data() + q * B + start + s;
+  const double scale = 1.0 / (2.0 * s);
+  for (int j = 0; j < s; ++j) {
+    out_x[j] += bx[s + j] * scale;
+    out_y[j] += by[s + j] * scale;
+  }
+}
+
+void FaceBlockHistory::advance_far_field(int q, Scratch& scratch) {
+  // As BlockStripHistory::advance_far_field, per input component:
+  //   A <- p^2 A + p F,  F = forward_centred(v),  p = e^{i theta B/2},
+  // then per output component the coefficients (W/2) A p and their adjoint.
+  const std::size_t B = block_;
+  const std::size_t f0 = first_frequency_[q], count = first_frequency_[q + 1] - f0;
+  if (count == 0) return;
+  std::span<const double> theta(theta_.data() + f0, count);
+  std::span<cplx> fx(scratch.frequency_x.data(), count), fy(scratch.frequency_y.data(), count);
+  nufft_->locate(theta, scratch.nufft);
+  nufft_->forward_centred({input_x_.data() + q * B, B}, fx, scratch.nufft);
+  nufft_->forward_centred({input_y_.data() + q * B, B}, fy, scratch.nufft);
+  cplx* sx = state_x_.data() + f0;
+  cplx* sy = state_y_.data() + f0;
+  const double *a = half_a_.data() + f0, *b = half_b_.data() + f0, *d = half_d_.data() + f0;
+  const double *phase_re = half_block_phase_re_.data() + f0, *phase_im = half_block_phase_im_.data() + f0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const double pr = phase_re[k], pi_ = phase_im[k];
+    // p A + F, then times p, for each component; and (A p).
+    const auto advance = [&](cplx& state, cplx f, double& out_r, double& out_i) {
+      const double ar = state.real(), ai = state.imag();
+      const double ur = pr * ar - pi_ * ai + f.real(), ui = pr * ai + pi_ * ar + f.imag();
+      const double nr = pr * ur - pi_ * ui, ni = pr * ui + pi_ * ur;
+      state = cplx(nr, ni);
+      out_r = pr * nr - pi_ * ni;
+      out_i = pr * ni + pi_ * nr;
+    };
+    double xr, xi, yr, yi;
+    advance(sx[k], fx[k], xr, xi);
+    advance(sy[k], fy[k], yr, yi);
+    // [[a, i b], [-i b, d]] (A_x p, A_y p)
+    fx[k] = cplx(a[k] * xr - b[k] * yi, a[k] * xi + b[k] * yr);
+    fy[k] = cplx(b[k] * xi + d[k] * yr, -b[k] * xr + d[k] * yi);
+  }
+  nufft_->adjoint_centred(fx, scratch.series_x, scratch.nufft);
+  nufft_->adjoint_centred(fy, scratch.series_y, scratch.nufft);
+  cplx* out_x = accumulator_x_.data() + q * B;
+  cplx* out_y = accumulator_y_.data() + q * B;
+  for (std::size_t t = 0; t < B; ++t) {
+    out_x[t] += scratch.series_x[t];
+    out_y[t] += scratch.series_y[t];
+  }
+}
+
+void FaceBlockHistory::push(std::span<const cplx> velocity_x, std::span<const cplx> velocity_y) {
+  const int tau = position_;
+  const bool block_done = tau + 1 == block_;
+  const int p = block_done ? 0 : tau + 1;  // the output this push produces
+  const std::size_t B = block_;
+  const int threads = static_cast<int>(scratch_.size());
+#pragma omp parallel num_threads(threads)
+  {
+    Scratch& scratch = scratch_[omp_get_thread_num()];
+#pragma omp for schedule(static)
+    for (int q = 0; q < n_modes_; ++q) {
+      cplx* in_x = input_x_.data() + q * B;
+      cplx* in_y = input_y_.data() + q * B;
+      in_x[tau] = velocity_x[q];
+      in_y[tau] = velocity_y[q];
+      running_x_[q] += velocity_x[q];
+      running_y_[q] += velocity_y[q];
+      for (std::size_t l = 0; l < levels_.size(); ++l) {
+        const int s = levels_[l].size;
+        if ((tau + 1) % (2 * s) == s) convolve_level(q, l, tau + 1 - s, scratch);
+      }
+      if (block_done) advance_far_field(q, scratch);
+      cplx* acc_x = accumulator_x_.data() + q * B;
+      cplx* acc_y = accumulator_y_.data() + q * B;
+      double yx_r = acc_x[p].real(), yx_i = acc_x[p].imag(), yy_r = acc_y[p].real(), yy_i = acc_y[p].imag();
+      acc_x[p] = acc_y[p] = 0.0;
+      const double* a = lag_a_.data() + q * direct_block_;
+      const double* b = lag_b_.data() + q * direct_block_;
+      const double* d = lag_d_.data() + q * direct_block_;
+      const int recent = p % direct_block_;  // inputs of p's direct block before p
+      for (int j = 1; j <= recent; ++j) {
+        const double xr = in_x[p - j].real(), xi = in_x[p - j].imag();
+        const double vr = in_y[p - j].real(), vi = in_y[p - j].imag();
+        yx_r += a[j] * xr - b[j] * vi;
+        yx_i += a[j] * xi + b[j] * vr;
+        yy_r += b[j] * xi + d[j] * vr;
+        yy_i += -b[j] * xr + d[j] * vi;
+      }
+      // h = C0 R - dt y, C0 = [[c0_a, i c0_b], [-i c0_b, c0_d]].
+      const double rx_r = running_x_[q].real(), rx_i = running_x_[q].imag();
+      const double ry_r = running_y_[q].real(), ry_i = running_y_[q].imag();
+      history_x_[q] = cplx(c0_a_[q] * rx_r - c0_b_[q] * ry_i - dt_ * yx_r,
+                           c0_a_[q] * rx_i + c0_b_[q] * ry_r - dt_ * yx_i);
+      history_y_[q] = cplx(c0_b_[q] * rx_i + c0_d_[q] * ry_r - dt_ * yy_r,
+                           -c0_b_[q] * rx_r + c0_d_[q] * ry_i - dt_ * yy_i);
+    }
+  }
+  position_ = p;
+}
+
+void FaceBlockHistory::save_into(HistoryOperatorState& state, const std::string& prefix) const {
+  state.counters.emplace_back(prefix + "position", position_);
+  state.counters.emplace_back(prefix + "block", block_);
+  state.add(prefix + "state_x", state_x_);
+  state.add(prefix + "state_y", state_y_);
+  state.add(prefix + "input_x", input_x_);
+  state.add(prefix + "input_y", input_y_);
+  state.add(prefix + "accumulator_x", accumulator_x_);
+  state.add(prefix + "accumulator_y", accumulator_y_);
+  state.add(prefix + "running_x", running_x_);
+  state.add(prefix + "running_y", running_y_);
+  state.add(prefix + "history_x", history_x_);
+  state.add(prefix + "history_y", history_y_);
+}
+
+void FaceBlockHistory::restore_from(const HistoryOperatorState& state, const std::string& prefix) {
+  if (state.counter(prefix + "block") != block_)
+    throw std::invalid_argument("block face history state: block = " +
+                                std::to_string(state.counter(prefix + "block")) + ", this operator's is " +
+                                std::to_string(block_));
+  const long long position = state.counter(prefix + "position");
+  if (position < 0 || position >= block_)
+    throw std::invalid_argument("block face history state: position = " + std::to_string(position) +
+                                " out of range");
+  state.copy_to(prefix + "state_x", std::span<cplx>(state_x_));
+  state.copy_to(prefix + "state_y", std::span<cplx>(state_y_));
+  state.copy_to(prefix + "input_x", std::span<cplx>(input_x_));
+  state.copy_to(prefix + "input_y", std::span<cplx>(input_y_));
+  state.copy_to(prefix + "accumulator_x", std::span<cplx>(accumulator_x_));
+  state.copy_to(prefix + "accumulator_y", std::span<cplx>(accumulator_y_));
+  state.copy_to(prefix + "running_x", std::span<cplx>(running_x_));
+  state.copy_to(prefix + "running_y", std::span<cplx>(running_y_));
+  state.copy_to(prefix + "history_x", std::span<cplx>(history_x_));
+  state.copy_to(prefix + "history_y", std::span<cplx>(history_y_));
+  position_ = static_cast<int>(position);
+}
+
+}  // namespace slipstrip

@@ -1,0 +1,103 @@
+#pragma once
+// One finite body's 2x2 history operator (the same discrete operator as
+// FaceModalHistory, built from the same face_discrete_modes) applied with the
+// block algorithm of the identical pair (kernels/block_strip_history.hpp,
+// docs/theory.md "block algorithm"): per step O(log^2 B + (P/B)(w + log B))
+// per Fourier mode instead of rotating all P normal modes.
+//
+// Per Fourier mode, FaceModalHistory's history is
+//   h_n = C0 R_n - dt y_n,   R_n = sum_{j>=1} v_{n-j},   C0 = 2E + dt sum_m W_m,
+//   y_n = sum_{j>=1} O_j v_{n-j},   O_j = sum_m W_m cos(phi_m j),
+// with 2x2 weights W_m = [[a_m, i b_m], [-i b_m, d_m]] (real a, b, d: the
+// Hermitian weights of kernels/face_modes.hpp, checked at construction).  So
+// O_j = [[A_j, i B_j], [-i B_j, D_j]] with three real lag kernels, and the
+// convolution y is split by lag exactly as for the scalar strip:
+//   - inputs and outputs in the same aligned block of `direct_block` steps: direct sums;
+//   - first to second half of an aligned block of 2s steps (s = direct_block .. B/2):
+//     FFT convolutions (two input transforms, three kernel spectra, two output transforms);
+//   - inputs of earlier blocks of B steps: the normal-mode states of both input
+//     components, moved across a block by the non-uniform FFT (kernels/nufft.hpp)
+//     and evaluated for the next B outputs by its adjoint.
+// Equal to FaceModalHistory to the NUFFT's accuracy (~1e-12 of the largest
+// history value; tests/cpp/test_kernels_face_block_history.cpp), so every
+// verification of the modal face operator (statics, passivity, the
+// prescribed-displacement histories) holds for it.
+#include <complex>
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "kernels/face_history.hpp"
+#include "kernels/fft.hpp"
+#include "kernels/nufft.hpp"
+
+namespace slipstrip {
+
+struct FaceBlockDesign {
+  int direct_block = 32;      // a power of two
+  int block = 0;              // B, a power of two >= 2 direct_block; 0: >= the most modes of any Fourier mode
+  int nufft_half_width = 12;  // NUFFT accuracy ~5e-13 (kernels/nufft.hpp)
+};
+
+class FaceBlockHistory final : public FaceHistory {
+ public:
+  FaceBlockHistory(const ElasticMaterial& material, double height, OuterFace outer_face, double length,
+                   int nodes, double time_step, const FaceBlockDesign& design = {},
+                   const CancelCheck& cancelled = {});
+  ~FaceBlockHistory() override;
+  FaceBlockHistory(const FaceBlockHistory&) = delete;
+  FaceBlockHistory& operator=(const FaceBlockHistory&) = delete;
+
+  double time_step() const override { return dt_; }
+  double shear_impedance() const override { return impedance_x_; }
+  double normal_impedance() const override { return impedance_y_; }
+  int modes() const override { return n_modes_; }
+  void push(std::span<const std::complex<double>> velocity_x,
+            std::span<const std::complex<double>> velocity_y) override;
+  std::span<const std::complex<double>> history_x() const override { return history_x_; }
+  std::span<const std::complex<double>> history_y() const override { return history_y_; }
+  void save_into(HistoryOperatorState& state, const std::string& prefix) const override;
+  void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
+  std::size_t memory_bytes() const override;
+  std::size_t discrete_modes() const override { return theta_.size() / 2; }
+  int period() const override { return block_; }
+
+ private:
+  struct Scratch;
+  void convolve_level(int q, std::size_t level, int start, Scratch& scratch);
+  void advance_far_field(int q, Scratch& scratch);
+
+  double dt_, impedance_x_, impedance_y_;
+  int n_modes_, block_, direct_block_;
+  int position_ = 0;  // index of the next input inside the current block
+
+  // Normal modes as frequencies theta = +phi and -phi, with half weights (a, b, d) / 2.
+  std::vector<std::size_t> first_frequency_;  // size n_modes + 1
+  std::vector<double> theta_, half_a_, half_b_, half_d_;
+  std::vector<double> half_block_phase_re_, half_block_phase_im_;  // e^{i theta B/2}
+  std::vector<double> c0_a_, c0_b_, c0_d_;  // per q: C0 = [[c0_a, i c0_b], [-i c0_b, c0_d]]
+  std::vector<double> lag_a_, lag_b_, lag_d_;  // [q][j], j < direct_block (lag 0 := 0)
+
+  struct Level {
+    int size;  // s: inputs per convolution; FFT length 2s
+    FftwPlan forward, backward;
+    std::size_t first_spectrum;  // into the spectra, (s + 1) per mode q
+  };
+  std::vector<Level> levels_;
+  // Spectra of [0, K_1, .., K_{2s-1}] for K = A, B, D, bins 0..s (real kernels).
+  std::vector<std::complex<double>> spectrum_a_, spectrum_b_, spectrum_d_;
+
+  std::unique_ptr<GaussianNufft> nufft_;
+  std::vector<Scratch> scratch_;  // one per OpenMP thread
+
+  // State.
+  std::vector<std::complex<double>> state_x_, state_y_;  // A_k of each input at the block start
+  std::vector<std::complex<double>> input_x_, input_y_;  // [q][B] inputs of the current block
+  std::vector<std::complex<double>> accumulator_x_, accumulator_y_;  // [q][B] outputs so far
+  std::vector<std::complex<double>> running_x_, running_y_;
+  std::vector<std::complex<double>> history_x_, history_y_;
+};
+
+}  // namespace slipstrip

@@ -1,0 +1,122 @@
+// The block algorithm for one finite body's 2x2 history operator
+// (kernels/face_block_history.hpp) applies the same discrete operator as the
+// modal one (kernels/face_history.hpp): both are fed the same random face
+// velocities over several blocks and their histories compared step by step.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "kernels/face_block_history.hpp"
+#include "kernels/face_history.hpp"
+
+namespace {
+
+using cd = std::complex<double>;
+using slipstrip::ElasticMaterial;
+using slipstrip::OuterFace;
+using slipstrip::PlaneCondition;
+
+// Largest |block - modal| over all modes, both components and `steps` steps,
+// relative to the largest |modal| history value.
+double block_vs_modal(const ElasticMaterial& m, double height, OuterFace face, double beta, int nodes,
+                      int steps, const slipstrip::FaceBlockDesign& design, int* block = nullptr) {
+  const double length = 1.0, dx = length / nodes, dt = beta * dx / m.shear_wave_speed();
+  slipstrip::FaceModalHistory modal(m, height, face, length, nodes, dt);
+  slipstrip::FaceBlockHistory fast(m, height, face, length, nodes, dt, design);
+  if (block) *block = fast.period();
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<cd> vx(modal.modes()), vy(modal.modes());
+  double diff = 0.0, scale = 0.0;
+  for (int n = 0; n < steps; ++n) {
+    for (int q = 0; q < modal.modes(); ++q) {
+      vx[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
+      vy[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
+    }
+    modal.push(vx, vy);
+    fast.push(vx, vy);
+    for (int q = 0; q < modal.modes(); ++q) {
+      diff = std::max({diff, std::abs(fast.history_x()[q] - modal.history_x()[q]),
+                       std::abs(fast.history_y()[q] - modal.history_y()[q])});
+      scale = std::max({scale, std::abs(modal.history_x()[q]), std::abs(modal.history_y()[q])});
+    }
+  }
+  return diff / scale;
+}
+
+}  // namespace
+
+TEST_CASE("block face history equals the modal face history (strain, stress; driven, clamped)") {
+  // 2.5 blocks and more of white-noise input: every lag range is exercised
+  // (direct sums, each FFT level, the NUFFT far field across block ends).
+  // Tolerance 1e-11 of the largest history value: the NUFFT's truncation
+  // (half width 12, ~5e-13 of sum |w|, kernels/nufft.hpp) accumulated over the
+  // block's ~100 frequencies and a few block ends, as for the scalar strip's
+  // block operator (tests/cpp/test_kernels_block_history.cpp).
+  int cases = 0;
+  for (PlaneCondition plane : {PlaneCondition::strain, PlaneCondition::stress})
+    for (OuterFace face : {OuterFace::driven, OuterFace::clamped}) {
+      ElasticMaterial m;
+      m.plane = plane;
+      int block = 0;
+      // H = 1.5 L at beta = 0.25 and 16 nodes: ~150 normal modes per Fourier
+      // mode, so B = 256 with the levels s = 32, 64, 128.
+      const double error = block_vs_modal(m, 1.5, face, 0.25, 16, 700, {}, &block);
+      CAPTURE(static_cast<int>(plane));
+      CAPTURE(static_cast<int>(face));
+      CHECK(block == 256);
+      CHECK(error < 1e-11);
+      MESSAGE("block vs modal: ", error);
+      ++cases;
+    }
+  CHECK(cases == 4);
+}
+
+TEST_CASE("block face history: a block shorter than the modes and a different material") {
+  // B = 64 < the ~150 modes per Fourier mode (the far field carries more
+  // frequencies than a block has steps) and a softer, denser body.
+  ElasticMaterial m;
+  m.shear_modulus *= 0.5;
+  m.density *= 2.0;
+  m.poisson_ratio = 0.25;
+  slipstrip::FaceBlockDesign design;
+  design.block = 64;
+  const double error = block_vs_modal(m, 0.75, OuterFace::driven, 0.3, 16, 400, design);
+  MESSAGE("block vs modal (B = 64): ", error);
+  CHECK(error < 1e-11);  // as above
+}
+
+TEST_CASE("block face history: save and restore continue bit for bit") {
+  ElasticMaterial m;
+  const double length = 1.0, nodes = 16, dt = 0.25 * (length / nodes) / m.shear_wave_speed();
+  slipstrip::FaceBlockHistory a(m, 0.5, OuterFace::driven, length, nodes, dt);
+  slipstrip::FaceBlockHistory b(m, 0.5, OuterFace::driven, length, nodes, dt);
+  std::vector<cd> vx(a.modes()), vy(a.modes());
+  const auto drive = [&](int n) {
+    for (int q = 0; q < a.modes(); ++q) {
+      vx[q] = cd(std::sin(0.3 * n + q), q == 0 ? 0.0 : std::cos(0.7 * n - q));
+      vy[q] = cd(std::cos(0.11 * n * q), q == 0 ? 0.0 : std::sin(0.05 * n + 2 * q));
+    }
+  };
+  for (int n = 0; n < 100; ++n) {
+    drive(n);
+    a.push(vx, vy);
+  }
+  slipstrip::HistoryOperatorState state;
+  a.save_into(state, "top.");
+  b.restore_from(state, "top.");
+  for (int n = 100; n < 300; ++n) {
+    drive(n);
+    a.push(vx, vy);
+    b.push(vx, vy);
+  }
+  for (int q = 0; q < a.modes(); ++q) {
+    CHECK(a.history_x()[q] == b.history_x()[q]);
+    CHECK(a.history_y()[q] == b.history_y()[q]);
+  }
+}
