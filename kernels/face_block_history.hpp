@@ -62,6 +62,7 @@ class FaceBlockHistory final : public FaceHistory {
   void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
   std::size_t memory_bytes() const override;
   std::size_t discrete_modes() const override { return theta_.size() / 2; }
+  const char* algorithm() const override { return "block"; }
   int period() const override { return block_; }
 
  private:

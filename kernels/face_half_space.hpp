@@ -126,6 +126,7 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
   std::size_t memory_bytes() const override;
   std::size_t discrete_modes() const override { return pole_.size(); }
+  const char* algorithm() const override { return "half-space"; }
 
   // The coefficients of mode q >= 1, and its symbol Z_d(e^{i theta}) (Pa s/m,
   // E included; the static running sum contributes its finite part for

@@ -69,6 +69,10 @@ class FaceHistory {
   // algorithm's block; 1 when every step costs the same): benchmarks time a
   // whole number of periods.
   virtual int period() const { return 1; }
+  // The operator's algorithm as a restart point names it ("modal", "block",
+  // "half-space"); save_into writes one array no other algorithm writes
+  // (saved_face_algorithm in inplane_pair_history.cpp tells them apart).
+  virtual const char* algorithm() const = 0;
 };
 
 class FaceModalHistory final : public FaceHistory {
@@ -96,6 +100,7 @@ class FaceModalHistory final : public FaceHistory {
   void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
   std::size_t memory_bytes() const override;
   std::size_t discrete_modes() const override { return weight_.size(); }
+  const char* algorithm() const override { return "modal"; }
 
  private:
   double dt_, impedance_x_, impedance_y_;

@@ -1,10 +1,44 @@
 #include "kernels/inplane_pair_history.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 namespace slipstrip {
+
+namespace {
+
+// Which face operator wrote a body's part of a restart point, from an array
+// only that algorithm writes ("" when none is there).  The half-space body
+// stored its exponentials as complex pairs (far_x, far_conj_x, ...) before it
+// advanced them as real rotations (far_c_x_re, ...): such a part cannot be
+// continued by this version.
+std::string saved_face_algorithm(const HistoryOperatorState& state, const std::string& prefix) {
+  const auto has = [&](const char* name) {
+    return std::any_of(state.arrays.begin(), state.arrays.end(),
+                       [&](const auto& a) { return a.first == prefix + name; });
+  };
+  if (has("cx")) return "modal";
+  if (has("state_x")) return "block";
+  if (has("far_c_x_re")) return "half-space";
+  if (has("far_x")) return "half-space (the complex layout of an older slipstrip)";
+  return "";
+}
+
+void require_same_algorithm(const HistoryOperatorState& state, const std::string& prefix,
+                            const FaceHistory& body, const char* which) {
+  const std::string saved = saved_face_algorithm(state, prefix);
+  if (saved.empty() || saved == body.algorithm()) return;  // a missing array is named by copy_to
+  throw std::invalid_argument(std::string("history operator state 'in-plane pair': the ") + which +
+                              " body's part was written by the " + saved + " operator, this run builds the " +
+                              body.algorithm() +
+                              " one (a restart point of another slipstrip version); resume it with the "
+                              "version that wrote it, or rerun from the start");
+}
+
+}  // namespace
 
 InplanePairHistory::InplanePairHistory(std::unique_ptr<FaceHistory> top, std::unique_ptr<FaceHistory> bottom)
     : top_(std::move(top)), bottom_(std::move(bottom)) {
@@ -112,6 +146,8 @@ HistoryOperatorState InplanePairHistory::save_state() const {
 
 void InplanePairHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind(kKind);
+  require_same_algorithm(state, "top.", *top_, "top");
+  if (bottom_) require_same_algorithm(state, "bottom.", *bottom_, "bottom");
   top_->restore_from(state, "top.");
   if (bottom_) bottom_->restore_from(state, "bottom.");
   state.copy_to("history", std::span<std::complex<double>>(history_));

@@ -2,17 +2,20 @@
 // (kernels/face_block_history.hpp) applies the same discrete operator as the
 // modal one (kernels/face_history.hpp): both are fed the same random face
 // velocities over several blocks and their histories compared step by step.
+// A pair's restart point names the body algorithm that wrote it.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <vector>
 
 #include "kernels/face_block_history.hpp"
 #include "kernels/face_history.hpp"
+#include "kernels/inplane_pair_history.hpp"
 
 namespace {
 
@@ -119,4 +122,40 @@ TEST_CASE("block face history: save and restore continue bit for bit") {
     CHECK(a.history_x()[q] == b.history_x()[q]);
     CHECK(a.history_y()[q] == b.history_y()[q]);
   }
+}
+
+TEST_CASE("a pair restart point of another body algorithm is refused by name") {
+  // A modal body's saved part restored into a block body (what resuming a
+  // restart point of a version that chose the other algorithm would do), and
+  // the half-space body's older complex layout: one message naming both.
+  ElasticMaterial m;
+  const double length = 1.0, dt = 0.25 * (length / 16) / m.shear_wave_speed();
+  const auto modal_pair = [&] {
+    return slipstrip::InplanePairHistory(
+        std::make_unique<slipstrip::FaceModalHistory>(m, 0.5, OuterFace::driven, length, 16, dt), nullptr);
+  };
+  slipstrip::InplanePairHistory modal = modal_pair();
+  slipstrip::InplanePairHistory block(
+      std::make_unique<slipstrip::FaceBlockHistory>(m, 0.5, OuterFace::driven, length, 16, dt), nullptr);
+  const std::vector<cd> slip_rate(modal.modes(), cd(1e-3, 0.0));
+  modal.push(slip_rate);
+  const slipstrip::HistoryOperatorState saved = modal.save_state();
+  CHECK_THROWS_WITH_AS(block.restore_state(saved),
+                       doctest::Contains("the top body's part was written by the modal operator, this run "
+                                         "builds the block one"),
+                       std::invalid_argument);
+  slipstrip::HistoryOperatorState older = saved;
+  for (auto& [name, values] : older.arrays)
+    if (name == "top.cx") name = "top.far_x";
+  slipstrip::InplanePairHistory again = modal_pair();
+  CHECK_THROWS_WITH_AS(again.restore_state(older),
+                       doctest::Contains("written by the half-space (the complex layout of an older slipstrip) "
+                                         "operator"),
+                       std::invalid_argument);
+  // The same algorithm restores.
+  slipstrip::InplanePairHistory same = modal_pair();
+  same.restore_state(saved);
+  modal.push(slip_rate);
+  same.push(slip_rate);
+  for (int q = 0; q < modal.modes(); ++q) CHECK(same.history()[q] == modal.history()[q]);
 }
