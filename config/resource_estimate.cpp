@@ -35,6 +35,15 @@ constexpr double kHalfSpaceBytesPerFourierMode = 300.0 * 64.0 + 512.0 * 24.0;
 // and three complex weights each, plus its sampled window (two inputs and
 // three weights per lag; kernels/face_half_space.hpp).
 constexpr double kFaceModalBytesPerMode = 4.0 * 16.0 + 16.0 + 64.0;
+// A finite body's 2x2 operator by the block algorithm (kernels/face_block_history.hpp),
+// per Fourier mode: two frequencies (+phi, -phi) per normal mode with three half
+// weights and the half-block phase (12 doubles per mode) and two complex states
+// per mode (64 bytes per mode), three kernel spectra over the FFT levels and the
+// block's inputs and outputs of both components (7 complex values per step of
+// the block B), the direct lags (3 x 32 doubles).
+constexpr double kFaceBlockBytesPerMode = 12.0 * 8.0 + 4.0 * 16.0;
+constexpr double kFaceBlockBytesPerBlockStep = 7.0 * 16.0;
+constexpr double kFaceBlockBytesPerFourierMode = 3.0 * 32.0 * 8.0;
 constexpr double kFaceHalfSpaceBytesPerFourierMode = 300.0 * 128.0 + 512.0 * 56.0;
 
 // Wall time per step on one core: a fixed part (bookkeeping, a time-series
@@ -77,6 +86,19 @@ BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, d
   b.echo_steps = std::ceil(2.0 * height / cs / dt * (1.0 - 1e-12));
   b.modes_per_fourier_mode = 0.5 * b.echo_steps * (1.0 + cs / cd);
   if (!pair_operator) {
+    // The block algorithm as Simulation chooses it for a finite body (auto: from
+    // kBlockThreshold normal modes), with B the power of two >= max(P, 64).
+    b.block = history == HistoryAlgorithm::block ||
+              (history == HistoryAlgorithm::automatic && b.modes_per_fourier_mode >= kBlockThreshold);
+    if (b.block) {
+      double block = 64.0;
+      while (block < b.modes_per_fourier_mode) block *= 2.0;
+      b.bytes = fourier_modes * (b.modes_per_fourier_mode * kFaceBlockBytesPerMode +
+                                 block * kFaceBlockBytesPerBlockStep + kFaceBlockBytesPerFourierMode);
+      // Two input components through the same steps as a strip's block operator.
+      b.seconds = 2.0 * fourier_modes * kBlockSecondsPerFourierMode;
+      return b;
+    }
     b.bytes = fourier_modes * b.modes_per_fourier_mode * kFaceModalBytesPerMode;
     b.seconds = fourier_modes * b.modes_per_fourier_mode * kFaceModalSecondsPerMode;
     return b;
