@@ -31,7 +31,8 @@ std::uint64_t hash_design(std::span<const double> phase, std::span<const double>
 }  // namespace
 
 struct BlockStripHistory::Scratch {
-  FftwBuffer<fftw_complex> level;  // 2s <= B complex values
+  FftwBuffer<fftw_complex> level;     // 2s <= B inputs, then outputs
+  FftwBuffer<fftw_complex> spectrum;  // their spectrum (out-of-place transforms)
   GaussianNufft::Scratch nufft;
   std::vector<cplx> frequency;     // one value per theta_k of a mode
   std::vector<cplx> series;        // B outputs
@@ -125,21 +126,16 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
   nufft_ = std::make_unique<GaussianNufft>(block_, design.nufft_half_width);
   const int threads = std::max(1, omp_get_max_threads());
   for (int t = 0; t < threads; ++t)
-    scratch_.push_back({make_fftw_buffer<fftw_complex>(B), nufft_->make_scratch(2 * most),
+    scratch_.push_back({make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
+                        nufft_->make_scratch(2 * most),
                         std::vector<cplx>(2 * most), std::vector<cplx>(B), std::vector<double>(2 * most),
                         std::vector<double>(2 * most)});
 
   // Levels s = direct_block .. B/2.
   std::size_t spectrum_size = 0;
   for (int s = direct_block_; s < block_; s *= 2) {
-    auto probe = make_fftw_buffer<fftw_complex>(2 * s);
-    levels_.push_back(
-        {s,
-         owned_plan(fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_FORWARD, FFTW_ESTIMATE),
-                    "BlockStripHistory"),
-         owned_plan(fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE),
-                    "BlockStripHistory"),
-         spectrum_size});
+    levels_.push_back({s, complex_dft_plan(2 * s, FFTW_FORWARD, "BlockStripHistory"),
+                       complex_dft_plan(2 * s, FFTW_BACKWARD, "BlockStripHistory"), spectrum_size});
     spectrum_size += n_designs * (s + 1);
   }
   spectrum_.assign(spectrum_size, 0.0);
@@ -150,6 +146,7 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
   lag_kernel_.assign(n_designs * direct_block_, 0.0);
   auto& work = scratch_[0];
   auto* buffer = reinterpret_cast<cplx*>(work.level.get());
+  const auto* transformed = reinterpret_cast<const cplx*>(work.spectrum.get());
   for (std::size_t q = 1; q < n_designs; ++q) {  // design 0 is mode 0's (no normal modes)
     throw_if_cancelled(cancelled, "the block history operator");
     const std::size_t f0 = first_frequency_[q], f1 = first_frequency_[q + 1];
@@ -161,8 +158,8 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
       const int s = level.size;
       buffer[0] = 0.0;
       for (int j = 1; j < 2 * s; ++j) buffer[j] = work.series[j].real();
-      fftw_execute_dft(level.forward.get(), work.level.get(), work.level.get());
-      std::copy(buffer, buffer + s + 1, spectrum_.begin() + level.first_spectrum + q * (s + 1));
+      fftw_execute_dft(level.forward.get(), work.level.get(), work.spectrum.get());
+      std::copy(transformed, transformed + s + 1, spectrum_.begin() + level.first_spectrum + q * (s + 1));
     }
   }
 
@@ -187,7 +184,7 @@ ModeOperatorStats BlockStripHistory::stats() const {
                                    accumulator_.size() + running_sum_.size() + echo_.steps() +
                                    history_.size()) +
                    scratch_.size() * sizeof(cplx) *
-                       (3 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency.size());
+                       (4 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency.size());
   return s;
 }
 
@@ -201,11 +198,11 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
   const cplx* in = input_.data() + q * B + start;
   for (int j = 0; j < s; ++j) buffer[j] = in[j];
   for (int j = s; j < 2 * s; ++j) buffer[j] = 0.0;
-  fftw_execute_dft(level.forward.get(), scratch.level.get(), scratch.level.get());
+  fftw_execute_dft(level.forward.get(), scratch.level.get(), scratch.spectrum.get());
   // The kernel is real, so its spectrum is Hermitian: bins s+1..2s-1 are conjugates.
   const cplx* kernel = spectrum_.data() + level.first_spectrum + design_[q] * (s + 1);
   // (Written out: std::complex's operator* checks for NaN/inf in a library call.)
-  auto* x = reinterpret_cast<double*>(buffer);
+  auto* x = reinterpret_cast<double*>(scratch.spectrum.get());
   const auto* kv = reinterpret_cast<const double*>(kernel);
   for (int j = 0; j <= s; ++j) {
     const double xr = x[2 * j], xi = x[2 * j + 1], kr = kv[2 * j], ki = kv[2 * j + 1];
@@ -218,7 +215,7 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
     x[2 * j] = xr * kr - xi * ki;
     x[2 * j + 1] = xr * ki + xi * kr;
   }
-  fftw_execute_dft(level.backward.get(), scratch.level.get(), scratch.level.get());
+  fftw_execute_dft(level.backward.get(), scratch.spectrum.get(), scratch.level.get());
   cplx* out = accumulator_.data() + q * B + start + s;
   const double scale = 1.0 / (2.0 * s);
   for (int j = 0; j < s; ++j) out[j] += buffer[s + j] * scale;
@@ -297,31 +294,44 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
     for (int j = 1; j <= recent; ++j) y += kernel[j] * in[p - j];
     history_[q] = c0_[d] * running_sum_[q] - dt_ * y;
   };
+  // The block is complete: every mode's far field moves across it, design by
+  // design, so the modes of one design (equal |k|) share one set of Gaussian
+  // weights and phases.  (No level fires at the block's end: (tau + 1) % 2s =
+  // B % 2s = 0 != s.)  Per mode the same arithmetic as mode by mode.
+  auto advance_design = [&](std::size_t d, Scratch& scratch) {
+    locate_design(d, scratch);
+    for (std::size_t i = design_first_mode_[d]; i < design_first_mode_[d + 1]; ++i) {
+      const int q = static_cast<int>(design_modes_[i]);
+      advance_far_field(q, scratch);
+      give_output(q);
+    }
+  };
+  const std::size_t designs_end = design_first_mode_.size() - 1;
+  if (threads == 1) {
+    // No parallel region for one thread: libgomp takes a team of one from the
+    // heap (and frees it) at every region, and push() must not allocate.
+    Scratch& scratch = scratch_[0];
+    for (int q = 1; q < n_modes_; ++q) {
+      take_input(q, scratch);
+      if (!block_done) give_output(q);
+    }
+    if (block_done)
+      for (std::size_t d = 1; d < designs_end; ++d) advance_design(d, scratch);
+  } else {
 #pragma omp parallel num_threads(threads)
-  {
-    Scratch& scratch = scratch_[omp_get_thread_num()];
-    if (!block_done) {
+    {
+      Scratch& scratch = scratch_[omp_get_thread_num()];
+      if (!block_done) {
 #pragma omp for schedule(static)
-      for (int q = 1; q < n_modes_; ++q) {
-        take_input(q, scratch);
-        give_output(q);
-      }
-    } else {
-      // The block is complete: every mode's far field moves across it, design
-      // by design, so the modes of one design (equal |k|) share one set of
-      // Gaussian weights and phases.  (No level fires at the block's end:
-      // (tau + 1) % 2s = B % 2s = 0 != s.)  Per mode the same arithmetic as
-      // mode by mode.
-#pragma omp for schedule(static)
-      for (int q = 1; q < n_modes_; ++q) take_input(q, scratch);
-#pragma omp for schedule(dynamic, 16)
-      for (std::size_t d = 1; d < design_first_mode_.size() - 1; ++d) {
-        locate_design(d, scratch);
-        for (std::size_t i = design_first_mode_[d]; i < design_first_mode_[d + 1]; ++i) {
-          const int q = static_cast<int>(design_modes_[i]);
-          advance_far_field(q, scratch);
+        for (int q = 1; q < n_modes_; ++q) {
+          take_input(q, scratch);
           give_output(q);
         }
+      } else {
+#pragma omp for schedule(static)
+        for (int q = 1; q < n_modes_; ++q) take_input(q, scratch);
+#pragma omp for schedule(dynamic, 16)
+        for (std::size_t d = 1; d < designs_end; ++d) advance_design(d, scratch);
       }
     }
   }

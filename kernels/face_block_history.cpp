@@ -33,7 +33,8 @@ inline void multiply_add(double kr, double ki, double xr, double xi, double& out
 }  // namespace
 
 struct FaceBlockHistory::Scratch {
-  FftwBuffer<fftw_complex> level_x, level_y;  // 2s <= B complex values each
+  FftwBuffer<fftw_complex> level_x, level_y;        // 2s <= B inputs, then outputs, each
+  FftwBuffer<fftw_complex> spectrum_x, spectrum_y;  // their spectra (out-of-place transforms)
   GaussianNufft::Scratch nufft;
   std::vector<cplx> frequency_x, frequency_y;  // one value per theta_k of a mode
   std::vector<cplx> series_x, series_y;        // B outputs
@@ -107,19 +108,14 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
   const int threads = std::max(1, omp_get_max_threads());
   for (int t = 0; t < threads; ++t)
     scratch_.push_back({make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
+                        make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
                         nufft_->make_scratch(2 * most), std::vector<cplx>(2 * most), std::vector<cplx>(2 * most),
                         std::vector<cplx>(B), std::vector<cplx>(B)});
 
   std::size_t spectrum_size = 0;
   for (int s = direct_block_; s < block_; s *= 2) {
-    auto probe = make_fftw_buffer<fftw_complex>(2 * s);
-    levels_.push_back(
-        {s,
-         owned_plan(fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_FORWARD, FFTW_ESTIMATE),
-                    "FaceBlockHistory"),
-         owned_plan(fftw_plan_dft_1d(2 * s, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE),
-                    "FaceBlockHistory"),
-         spectrum_size});
+    levels_.push_back({s, complex_dft_plan(2 * s, FFTW_FORWARD, "FaceBlockHistory"),
+                       complex_dft_plan(2 * s, FFTW_BACKWARD, "FaceBlockHistory"), spectrum_size});
     spectrum_size += static_cast<std::size_t>(n_modes_) * (s + 1);
   }
   spectrum_a_.assign(spectrum_size, 0.0);
@@ -132,6 +128,7 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
   lag_b_ = lag_d_ = lag_a_;
   auto& work = scratch_[0];
   auto* buffer = reinterpret_cast<cplx*>(work.level_x.get());
+  const auto* transformed = reinterpret_cast<const cplx*>(work.spectrum_x.get());
   const struct {
     const std::vector<double>* half;
     std::vector<double>* lag;
@@ -152,8 +149,9 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
         const int s = level.size;
         buffer[0] = 0.0;
         for (int j = 1; j < 2 * s; ++j) buffer[j] = work.series_x[j].real();
-        fftw_execute_dft(level.forward.get(), work.level_x.get(), work.level_x.get());
-        std::copy(buffer, buffer + s + 1, kernel.spectrum->begin() + level.first_spectrum + q * (s + 1));
+        fftw_execute_dft(level.forward.get(), work.level_x.get(), work.spectrum_x.get());
+        std::copy(transformed, transformed + s + 1,
+                  kernel.spectrum->begin() + level.first_spectrum + q * (s + 1));
       }
     }
   }
@@ -175,7 +173,7 @@ std::size_t FaceBlockHistory::memory_bytes() const {
                                 accumulator_y_.size() + running_x_.size() + running_y_.size() +
                                 history_x_.size() + history_y_.size();
   const std::size_t scratch =
-      scratch_.size() * sizeof(cplx) * (4 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency_x.size());
+      scratch_.size() * sizeof(cplx) * (6 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency_x.size());
   return sizeof(double) * doubles + sizeof(cplx) * complexes + scratch;
 }
 
@@ -194,14 +192,14 @@ void FaceBlockHistory::convolve_level(int q, std::size_t l, int start, Scratch& 
     by[j] = in_y[j];
   }
   for (int j = s; j < 2 * s; ++j) bx[j] = by[j] = 0.0;
-  fftw_execute_dft(level.forward.get(), scratch.level_x.get(), scratch.level_x.get());
-  fftw_execute_dft(level.forward.get(), scratch.level_y.get(), scratch.level_y.get());
+  fftw_execute_dft(level.forward.get(), scratch.level_x.get(), scratch.spectrum_x.get());
+  fftw_execute_dft(level.forward.get(), scratch.level_y.get(), scratch.spectrum_y.get());
   const std::size_t at = level.first_spectrum + q * (s + 1);
   const auto* ka = reinterpret_cast<const double*>(spectrum_a_.data() + at);
   const auto* kb = reinterpret_cast<const double*>(spectrum_b_.data() + at);
   const auto* kd = reinterpret_cast<const double*>(spectrum_d_.data() + at);
-  auto* x = reinterpret_cast<double*>(bx);
-  auto* y = reinterpret_cast<double*>(by);
+  auto* x = reinterpret_cast<double*>(scratch.spectrum_x.get());
+  auto* y = reinterpret_cast<double*>(scratch.spectrum_y.get());
   // out_x = A X + i B Y,  out_y = -i B X + D Y; the kernels are real, so bins
   // s+1..2s-1 of their spectra are the conjugates of bins s-1..1.
   for (int j = 0; j < 2 * s; ++j) {
@@ -221,8 +219,8 @@ void FaceBlockHistory::convolve_level(int q, std::size_t l, int start, Scratch& 
     y[2 * j] = oy_r;
     y[2 * j + 1] = oy_i;
   }
-  fftw_execute_dft(level.backward.get(), scratch.level_x.get(), scratch.level_x.get());
-  fftw_execute_dft(level.backward.get(), scratch.level_y.get(), scratch.level_y.get());
+  fftw_execute_dft(level.backward.get(), scratch.spectrum_x.get(), scratch.level_x.get());
+  fftw_execute_dft(level.backward.get(), scratch.spectrum_y.get(), scratch.level_y.get());
   cplx* out_x = accumulator_x_.data() + q * B + start + s;
   cplx* out_y = accumulator_y_.data() + q * B + start + s;
   const double scale = 1.0 / (2.0 * s);
@@ -276,54 +274,62 @@ void FaceBlockHistory::advance_far_field(int q, Scratch& scratch) {
   }
 }
 
+void FaceBlockHistory::push_mode(int q, int tau, bool block_done, cplx vx, cplx vy, Scratch& scratch) {
+  const int p = block_done ? 0 : tau + 1;  // the output this push produces
+  const std::size_t B = block_;
+  cplx* in_x = input_x_.data() + q * B;
+  cplx* in_y = input_y_.data() + q * B;
+  in_x[tau] = vx;
+  in_y[tau] = vy;
+  running_x_[q] += vx;
+  running_y_[q] += vy;
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    const int s = levels_[l].size;
+    if ((tau + 1) % (2 * s) == s) convolve_level(q, l, tau + 1 - s, scratch);
+  }
+  if (block_done) advance_far_field(q, scratch);
+  cplx* acc_x = accumulator_x_.data() + q * B;
+  cplx* acc_y = accumulator_y_.data() + q * B;
+  double yx_r = acc_x[p].real(), yx_i = acc_x[p].imag(), yy_r = acc_y[p].real(), yy_i = acc_y[p].imag();
+  acc_x[p] = acc_y[p] = 0.0;
+  const double* a = lag_a_.data() + q * direct_block_;
+  const double* b = lag_b_.data() + q * direct_block_;
+  const double* d = lag_d_.data() + q * direct_block_;
+  const int recent = p % direct_block_;  // inputs of p's direct block before p
+  for (int j = 1; j <= recent; ++j) {
+    const double xr = in_x[p - j].real(), xi = in_x[p - j].imag();
+    const double vr = in_y[p - j].real(), vi = in_y[p - j].imag();
+    yx_r += a[j] * xr - b[j] * vi;
+    yx_i += a[j] * xi + b[j] * vr;
+    yy_r += b[j] * xi + d[j] * vr;
+    yy_i += -b[j] * xr + d[j] * vi;
+  }
+  // h = C0 R - dt y, C0 = [[c0_a, i c0_b], [-i c0_b, c0_d]].
+  const double rx_r = running_x_[q].real(), rx_i = running_x_[q].imag();
+  const double ry_r = running_y_[q].real(), ry_i = running_y_[q].imag();
+  history_x_[q] = cplx(c0_a_[q] * rx_r - c0_b_[q] * ry_i - dt_ * yx_r,
+                       c0_a_[q] * rx_i + c0_b_[q] * ry_r - dt_ * yx_i);
+  history_y_[q] = cplx(c0_b_[q] * rx_i + c0_d_[q] * ry_r - dt_ * yy_r,
+                       -c0_b_[q] * rx_r + c0_d_[q] * ry_i - dt_ * yy_i);
+}
+
 void FaceBlockHistory::push(std::span<const cplx> velocity_x, std::span<const cplx> velocity_y) {
   const int tau = position_;
   const bool block_done = tau + 1 == block_;
-  const int p = block_done ? 0 : tau + 1;  // the output this push produces
-  const std::size_t B = block_;
   const int threads = static_cast<int>(scratch_.size());
+  if (threads == 1) {
+    // No parallel region for one thread: libgomp takes a team of one from the
+    // heap (and frees it) at every region, and push() must not allocate.
+    for (int q = 0; q < n_modes_; ++q) push_mode(q, tau, block_done, velocity_x[q], velocity_y[q], scratch_[0]);
+  } else {
 #pragma omp parallel num_threads(threads)
-  {
-    Scratch& scratch = scratch_[omp_get_thread_num()];
+    {
+      Scratch& scratch = scratch_[omp_get_thread_num()];
 #pragma omp for schedule(static)
-    for (int q = 0; q < n_modes_; ++q) {
-      cplx* in_x = input_x_.data() + q * B;
-      cplx* in_y = input_y_.data() + q * B;
-      in_x[tau] = velocity_x[q];
-      in_y[tau] = velocity_y[q];
-      running_x_[q] += velocity_x[q];
-      running_y_[q] += velocity_y[q];
-      for (std::size_t l = 0; l < levels_.size(); ++l) {
-        const int s = levels_[l].size;
-        if ((tau + 1) % (2 * s) == s) convolve_level(q, l, tau + 1 - s, scratch);
-      }
-      if (block_done) advance_far_field(q, scratch);
-      cplx* acc_x = accumulator_x_.data() + q * B;
-      cplx* acc_y = accumulator_y_.data() + q * B;
-      double yx_r = acc_x[p].real(), yx_i = acc_x[p].imag(), yy_r = acc_y[p].real(), yy_i = acc_y[p].imag();
-      acc_x[p] = acc_y[p] = 0.0;
-      const double* a = lag_a_.data() + q * direct_block_;
-      const double* b = lag_b_.data() + q * direct_block_;
-      const double* d = lag_d_.data() + q * direct_block_;
-      const int recent = p % direct_block_;  // inputs of p's direct block before p
-      for (int j = 1; j <= recent; ++j) {
-        const double xr = in_x[p - j].real(), xi = in_x[p - j].imag();
-        const double vr = in_y[p - j].real(), vi = in_y[p - j].imag();
-        yx_r += a[j] * xr - b[j] * vi;
-        yx_i += a[j] * xi + b[j] * vr;
-        yy_r += b[j] * xi + d[j] * vr;
-        yy_i += -b[j] * xr + d[j] * vi;
-      }
-      // h = C0 R - dt y, C0 = [[c0_a, i c0_b], [-i c0_b, c0_d]].
-      const double rx_r = running_x_[q].real(), rx_i = running_x_[q].imag();
-      const double ry_r = running_y_[q].real(), ry_i = running_y_[q].imag();
-      history_x_[q] = cplx(c0_a_[q] * rx_r - c0_b_[q] * ry_i - dt_ * yx_r,
-                           c0_a_[q] * rx_i + c0_b_[q] * ry_r - dt_ * yx_i);
-      history_y_[q] = cplx(c0_b_[q] * rx_i + c0_d_[q] * ry_r - dt_ * yy_r,
-                           -c0_b_[q] * rx_r + c0_d_[q] * ry_i - dt_ * yy_i);
+      for (int q = 0; q < n_modes_; ++q) push_mode(q, tau, block_done, velocity_x[q], velocity_y[q], scratch);
     }
   }
-  position_ = p;
+  position_ = block_done ? 0 : tau + 1;
 }
 
 void FaceBlockHistory::save_into(HistoryOperatorState& state, const std::string& prefix) const {

@@ -69,6 +69,9 @@ class FaceBlockHistory final : public FaceHistory {
   struct Scratch;
   void convolve_level(int q, std::size_t level, int start, Scratch& scratch);
   void advance_far_field(int q, Scratch& scratch);
+  // Input tau (v_x, v_y) of mode q and its output for the next step.
+  void push_mode(int q, int tau, bool block_done, std::complex<double> vx, std::complex<double> vy,
+                 Scratch& scratch);
 
   double dt_, impedance_x_, impedance_y_;
   int n_modes_, block_, direct_block_;

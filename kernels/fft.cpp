@@ -11,6 +11,12 @@ FftwPlan owned_plan(fftw_plan plan, const char* who) {
   return FftwPlan(plan);
 }
 
+FftwPlan complex_dft_plan(int n, int sign, const char* who) {
+  auto in = make_fftw_buffer<fftw_complex>(n);
+  auto out = make_fftw_buffer<fftw_complex>(n);
+  return owned_plan(fftw_plan_dft_1d(n, in.get(), out.get(), sign, FFTW_ESTIMATE), who);
+}
+
 RealFft::RealFft(int nodes)
     : nodes_(nodes),
       real_(make_fftw_buffer<double>(nodes)),

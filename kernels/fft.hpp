@@ -37,6 +37,17 @@ using FftwPlan = std::unique_ptr<std::remove_pointer_t<fftw_plan>, FftwPlanDestr
 // planning failed" if FFTW returned none.
 FftwPlan owned_plan(fftw_plan plan, const char* who);
 
+// A complex DFT plan of length n (sign FFTW_FORWARD or FFTW_BACKWARD,
+// unnormalised, FFTW_ESTIMATE) for fftw_execute_dft from one fftw_malloc'd
+// buffer of n values into another, distinct one.  Out of place because FFTW's
+// in-place complex plans of 2048..32768 points take a work buffer from the heap
+// at every execute (measured with FFTW 3.3.10), which the time loop must not;
+// the out-of-place ones of every length take none
+// (tests/cpp/test_kernels_time_loop_allocation.cpp).  Planned on buffers of its
+// own: FFTW_ESTIMATE does not touch them, and any two fftw_malloc'd buffers
+// have the alignment the plan was made for.
+FftwPlan complex_dft_plan(int n, int sign, const char* who);
+
 class RealFft {
  public:
   explicit RealFft(int nodes);

@@ -44,18 +44,15 @@ GaussianNufft::GaussianNufft(int samples, int half_width)
   const double dx = 2.0 * pi / grid_;
   tail_.resize(half_width_ + 1);
   for (int j = 0; j <= half_width_; ++j) tail_[j] = std::exp(-(j * dx) * (j * dx) / (4.0 * variance_));
-  auto probe = make_fftw_buffer<fftw_complex>(grid_);
-  forward_plan_ = owned_plan(fftw_plan_dft_1d(grid_, probe.get(), probe.get(), FFTW_FORWARD, FFTW_ESTIMATE),
-                             "GaussianNufft");
-  backward_plan_ = owned_plan(fftw_plan_dft_1d(grid_, probe.get(), probe.get(), FFTW_BACKWARD, FFTW_ESTIMATE),
-                              "GaussianNufft");
+  forward_plan_ = complex_dft_plan(grid_, FFTW_FORWARD, "GaussianNufft");
+  backward_plan_ = complex_dft_plan(grid_, FFTW_BACKWARD, "GaussianNufft");
 }
 
 GaussianNufft::Scratch GaussianNufft::make_scratch(std::size_t frequencies) const {
   // The grid is followed by a copy of its first 2w points, so that every
   // frequency's window is one contiguous (vectorisable) run.
-  return {make_fftw_buffer<fftw_complex>(grid_ + 2 * half_width_), std::vector<long>(frequencies),
-          std::vector<double>(frequencies * 2 * half_width_), {}};
+  return {make_fftw_buffer<fftw_complex>(grid_ + 2 * half_width_), make_fftw_buffer<fftw_complex>(grid_),
+          std::vector<long>(frequencies), std::vector<double>(frequencies * 2 * half_width_), {}};
 }
 
 // Gaussian weights of the 2w grid points base-w+1 .. base+w around each
@@ -90,16 +87,17 @@ void GaussianNufft::locate(std::span<const double> theta, Scratch& scratch) cons
 
 void GaussianNufft::forward_centred(std::span<const cplx> in, std::span<cplx> out,
                                     Scratch& scratch) const {
+  auto* samples = reinterpret_cast<cplx*>(scratch.samples.get());
   auto* grid = reinterpret_cast<cplx*>(scratch.grid.get());
   const int G = grid_, B = samples_, half = samples_ / 2, w = half_width_;
-  for (int l = 0; l < G; ++l) grid[l] = 0.0;
+  for (int l = 0; l < G; ++l) samples[l] = 0.0;
   // Deconvolve, centred on t' = t - B/2, so the Gaussian's spectrum is
   // symmetric over the samples and the amplification is smallest.
   for (int t = 0; t < B; ++t) {
     const int shifted = t - half;
-    grid[shifted < 0 ? shifted + G : shifted] = in[t] * deconvolution_[t];
+    samples[shifted < 0 ? shifted + G : shifted] = in[t] * deconvolution_[t];
   }
-  fftw_execute_dft(forward_plan_.get(), scratch.grid.get(), scratch.grid.get());
+  fftw_execute_dft(forward_plan_.get(), scratch.samples.get(), scratch.grid.get());
   for (int j = 0; j < 2 * w; ++j) grid[G + j] = grid[j];
   const double* values = reinterpret_cast<const double*>(grid);
   for (std::size_t k = 0; k < out.size(); ++k) {
@@ -130,10 +128,11 @@ void GaussianNufft::adjoint_centred(std::span<const cplx> c, std::span<cplx> out
     }
   }
   for (int j = 0; j < 2 * w; ++j) grid[j] += grid[G + j];  // fold the periodic copy back
-  fftw_execute_dft(backward_plan_.get(), scratch.grid.get(), scratch.grid.get());
+  fftw_execute_dft(backward_plan_.get(), scratch.grid.get(), scratch.samples.get());
+  const auto* samples = reinterpret_cast<const cplx*>(scratch.samples.get());
   for (int t = 0; t < B; ++t) {
     const int shifted = t - half;
-    out[t] = grid[shifted < 0 ? shifted + G : shifted] * deconvolution_[t];
+    out[t] = samples[shifted < 0 ? shifted + G : shifted] * deconvolution_[t];
   }
 }
 

@@ -42,7 +42,8 @@ class GaussianNufft {
   // Working memory of one caller (one per thread): the oversampled grid and
   // the Gaussian weights of up to `frequencies` frequencies.
   struct Scratch {
-    FftwBuffer<fftw_complex> grid;
+    FftwBuffer<fftw_complex> grid;     // spectrum side: G points and a copy of the first 2w
+    FftwBuffer<fftw_complex> samples;  // time side: the G-point grid of the deconvolved samples
     std::vector<long> window_start;  // first grid point of each frequency's window
     std::vector<double> weight;      // 2w weights per frequency
     std::vector<std::complex<double>> phased;  // used by the convenience adjoint() only
@@ -72,8 +73,8 @@ class GaussianNufft {
   double variance_;                   // T in exp(-x^2 / (4 T))
   std::vector<double> deconvolution_; // 1 / ghat(t - B/2), t = 0..B-1, divided by G
   std::vector<double> tail_;          // exp(-(j dx)^2 / (4T)), j = 0..half_width
-  FftwPlan forward_plan_;   // grid -> grid, e^{-i}
-  FftwPlan backward_plan_;  // grid -> grid, e^{+i}
+  FftwPlan forward_plan_;   // samples -> grid, e^{-i} (out of place: complex_dft_plan)
+  FftwPlan backward_plan_;  // grid -> samples, e^{+i}
 };
 
 }  // namespace slipstrip
