@@ -31,6 +31,14 @@ struct BatchKernels {
                                      std::span<const double> slip_rate_old,
                                      std::span<const double> state_old,
                                      std::span<double> slip_rate_new, std::span<double> state_new);
+  BatchCounts (*predictor_corrector_normal_stress)(const LocalSolveParameters& params,
+                                                   const NormalStressMemory& response, double dt,
+                                                   std::span<const double> tau_history,
+                                                   std::span<const double> slip_rate_old,
+                                                   std::span<const double> state_old,
+                                                   const NormalStressStep& normal,
+                                                   std::span<double> slip_rate_new,
+                                                   std::span<double> state_new);
 };
 
 // The scalar routines at one node, for the nodes the vector code hands over;
@@ -50,6 +58,13 @@ double evolve_state_node(const FrictionParameters& friction, std::size_t node, d
 void predictor_corrector_node(const LocalSolveParameters& params, std::size_t node, double dt,
                               double tau_history, double slip_rate_old, double state_old,
                               double& slip_rate_new, double& state_new);
+// predictor_corrector_normal_stress_node (batch_solve.hpp) at node `node` of
+// the spans (its normal stresses from `normal`, sigma_eff written there).
+void predictor_corrector_normal_stress_node(const LocalSolveParameters& params,
+                                            const NormalStressMemory& response, std::size_t node,
+                                            double dt, double tau_history, double slip_rate_old,
+                                            double state_old, const NormalStressStep& normal,
+                                            double& slip_rate_new, double& state_new);
 
 // The copy compiled for `set` (throws std::invalid_argument when this build
 // has none).  The caller makes sure the CPU can run it

@@ -23,7 +23,8 @@ void check_sizes(std::size_t n, std::initializer_list<std::size_t> sizes) {
 
 void check_per_node_sizes(const LocalSolveParameters& params, std::size_t n) {
   const auto& p = params.per_node;
-  for (std::size_t s : {p.f0.size(), p.a.size(), p.b.size(), p.characteristic_slip.size()})
+  for (std::size_t s : {p.f0.size(), p.a.size(), p.b.size(), p.characteristic_slip.size(),
+                        params.normal_stress_per_node.size()})
     if (s != 0 && s != n)
       throw std::invalid_argument(
           "batch friction solve: per-node parameters must be empty or one value per node");
@@ -34,7 +35,7 @@ void check_per_node_sizes(const LocalSolveParameters& params, std::size_t n) {
 double solve_slip_rate_node(const LocalSolveParameters& params, std::size_t node, double tau_history,
                             double state, double initial_guess) {
   try {
-    return solve_slip_rate(params.at(node), params.normal_stress, params.eta, tau_history, state,
+    return solve_slip_rate(params.at(node), params.normal_stress_at(node), params.eta, tau_history, state,
                            initial_guess);
   } catch (const std::exception& e) {
     throw BatchFailure(node, e.what());
@@ -55,10 +56,38 @@ void predictor_corrector_node(const LocalSolveParameters& params, std::size_t no
                               double& phi_new) {
   try {
     const FrictionParameters f = params.at(node);
+    const double sigma = params.normal_stress_at(node);
     const double phi_pred = evolve_state(f, phi_old, v_old, dt);
-    const double v_pred = solve_slip_rate(f, params.normal_stress, params.eta, tau, phi_pred, v_old);
+    const double v_pred = solve_slip_rate(f, sigma, params.eta, tau, phi_pred, v_old);
     phi_new = evolve_state(f, phi_old, 0.5 * (v_old + v_pred), dt);
-    v_new = solve_slip_rate(f, params.normal_stress, params.eta, tau, phi_new, v_pred);
+    v_new = solve_slip_rate(f, sigma, params.eta, tau, phi_new, v_pred);
+  } catch (const std::exception& e) {
+    throw BatchFailure(node, e.what());
+  }
+}
+
+void predictor_corrector_normal_stress_node(const FrictionParameters& p, double eta,
+                                            const NormalStressMemory& response, double dt, double tau,
+                                            double v_old, double phi_old, double s_old, double s_new,
+                                            double e_old, double& v_new, double& phi_new, double& e_new) {
+  // The scheme of normal_stress_node_step (friction/normal_stress_response.hpp),
+  // shared with the 2D interface's friction.
+  const NormalStressNodeStep step =
+      normal_stress_node_step(p, response, eta, tau, v_old, phi_old, s_old, s_new, e_old, dt);
+  v_new = step.slip_rate;
+  phi_new = step.state;
+  e_new = step.effective_normal_stress;
+}
+
+void predictor_corrector_normal_stress_node(const LocalSolveParameters& params,
+                                            const NormalStressMemory& response, std::size_t node,
+                                            double dt, double tau, double v_old, double phi_old,
+                                            const NormalStressStep& normal, double& v_new, double& phi_new) {
+  try {
+    predictor_corrector_normal_stress_node(params.at(node), params.eta, response, dt, tau, v_old, phi_old,
+                                           normal.sigma_old[node], normal.sigma_new[node],
+                                           normal.effective_old[node], v_new, phi_new,
+                                           normal.effective_new[node]);
   } catch (const std::exception& e) {
     throw BatchFailure(node, e.what());
   }
@@ -94,6 +123,7 @@ LocalSolveParameters LocalSolveParameters::slice(std::size_t begin, std::size_t 
   cut(out.per_node.a);
   cut(out.per_node.b);
   cut(out.per_node.characteristic_slip);
+  cut(out.normal_stress_per_node);
   return out;
 }
 
@@ -132,6 +162,36 @@ BatchCounts predictor_corrector_batch(const LocalSolveParameters& params, double
   check_per_node_sizes(params, n);
   return batch_kernels().predictor_corrector(params, dt, tau_history, slip_rate_old, state_old,
                                              slip_rate_new, state_new);
+}
+
+namespace {
+
+void check_normal_stress_step(std::size_t n, const NormalStressStep& normal) {
+  check_sizes(n, {normal.sigma_old.size(), normal.sigma_new.size(), normal.effective_old.size(),
+                  normal.effective_new.size()});
+}
+
+NormalStressStep slice(const NormalStressStep& normal, std::size_t begin, std::size_t count) {
+  return {normal.sigma_old.subspan(begin, count), normal.sigma_new.subspan(begin, count),
+          normal.effective_old.subspan(begin, count), normal.effective_new.subspan(begin, count)};
+}
+
+}  // namespace
+
+BatchCounts predictor_corrector_normal_stress_batch(const LocalSolveParameters& params,
+                                                    const NormalStressMemory& response, double dt,
+                                                    std::span<const double> tau_history,
+                                                    std::span<const double> slip_rate_old,
+                                                    std::span<const double> state_old,
+                                                    const NormalStressStep& normal,
+                                                    std::span<double> slip_rate_new,
+                                                    std::span<double> state_new) {
+  const std::size_t n = tau_history.size();
+  check_sizes(n, {slip_rate_old.size(), state_old.size(), slip_rate_new.size(), state_new.size()});
+  check_normal_stress_step(n, normal);
+  check_per_node_sizes(params, n);
+  return batch_kernels().predictor_corrector_normal_stress(params, response, dt, tau_history, slip_rate_old,
+                                                           state_old, normal, slip_rate_new, state_new);
 }
 
 namespace {
@@ -191,6 +251,26 @@ BatchCounts predictor_corrector_parallel(const LocalSolveParameters& params, dou
                                      state_old.subspan(begin, count),
                                      slip_rate_new.subspan(begin, count),
                                      state_new.subspan(begin, count));
+  });
+}
+
+BatchCounts predictor_corrector_normal_stress_parallel(const LocalSolveParameters& params,
+                                                       const NormalStressMemory& response, double dt,
+                                                       std::span<const double> tau_history,
+                                                       std::span<const double> slip_rate_old,
+                                                       std::span<const double> state_old,
+                                                       const NormalStressStep& normal,
+                                                       std::span<double> slip_rate_new,
+                                                       std::span<double> state_new) {
+  const std::size_t n = tau_history.size();
+  check_sizes(n, {slip_rate_old.size(), state_old.size(), slip_rate_new.size(), state_new.size()});
+  check_normal_stress_step(n, normal);
+  check_per_node_sizes(params, n);  // before slicing them
+  return parallel_chunks(n, [&](std::size_t begin, std::size_t count) {
+    return predictor_corrector_normal_stress_batch(
+        params.slice(begin, count), response, dt, tau_history.subspan(begin, count),
+        slip_rate_old.subspan(begin, count), state_old.subspan(begin, count), slice(normal, begin, count),
+        slip_rate_new.subspan(begin, count), state_new.subspan(begin, count));
   });
 }
 

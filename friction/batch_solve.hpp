@@ -10,6 +10,7 @@
 #include <string>
 
 #include "friction/friction_law.hpp"
+#include "friction/normal_stress_response.hpp"
 
 namespace slipstrip {
 
@@ -31,14 +32,22 @@ struct LocalSolveParameters {
       : friction(friction_), normal_stress(normal_stress_), eta(eta_), per_node(per_node_) {}
 
   FrictionParameters friction;  // strength and state law, v*, phi*; f0, a, b, D unless per node
-  double normal_stress = 0.0;  // sigma0 [Pa], > 0
+  double normal_stress = 0.0;  // sigma0 [Pa], > 0, unless per node
   double eta = 0.0;            // radiation damping mu / (2 c_s) [Pa s/m], > 0
   FrictionNodeSpans per_node;
+  // The normal stress the friction sees at each node [Pa] (in-plane pairs of
+  // different bodies), or empty: normal_stress at every node.  Nodes where it
+  // is not finite and > 0 go to the scalar routines (which report them).
+  std::span<const double> normal_stress_per_node = {};
 
   // The same parameters for nodes [begin, begin + count) of the spans.
   LocalSolveParameters slice(std::size_t begin, std::size_t count) const;
   // Node i's parameters for the scalar routines.
   FrictionParameters at(std::size_t i) const;
+  // Node i's normal stress [Pa].
+  double normal_stress_at(std::size_t i) const {
+    return normal_stress_per_node.empty() ? normal_stress : normal_stress_per_node[i];
+  }
 };
 
 // A failed node in a batch: `index` is the node's position in the spans passed
@@ -108,6 +117,56 @@ BatchCounts predictor_corrector_parallel(const LocalSolveParameters& params, dou
                                          std::span<const double> state_old,
                                          std::span<double> slip_rate_new,
                                          std::span<double> state_new);
+
+// The normal stress over a step at every node, for the step below: sigma at
+// t_n and t_{n+1} (compressive; exactly 0 where the faces are open at t_{n+1},
+// docs/bodies.md §4), sigma_eff at t_n, and sigma_eff at t_{n+1} (set).
+struct NormalStressStep {
+  std::span<const double> sigma_old, sigma_new, effective_old;
+  std::span<double> effective_new;
+};
+
+// The predictor-corrector step with a normal stress that varies from node to
+// node and in time, sigma_eff advanced like the state (the scheme of
+// predictor_corrector_normal_stress_node below; params.normal_stress and
+// params.normal_stress_per_node are not used: sigma_eff is the normal stress):
+//   e_p = relax(e_old, v_old); phi_p = evolve_LD(phi_old, v_old, e_old -> e_p);
+//   v_p = solve(sigma = e_p, phi_p, guess v_old);
+//   e = relax(e_old, (v_old + v_p)/2); phi = evolve_LD(phi_old, (v_old + v_p)/2, e_old -> e);
+//   v = solve(sigma = e, phi, guess v_p).
+// Nodes whose faces are open (sigma_new = 0) get the slip rate of zero shear
+// traction, v = tau_history / eta, from the scalar routine.  The corrector
+// starts from the predictor's last evaluation moved by the change of state
+// and of sigma_eff (one Newton step for free), as predictor_corrector_batch.
+// Outputs must not alias inputs.  Throws BatchFailure.
+BatchCounts predictor_corrector_normal_stress_batch(const LocalSolveParameters& params,
+                                                    const NormalStressMemory& response, double dt,
+                                                    std::span<const double> tau_history,
+                                                    std::span<const double> slip_rate_old,
+                                                    std::span<const double> state_old,
+                                                    const NormalStressStep& normal,
+                                                    std::span<double> slip_rate_new,
+                                                    std::span<double> state_new);
+
+// The same over all nodes with the parallel loop of predictor_corrector_parallel.
+BatchCounts predictor_corrector_normal_stress_parallel(const LocalSolveParameters& params,
+                                                       const NormalStressMemory& response, double dt,
+                                                       std::span<const double> tau_history,
+                                                       std::span<const double> slip_rate_old,
+                                                       std::span<const double> state_old,
+                                                       const NormalStressStep& normal,
+                                                       std::span<double> slip_rate_new,
+                                                       std::span<double> state_new);
+
+// The scheme above at node i with the scalar routines (the reference of the
+// batch step and its fallback); failures as std::invalid_argument (state
+// update) or LocalSolveFailure (solve), not wrapped.
+void predictor_corrector_normal_stress_node(const FrictionParameters& friction, double eta,
+                                            const NormalStressMemory& response, double dt,
+                                            double tau_history, double slip_rate_old, double state_old,
+                                            double sigma_old, double sigma_new, double effective_old,
+                                            double& slip_rate_new, double& state_new,
+                                            double& effective_new);
 
 // solve_slip_rate_batch over all nodes with the same parallel loop.
 BatchCounts solve_slip_rate_parallel(const LocalSolveParameters& params,

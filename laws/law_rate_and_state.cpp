@@ -37,7 +37,8 @@ class RateAndStateLaw final : public InterfaceLaw {
         normal_stress_slip_(setup.config.interface.normal_stress_slip > 0.0
                                 ? setup.config.interface.normal_stress_slip
                                 : setup.config.friction.characteristic_slip),
-        tau_history_(setup.x.size(), 0.0), reference_(setup.x.size(), 0.0) {
+        tau_history_(setup.x.size(), 0.0), previous_effective_(setup.x.size(), 0.0),
+        reference_(setup.x.size(), 0.0) {
     // Simulation refuses the drive where it does not apply (dissimilar bodies).
     if (config_.loading.drive == LoadingDrive::mean_slip_rate) load_without_shift_.assign(setup.x.size(), 0.0);
     const auto n = setup.x.size();
@@ -246,39 +247,36 @@ class RateAndStateLaw final : public InterfaceLaw {
 
   // In-plane dissimilar bodies: sigma varies, and the friction sees
   // sigma_eff, which relaxes towards it (Prakash & Clifton 1993; Cochard &
-  // Rice 2000; docs/bodies.md).  Node by node with the scalar routines (the
-  // batch ones take one sigma for all nodes): the predictor-corrector of
-  // friction/normal_stress_response.hpp.  Where the faces are open (sigma = 0
-  // exactly, Simulation's contact step) the shear traction is zero instead of
-  // the friction.
+  // Rice 2000; docs/bodies.md §4), advanced like the state in the
+  // predictor-corrector, with the optional Linker-Dieterich response (the
+  // scheme of normal_stress_node_step, friction/normal_stress_response.hpp).
+  // The batch routines solve all nodes vectorised with their own sigma_eff;
+  // where the faces are open (sigma = 0 exactly, Simulation's contact step)
+  // the shear traction is zero instead of the friction.
   void solve_with_normal_stress(InterfaceFields& fields, double dt, bool initial) {
-    const LocalSolveParameters params{config_.friction, config_.loading.normal_stress, eta_, per_node_};
+    LocalSolveParameters params{config_.friction, config_.loading.normal_stress, eta_, per_node_};
     const NormalStressMemory memory{config_.interface.normal_stress_time, normal_stress_slip_,
                                     config_.friction.v_star};
-    const std::size_t n = fields.x.size();
-    std::size_t i = 0;
     try {
-      for (i = 0; i < n; ++i) {
-        const FrictionParameters p = params.at(i);
-        const double tau = tau_history_[i];
-        if (initial) {
-          fields.effective_normal_stress[i] = fields.normal_stress[i];
-          fields.slip_rate[i] =
-              solve_slip_rate(p, fields.normal_stress[i], eta_, tau, fields.state[i], driving_velocity_);
-          continue;
-        }
-        const NormalStressNodeStep s = normal_stress_node_step(
-            p, memory, eta_, tau, fields.previous_slip_rate[i], fields.previous_state[i],
-            fields.previous_normal_stress[i], fields.normal_stress[i], fields.effective_normal_stress[i], dt);
-        fields.state[i] = s.state;
-        fields.effective_normal_stress[i] = s.effective_normal_stress;
-        fields.slip_rate[i] = s.slip_rate;
+      if (initial) {
+        std::copy(fields.normal_stress.begin(), fields.normal_stress.end(),
+                  fields.effective_normal_stress.begin());
+        params.normal_stress_per_node = fields.normal_stress;
+        std::fill(fields.slip_rate.begin(), fields.slip_rate.end(), driving_velocity_);  // the guess
+        solve_slip_rate_parallel(params, tau_history_, fields.state, fields.slip_rate, fields.slip_rate);
+      } else {
+        // sigma_eff at t_n, kept while the step writes the new level in place.
+        std::copy(fields.effective_normal_stress.begin(), fields.effective_normal_stress.end(),
+                  previous_effective_.begin());
+        const NormalStressStep normal{fields.previous_normal_stress, fields.normal_stress, previous_effective_,
+                                      fields.effective_normal_stress};
+        predictor_corrector_normal_stress_parallel(params, memory, dt, tau_history_, fields.previous_slip_rate,
+                                                   fields.previous_state, normal, fields.slip_rate, fields.state);
       }
-    } catch (const LocalSolveFailure& e) {
-      throw InterfaceFailure("local friction solve failed", i, e.what());
-    } catch (const std::invalid_argument& e) {
-      throw InterfaceFailure("state update failed", i, e.what());
+    } catch (const BatchFailure& e) {
+      throw InterfaceFailure("local friction solve failed", e.index, e.what());
     }
+    const std::size_t n = fields.x.size();
     for (std::size_t j = 0; j < n; ++j) fields.shear_stress[j] = tau_history_[j] - eta_ * fields.slip_rate[j];
   }
 
@@ -290,6 +288,7 @@ class RateAndStateLaw final : public InterfaceLaw {
   FrictionNodeSpans per_node_; // views of nodes_, or empty (uniform)
   std::vector<double> phi_ss_;
   std::vector<double> tau_history_;  // load on the local solve at the level solved for [Pa]
+  std::vector<double> previous_effective_;  // sigma_eff at t_n during a step [Pa]
   std::vector<double> reference_;    // tau_0 per node [Pa]
   double mean_reference_ = 0.0;      // its mean over the nodes [Pa]
   // loading.drive = "mean_slip_rate" only (empty otherwise): the load before
