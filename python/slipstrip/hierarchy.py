@@ -21,7 +21,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import stats
 
 from .runfile import open_h5
 
@@ -254,6 +253,7 @@ def density_split(values, grid_points: int = 512) -> dict:
     out = {"split": math.nan, "hump": math.nan, "depth": math.nan}
     if x.size < 20 or np.ptp(x) == 0:
         return out
+    from scipy import stats  # imported where used: most of a command's start-up time
     g = np.linspace(x.min(), x.max(), grid_points)
     d = stats.gaussian_kde(x)(g)
     peaks = np.flatnonzero((d[1:-1] > d[:-2]) & (d[1:-1] >= d[2:])) + 1

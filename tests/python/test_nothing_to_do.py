@@ -139,3 +139,23 @@ def test_no_slip_sampling_says_to_set_delta_th(cli, runs, tmp_path, command):
     r = slipstrip(cli, command, runs["unsampled"], cwd=tmp_path)
     assert r.returncode == 2
     assert "no slip sampling" in r.stderr and "output.delta_th" in r.stderr and "delta_th > 0" in r.stderr
+
+
+def test_commands_import_no_fitting_or_plotting_library_before_they_work(repo):
+    """Every `python3 -m slipstrip` command module imports scipy and matplotlib
+    only inside the functions that fit, test or draw: importing them is most
+    of a command's start-up (about 1 s of CPU against 0.4 s without), paid by
+    every refusal above and by every test that checks one."""
+    import os
+    import sys
+    modules = ["slipstrip.__main__", "slipstrip.analysis", "slipstrip.scan", "slipstrip.report",
+               "slipstrip.transition", "slipstrip.export", "slipstrip.episodes", "slipstrip.divergence",
+               "slipstrip.fronts"]
+    code = ("import importlib, sys\n"
+            f"for m in {modules!r}:\n"
+            "    importlib.import_module(m)\n"
+            "print(' '.join(sorted({m.split('.')[0] for m in sys.modules} & {'scipy', 'matplotlib'})))\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
+                       env=dict(os.environ, PYTHONPATH=str(repo / "python")))
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == "", f"imported at start-up: {r.stdout.strip()}"

@@ -1,13 +1,16 @@
 """The report's measurements on run files and catalogs: bootstrap errors, the
 peak of p(T), the fronts of a nucleated rupture, the Fig. 2 event hierarchy,
-the T_peak scaling fit, wave speeds and the steady-state friction."""
+the T_peak scaling fit, wave speeds and the steady-state friction.
+
+scipy is imported inside the functions that fit or estimate a density: it is
+most of the start-up time of `python3 -m slipstrip report`, which should cost
+little when it only refuses its arguments or a run file."""
 from __future__ import annotations
 
 import math
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 from .. import analysis as an
 from .. import hierarchy as hi
@@ -80,6 +83,7 @@ def peak_of_pT(T, grid_points: int = 512) -> float:
     x = np.log(np.asarray(T, float)[np.asarray(T, float) > 0])
     if x.size < an.MIN_FIT_EVENTS or np.ptp(x) == 0:
         return math.nan
+    from scipy import stats
     kde = stats.gaussian_kde(x)
     g = np.linspace(x.min() - 0.5, x.max() + 0.5, grid_points)
     return float(math.exp(g[np.argmax(np.log(np.maximum(kde(g), 1e-300)) - g)]))
@@ -94,6 +98,7 @@ def local_peaks_of_pT(T, grid_points: int = 512, min_relative_height: float = 0.
     x = np.log(np.asarray(T, float)[np.asarray(T, float) > 0])
     if x.size < an.MIN_FIT_EVENTS or np.ptp(x) == 0:
         return []
+    from scipy import stats
     kde = stats.gaussian_kde(x)
     g = np.linspace(x.min() - 0.5, x.max() + 0.5, grid_points)
     log_p = np.log(np.maximum(kde(g), 1e-300)) - g
@@ -217,6 +222,7 @@ def nucleation_event(time, x, slip_rate, v0: float, x0: float, L: float, c_d: fl
                t_end=float(t[k_end]) if k_end is not None else float(t[-1]),
                center_duration=float(t[center_end] - t[k0]), snapshot_interval=snap_dt,
                max_extent=float(right.max() + left.max() + dx), times=tr, right=right, left=left)
+    from scipy import stats
     speeds, errs = [], []
     for front in (right, left):
         top = front.max()
@@ -513,6 +519,7 @@ def fig2_hierarchy(run, catalog) -> dict:
 def fit_peak_scaling(tau, tpeak, err) -> dict:
     """Weighted least squares of ln T_peak = ln k + beta ln tau (weights from
     the relative errors), and of T_peak = k1 tau (chi^2 and its p-value)."""
+    from scipy import stats
     tau, y, e = (np.asarray(a, float) for a in (tau, tpeak, err))
     X = np.column_stack([np.ones_like(tau), np.log(tau)])
     w = (y / e) ** 2

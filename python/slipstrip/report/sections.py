@@ -1,5 +1,8 @@
 """The report of one material reading: one method per section of the paper,
-each adding one row per claim (claims.py) with a value, a verdict and its basis."""
+each adding one row per claim (claims.py) with a value, a verdict and its basis.
+
+The figures (matplotlib) are imported by the methods that draw: loading the
+runs, and refusing a missing one, needs no plotting library."""
 from __future__ import annotations
 
 import dataclasses
@@ -16,8 +19,6 @@ from .. import analysis as an
 from .. import hierarchy as hi
 from .. import runfile
 from ..claims import BY_ID, CLAIMS, MEASUREMENTS
-from ..plots import plt
-from . import figures
 from .measurements import (AGED_MIN_FRACTION, CRACK_MIN_R2, EDGE_TOLERANCE, EVENT5_MIN_EXTENT_H, FAST_SLIP_RATE,
                            FIG2_T_BEGIN, FIXED_EXTENT_FRACTION, MIN_SIDE_FRACTION, N_BOOTSTRAP, NUCLEATION_RADIUS_H,
                            PRECEDING_TRANSITS, PULSE_FRONT_WINDOW, QUIET_FRACTION, SMALL_EVENT_MIN_U,
@@ -129,6 +130,7 @@ class Report:
     def add_figure(self, fig, name, caption):
         """Writes `fig` as figdir/name (and closes it) and lists it with its caption."""
         self.figdir.mkdir(parents=True, exist_ok=True)
+        from ..plots import plt
         fig.savefig(self.figdir / name, dpi=80, bbox_inches="tight")
         plt.close(fig)
         self.figure(caption, name)
@@ -264,6 +266,7 @@ class Report:
     def _space_slip_figure(self, run, t_cut, window_D=400.0, max_rows=1500):
         """v(x, delta)/v0 over window_D of mean slip after the transient cut (Fig. 1b),
         and the fractions of its cells that slip fast and that stick."""
+        from . import figures
         with runfile.open_h5(run.path) as f:
             if "slip_sampling" not in f:
                 return None
@@ -372,6 +375,7 @@ class Report:
                                "before (black) and after (green) it")
 
     def _event_figure(self, run, ex, fname, caption):
+        from . import figures
         self.add_figure(figures.event_figure(run, ex), fname, caption)
 
     # -- Fig. 3a/b ----------------------------------------------------------
@@ -455,6 +459,7 @@ class Report:
                      self.basis(*tips))
 
     def _spacetime_figure(self, name, t, x, v, run, ws, ev, tau):
+        from . import figures
         self.add_figure(figures.nucleation_figure(name, t, x, v, run, ws, ev, tau), f"{name}_spacetime.png",
                         f"{name}: space-time map of log10(v/v0), wave-speed lines from the nucleation point, "
                         f"bar 2H/c_s")
@@ -566,6 +571,7 @@ class Report:
         self._pT_figure(fam)
 
     def _pT_figure(self, fam):
+        from . import figures
         fig = figures.pT_figure(fam)
         if fig is not None:
             self.add_figure(fig, "pT_families.png", "Figs. 3c/3d and S7: p(T) and p(u/D) of the kept events, arrows at "
@@ -737,6 +743,7 @@ class Report:
         return cache["value"]
 
     def _fig5_figure(self, s):
+        from . import figures
         st = an.read_spacetime(s["run"].path, max_rows=2000)
         if st is None:
             return
