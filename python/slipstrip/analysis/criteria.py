@@ -73,24 +73,31 @@ def periodic_pulse_from_timeseries(time, max_slip_rate, v0: float) -> dict:
             "min_max_slip_rate_v0": vmin, "cv_max_slip_rate": cv}
 
 
-def _best_shift(a: np.ndarray, b: np.ndarray) -> tuple[int, float, float]:
+def _profile_spectrum(a: np.ndarray) -> tuple[float, np.ndarray]:
+    """The norm and the spectrum of a profile less its mean: what _best_shift
+    needs of each profile (the space-time criterion computes it once per
+    snapshot, which it pairs with its two neighbours)."""
+    a = a - a.mean()
+    return float(np.linalg.norm(a)), np.fft.rfft(a)
+
+
+def _best_shift(spectrum_a, spectrum_b, size: int) -> tuple[int, float, float]:
     """Circular shift s (nodes, signed, |s| <= N/2) that best maps profile a
     onto b (b[n] ~ a[n - s]), the normalised correlation at that shift, and
-    the shift refined to a fraction of a node."""
-    a = a - a.mean()
-    b = b - b.mean()
-    na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
+    the shift refined to a fraction of a node; a and b of `size` nodes are
+    given by their _profile_spectrum."""
+    (na, fa), (nb, fb) = spectrum_a, spectrum_b
     if na == 0 or nb == 0:
         return 0, math.nan, 0.0
-    c = np.fft.irfft(np.conj(np.fft.rfft(a)) * np.fft.rfft(b), n=a.size)
+    c = np.fft.irfft(np.conj(fa) * fb, n=size)
     s = int(np.argmax(c))
     r = float(c[s] / (na * nb))
     # Sub-node position of the peak (parabola through the three samples), for speeds.
-    cm, cp = c[s - 1], c[(s + 1) % a.size]
+    cm, cp = c[s - 1], c[(s + 1) % size]
     den = cm - 2 * c[s] + cp
     frac = float(0.5 * (cm - cp) / den) if den < 0 else 0.0
-    if s > a.size // 2:
-        s -= a.size
+    if s > size // 2:
+        s -= size
     return s, r, s + max(-0.5, min(0.5, frac))
 
 
@@ -133,9 +140,16 @@ def periodic_pulse_from_spacetime(time, slip_rate, v0: float, dx: float,
     width = np.mean(v >= 0.1 * vmax[:, None], axis=1)
     z = np.log10(np.maximum(v, 1e-3 * v0) / v0)
 
+    spectra = {}  # snapshot index -> _profile_spectrum of its profile, computed once
+
+    def spectrum(i):
+        if i not in spectra:
+            spectra[i] = _profile_spectrum(z[i])
+        return spectra[i]
+
     def pairs(indices, lag):
-        res = [(i, j) + _best_shift(z[i], z[j]) for i, j in zip(indices[:-lag], indices[lag:])]
-        return res
+        return [(i, j) + _best_shift(spectrum(i), spectrum(j), n_nodes)
+                for i, j in zip(indices[:-lag], indices[lag:])]
 
     lag = 1
     pr = pairs(late, lag)

@@ -307,7 +307,11 @@ STATIONARITY_PERMUTATIONS = 1000  # permutations of the blocks; p resolution ~1e
 
 def _ks_statistic(a: np.ndarray, b: np.ndarray) -> float:
     """Two-sample KS distance sup|F_a - F_b| (ties handled as scipy does)."""
-    a, b = np.sort(a), np.sort(b)
+    return _ks_sorted(np.sort(a), np.sort(b))
+
+
+def _ks_sorted(a: np.ndarray, b: np.ndarray) -> float:
+    """_ks_statistic of two samples already sorted."""
     grid = np.concatenate([a, b])
     fa = np.searchsorted(a, grid, side="right") / a.size
     fb = np.searchsorted(b, grid, side="right") / b.size
@@ -340,20 +344,35 @@ def block_permutation_stationarity(t_start, observables: dict, t_begin: float, t
     fifth = max(1, n_blocks // 5)
     rng = np.random.default_rng(seed)
     assignments = [rng.permutation(n_blocks) for _ in range(n_permutations)]
+    tested = {}  # name -> (values sorted, their blocks, observed distance, exceedances)
     for name, x in observables.items():
         x = np.asarray(x, float)[inside]
         first, last = block < fifth, block >= n_blocks - fifth
         if first.sum() < 2 or last.sum() < 2:
             out[name] = {"ks": math.nan, "pvalue": math.nan}
             continue
-        d_obs = _ks_statistic(x[first], x[last])
-        exceed = 0
-        for perm in assignments:
-            a, b = np.isin(block, perm[:fifth]), np.isin(block, perm[fifth:2 * fifth])
-            if a.sum() >= 1 and b.sum() >= 1 and _ks_statistic(x[a], x[b]) >= d_obs - 1e-12:
-                exceed += 1
+        # Sorted once: a mask of the sorted values selects them already sorted
+        # (the same numbers _ks_statistic would sort).
+        order = np.argsort(x, kind="stable")
+        tested[name] = [x[order], block[order], _ks_statistic(x[first], x[last]), 0]
+    # Each permutation's two sets of blocks as a lookup by block index, shared
+    # by the observables (np.isin per permutation and observable was most of
+    # the test's time).
+    in_a, in_b = np.zeros(n_blocks, bool), np.zeros(n_blocks, bool)
+    for perm in assignments:
+        in_a[:] = False
+        in_b[:] = False
+        in_a[perm[:fifth]] = True
+        in_b[perm[fifth:2 * fifth]] = True
+        for entry in tested.values():
+            xs, bs, d_obs = entry[0], entry[1], entry[2]
+            a, b = in_a[bs], in_b[bs]
+            if a.any() and b.any() and _ks_sorted(xs[a], xs[b]) >= d_obs - 1e-12:
+                entry[3] += 1
+    for name, (_, _, d_obs, exceed) in tested.items():
         out[name] = {"ks": d_obs, "pvalue": (1 + exceed) / (1 + n_permutations)}
-    return out
+    return {"n_blocks": out["n_blocks"], "n_permutations": out["n_permutations"],
+            **{name: out[name] for name in observables}}
 
 
 def mser_truncation(series, max_fraction: float = TRANSIENT_MAX_FRACTION) -> int:
