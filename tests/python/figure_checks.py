@@ -27,9 +27,26 @@ def drawn_fraction(image: np.ndarray) -> float:
     """Fraction of pixels that differ from the most common colour (the
     background) by more than 2 % in any channel."""
     rgb = image[..., :3].reshape(-1, 3)
-    values, counts = np.unique(np.round(rgb, 2), axis=0, return_counts=True)
-    background = values[np.argmax(counts)]
+    rounded = np.round(rgb, 2)
+    # The most common rounded colour, the lexicographically smallest of equally
+    # common ones (as np.unique(axis=0) would order them), counted through one
+    # integer per colour: each channel is a whole number of hundredths (0..100),
+    # so r 101^2 + g 101 + b orders the colours as the rows.  np.unique over
+    # rows took up to 0.8 s per figure.
+    hundredths = np.rint(rounded * 100).astype(np.int64)
+    if hundredths.min() < 0 or hundredths.max() > 100:
+        raise ValueError("drawn_fraction: channels outside [0, 1]")
+    key = (hundredths[:, 0] * 101 + hundredths[:, 1]) * 101 + hundredths[:, 2]
+    background = rounded[np.argmax(key == np.argmax(np.bincount(key)))]
     return float(np.mean(np.any(np.abs(rgb - background) > 0.02, axis=1)))
+
+
+def distinct_colours(image: np.ndarray) -> int:
+    """The number of distinct pixel values (all channels) of an image read from
+    a PNG: len(np.unique(pixels, axis=0)) through one byte string per pixel,
+    about 8x faster."""
+    pixels = np.ascontiguousarray(image.reshape(-1, image.shape[-1]))
+    return len(np.unique(pixels.view(np.dtype((np.void, pixels.dtype.itemsize * pixels.shape[1]))).ravel()))
 
 
 def assert_figure(path, min_drawn: float = 0.01, page_width: bool = False,
