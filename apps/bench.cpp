@@ -353,7 +353,8 @@ int run_bench(const BenchOptions& options) {
         const bool block = options.history == HistoryAlgorithm::block ||
                            (options.history == HistoryAlgorithm::automatic && per_mode >= 128);
         // A dissimilar pair: two 2x2 operators, modal ~144 bytes per normal
-        // mode each, block ~64 P + 112 B bytes per Fourier mode each.
+        // mode each, block ~64 P + 112 B bytes per Fourier mode each (B < 2P
+        // where that is > 1024 and this guard matters; face_block_length).
         const double bytes_per_mode = bench.dissimilar ? (block ? 2.0 * (64.0 + 112.0 * 2.0) * per_mode
                                                                 : 288.0 * per_mode)
                                       : block          ? 64.0 * per_mode + 48.0 * 2.0 * per_mode

@@ -9,6 +9,7 @@
 
 #include "config/config.hpp"
 #include "config/config_schema.hpp"
+#include "kernels/face_block_history.hpp"
 #include "kernels/strip_response.hpp"
 
 namespace slipstrip {
@@ -40,10 +41,11 @@ constexpr double kFaceModalBytesPerMode = 4.0 * 16.0 + 16.0 + 64.0;
 // weights and the half-block phase (12 doubles per mode) and two complex states
 // per mode (64 bytes per mode), three kernel spectra over the FFT levels and the
 // block's inputs and outputs of both components (7 complex values per step of
-// the block B), the direct lags (3 x 32 doubles).
+// the block B), the direct lags (3 x 32 doubles) and the current direct block's
+// inputs and outputs (2 x 32 complex and 4 x 32 doubles).
 constexpr double kFaceBlockBytesPerMode = 12.0 * 8.0 + 4.0 * 16.0;
 constexpr double kFaceBlockBytesPerBlockStep = 7.0 * 16.0;
-constexpr double kFaceBlockBytesPerFourierMode = 3.0 * 32.0 * 8.0;
+constexpr double kFaceBlockBytesPerFourierMode = 3.0 * 32.0 * 8.0 + 2.0 * 32.0 * 16.0 + 4.0 * 32.0 * 8.0;
 constexpr double kFaceHalfSpaceBytesPerFourierMode = 300.0 * 128.0 + 512.0 * 56.0;
 
 // Wall time per step on one core: a fixed part (bookkeeping, a time-series
@@ -87,12 +89,13 @@ BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, d
   b.modes_per_fourier_mode = 0.5 * b.echo_steps * (1.0 + cs / cd);
   if (!pair_operator) {
     // The block algorithm as Simulation chooses it for a finite body (auto: from
-    // kBlockThreshold normal modes), with B the power of two >= max(P, 64).
+    // kBlockThreshold normal modes), with Simulation's B (face_block_length: the
+    // power of two >= max(P, 64), doubled up to 1024).
     b.block = history == HistoryAlgorithm::block ||
               (history == HistoryAlgorithm::automatic && b.modes_per_fourier_mode >= kBlockThreshold);
     if (b.block) {
-      double block = 64.0;
-      while (block < b.modes_per_fourier_mode) block *= 2.0;
+      const double block = face_block_length(static_cast<std::size_t>(std::ceil(b.modes_per_fourier_mode)),
+                                             FaceBlockDesign{}.direct_block);
       b.bytes = fourier_modes * (b.modes_per_fourier_mode * kFaceBlockBytesPerMode +
                                  block * kFaceBlockBytesPerBlockStep + kFaceBlockBytesPerFourierMode);
       // Two input components through the same steps as a strip's block operator.

@@ -124,17 +124,15 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
   // Per mode and kernel: the lags K_j, j < B, by the adjoint NUFFT; the first
   // direct_block lags for the direct sums, and per level the spectrum of
   // [0, K_1..K_{2s-1}].
-  lag_a_.assign(static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
-  lag_b_ = lag_d_ = lag_a_;
+  lags_.assign(3 * static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
   auto& work = scratch_[0];
   auto* buffer = reinterpret_cast<cplx*>(work.level_x.get());
   const auto* transformed = reinterpret_cast<const cplx*>(work.spectrum_x.get());
   const struct {
     const std::vector<double>* half;
-    std::vector<double>* lag;
+    std::size_t lag;  // its place in lags_' [a, b, d]
     std::vector<cplx>* spectrum;
-  } kernels[3] = {{&half_a_, &lag_a_, &spectrum_a_}, {&half_b_, &lag_b_, &spectrum_b_},
-                  {&half_d_, &lag_d_, &spectrum_d_}};
+  } kernels[3] = {{&half_a_, 0, &spectrum_a_}, {&half_b_, 1, &spectrum_b_}, {&half_d_, 2, &spectrum_d_}};
   for (int q = 0; q < n_modes_; ++q) {
     throw_if_cancelled(cancelled, "the block face history operator");
     const std::size_t f0 = first_frequency_[q], f1 = first_frequency_[q + 1];
@@ -144,7 +142,8 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
       if (f1 > f0)
         nufft_->adjoint({theta_.data() + f0, f1 - f0}, {work.frequency_x.data(), f1 - f0}, work.series_x,
                         work.nufft);
-      for (int j = 1; j < direct_block_; ++j) (*kernel.lag)[q * direct_block_ + j] = work.series_x[j].real();
+      for (int j = 1; j < direct_block_; ++j)
+        lags_[(3 * static_cast<std::size_t>(q) + kernel.lag) * direct_block_ + j] = work.series_x[j].real();
       for (const auto& level : levels_) {
         const int s = level.size;
         buffer[0] = 0.0;
@@ -158,6 +157,8 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
 
   input_x_.assign(static_cast<std::size_t>(n_modes_) * B, 0.0);
   input_y_ = accumulator_x_ = accumulator_y_ = input_x_;
+  direct_inputs_.assign(2 * static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
+  direct_outputs_.assign(4 * static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
   running_x_.assign(n_modes_, 0.0);
   running_y_ = history_x_ = history_y_ = running_x_;
 }
@@ -167,10 +168,11 @@ FaceBlockHistory::~FaceBlockHistory() = default;
 std::size_t FaceBlockHistory::memory_bytes() const {
   const std::size_t doubles = theta_.size() + half_a_.size() + half_b_.size() + half_d_.size() +
                               half_block_phase_re_.size() + half_block_phase_im_.size() + c0_a_.size() +
-                              c0_b_.size() + c0_d_.size() + lag_a_.size() + lag_b_.size() + lag_d_.size();
+                              c0_b_.size() + c0_d_.size() + lags_.size();
   const std::size_t complexes = spectrum_a_.size() + spectrum_b_.size() + spectrum_d_.size() + state_x_.size() +
                                 state_y_.size() + input_x_.size() + input_y_.size() + accumulator_x_.size() +
-                                accumulator_y_.size() + running_x_.size() + running_y_.size() +
+                                accumulator_y_.size() + direct_inputs_.size() + direct_outputs_.size() +
+                                running_x_.size() + running_y_.size() +
                                 history_x_.size() + history_y_.size();
   const std::size_t scratch =
       scratch_.size() * sizeof(cplx) * (6 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency_x.size());
@@ -274,36 +276,72 @@ void FaceBlockHistory::advance_far_field(int q, Scratch& scratch) {
   }
 }
 
+void FaceBlockHistory::add_direct_part(int q, int slot, cplx vx, cplx vy) {
+  // Input (vx, vy) at `slot` of its direct block into the later outputs k of
+  // that block, lag j = k - slot: y_x += A_j v_x + i B_j v_y, y_y += -i B_j v_x + D_j v_y.
+  const int D = direct_block_;
+  const double* a = lags_.data() + 3 * static_cast<std::size_t>(q) * D;
+  const double* b = a + D;
+  const double* d = b + D;
+  double* out_xr = direct_outputs_.data() + 4 * static_cast<std::size_t>(q) * D;
+  double* out_xi = out_xr + D;
+  double* out_yr = out_xi + D;
+  double* out_yi = out_yr + D;
+  const double xr = vx.real(), xi = vx.imag(), vr = vy.real(), vi = vy.imag();
+#pragma omp simd
+  for (int k = slot + 1; k < D; ++k) {
+    const int j = k - slot;
+    out_xr[k] += a[j] * xr - b[j] * vi;
+    out_xi[k] += a[j] * xi + b[j] * vr;
+    out_yr[k] += b[j] * xi + d[j] * vr;
+    out_yi[k] += -b[j] * xr + d[j] * vi;
+  }
+}
+
 void FaceBlockHistory::push_mode(int q, int tau, bool block_done, cplx vx, cplx vy, Scratch& scratch) {
   const int p = block_done ? 0 : tau + 1;  // the output this push produces
+  const int D = direct_block_;
+  const int slot = p % D;  // p's place in its direct block
   const std::size_t B = block_;
-  cplx* in_x = input_x_.data() + q * B;
-  cplx* in_y = input_y_.data() + q * B;
-  in_x[tau] = vx;
-  in_y[tau] = vy;
+  cplx* direct_in = direct_inputs_.data() + 2 * static_cast<std::size_t>(q) * D;
+  double* direct_out = direct_outputs_.data() + 4 * static_cast<std::size_t>(q) * D;
+  direct_in[2 * (tau % D)] = vx;
+  direct_in[2 * (tau % D) + 1] = vy;
   running_x_[q] += vx;
   running_y_[q] += vy;
-  for (std::size_t l = 0; l < levels_.size(); ++l) {
-    const int s = levels_[l].size;
-    if ((tau + 1) % (2 * s) == s) convolve_level(q, l, tau + 1 - s, scratch);
+  if (slot == 0) {
+    // tau completed a direct block of inputs, and its outputs are all used:
+    // the inputs into the rows (the FFT levels and the far field read them),
+    // the used outputs' rows zeroed (the far field adds into every row entry).
+    const std::size_t done = tau + 1 - D;
+    cplx* in_x = input_x_.data() + q * B + done;
+    cplx* in_y = input_y_.data() + q * B + done;
+    cplx* acc_x = accumulator_x_.data() + q * B + done;
+    cplx* acc_y = accumulator_y_.data() + q * B + done;
+    for (int j = 0; j < D; ++j) {
+      in_x[j] = direct_in[2 * j];
+      in_y[j] = direct_in[2 * j + 1];
+      acc_x[j] = acc_y[j] = 0.0;
+    }
+    for (std::size_t l = 0; l < levels_.size(); ++l) {
+      const int s = levels_[l].size;
+      if ((tau + 1) % (2 * s) == s) convolve_level(q, l, tau + 1 - s, scratch);
+    }
+    if (block_done) advance_far_field(q, scratch);
+    // Every contribution to outputs p..p+D-1 from earlier direct blocks is in now.
+    const cplx* next_x = accumulator_x_.data() + q * B + p;
+    const cplx* next_y = accumulator_y_.data() + q * B + p;
+    for (int j = 0; j < D; ++j) {
+      direct_out[j] = next_x[j].real();
+      direct_out[D + j] = next_x[j].imag();
+      direct_out[2 * D + j] = next_y[j].real();
+      direct_out[3 * D + j] = next_y[j].imag();
+    }
+  } else {
+    add_direct_part(q, tau % D, vx, vy);
   }
-  if (block_done) advance_far_field(q, scratch);
-  cplx* acc_x = accumulator_x_.data() + q * B;
-  cplx* acc_y = accumulator_y_.data() + q * B;
-  double yx_r = acc_x[p].real(), yx_i = acc_x[p].imag(), yy_r = acc_y[p].real(), yy_i = acc_y[p].imag();
-  acc_x[p] = acc_y[p] = 0.0;
-  const double* a = lag_a_.data() + q * direct_block_;
-  const double* b = lag_b_.data() + q * direct_block_;
-  const double* d = lag_d_.data() + q * direct_block_;
-  const int recent = p % direct_block_;  // inputs of p's direct block before p
-  for (int j = 1; j <= recent; ++j) {
-    const double xr = in_x[p - j].real(), xi = in_x[p - j].imag();
-    const double vr = in_y[p - j].real(), vi = in_y[p - j].imag();
-    yx_r += a[j] * xr - b[j] * vi;
-    yx_i += a[j] * xi + b[j] * vr;
-    yy_r += b[j] * xi + d[j] * vr;
-    yy_i += -b[j] * xr + d[j] * vi;
-  }
+  const double yx_r = direct_out[slot], yx_i = direct_out[D + slot];
+  const double yy_r = direct_out[2 * D + slot], yy_i = direct_out[3 * D + slot];
   // h = C0 R - dt y, C0 = [[c0_a, i c0_b], [-i c0_b, c0_d]].
   const double rx_r = running_x_[q].real(), rx_i = running_x_[q].imag();
   const double ry_r = running_y_[q].real(), ry_i = running_y_[q].imag();
@@ -337,8 +375,16 @@ void FaceBlockHistory::save_into(HistoryOperatorState& state, const std::string&
   state.counters.emplace_back(prefix + "block", block_);
   state.add(prefix + "state_x", state_x_);
   state.add(prefix + "state_y", state_y_);
-  state.add(prefix + "input_x", input_x_);
-  state.add(prefix + "input_y", input_y_);
+  // Inputs position - position % D .. position - 1 are still only in direct_inputs_.
+  std::vector<cplx> input_x = input_x_, input_y = input_y_;
+  const std::size_t B = block_, D = direct_block_, start = position_ - position_ % D;
+  for (std::size_t q = 0; q < static_cast<std::size_t>(n_modes_); ++q)
+    for (std::size_t t = start; t < static_cast<std::size_t>(position_); ++t) {
+      input_x[q * B + t] = direct_inputs_[2 * (q * D + t - start)];
+      input_y[q * B + t] = direct_inputs_[2 * (q * D + t - start) + 1];
+    }
+  state.add(prefix + "input_x", input_x);
+  state.add(prefix + "input_y", input_y);
   state.add(prefix + "accumulator_x", accumulator_x_);
   state.add(prefix + "accumulator_y", accumulator_y_);
   state.add(prefix + "running_x", running_x_);
@@ -367,6 +413,31 @@ void FaceBlockHistory::restore_from(const HistoryOperatorState& state, const std
   state.copy_to(prefix + "history_x", std::span<cplx>(history_x_));
   state.copy_to(prefix + "history_y", std::span<cplx>(history_y_));
   position_ = static_cast<int>(position);
+  // The current direct block from the rows: the next push (tau = position)
+  // produces output p = position + 1 (mod B), whose direct block starts at
+  // p - p % D; its inputs so far and its outputs' far-field and level parts.
+  const std::size_t B = block_, D = direct_block_;
+  const std::size_t p = (position_ + 1) % B, start = p - p % D;
+  std::fill(direct_inputs_.begin(), direct_inputs_.end(), cplx(0.0));
+  std::fill(direct_outputs_.begin(), direct_outputs_.end(), 0.0);
+  if (p % D == 0) return;  // the next push starts a direct block (and fills both)
+  // The outputs as push_mode built them: the rows, then each input's direct
+  // part in the order the inputs came (inputs start .. position - 1).
+  for (std::size_t q = 0; q < static_cast<std::size_t>(n_modes_); ++q) {
+    double* out = direct_outputs_.data() + 4 * q * D;
+    for (std::size_t j = 0; j < D; ++j) {
+      out[j] = accumulator_x_[q * B + start + j].real();
+      out[D + j] = accumulator_x_[q * B + start + j].imag();
+      out[2 * D + j] = accumulator_y_[q * B + start + j].real();
+      out[3 * D + j] = accumulator_y_[q * B + start + j].imag();
+    }
+    for (std::size_t j = 0; start + j + 1 < p; ++j) {
+      direct_inputs_[2 * (q * D + j)] = input_x_[q * B + start + j];
+      direct_inputs_[2 * (q * D + j) + 1] = input_y_[q * B + start + j];
+      add_direct_part(static_cast<int>(q), static_cast<int>(j), input_x_[q * B + start + j],
+                      input_y_[q * B + start + j]);
+    }
+  }
 }
 
 }  // namespace slipstrip

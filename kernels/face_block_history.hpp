@@ -41,6 +41,24 @@ struct FaceBlockDesign {
   int nufft_half_width = 12;  // NUFFT accuracy ~5e-13 (kernels/nufft.hpp)
 };
 
+// The B Simulation gives a body of a pair of different bodies: the power of
+// two >= max(the most normal modes of any Fourier mode, 2 direct_block) (the
+// rule of FaceBlockDesign::block = 0 and of the identical pair,
+// automatic_block_length), doubled while that stays <= kFaceBlockDoublingLimit.
+// The far field's cost per step goes like (frequencies / B) times the NUFFT
+// width, and a body here transforms two components three kernels wide, so a
+// block twice the modes pays at small heights (one body's push at N = 2048,
+// H = 0.1 m: B = 1024 ~10-15 % faster than B = 512, docs/performance.md); at
+// large heights, where B is already long, doubling it would double the block
+// arrays (7 complex values per Fourier mode and step) for a smaller gain.
+inline constexpr int kFaceBlockDoublingLimit = 1024;
+inline int face_block_length(std::size_t most_normal_modes, int direct_block) {
+  int block = 2 * direct_block;
+  while (static_cast<std::size_t>(block) < most_normal_modes) block *= 2;
+  if (2 * block <= kFaceBlockDoublingLimit) block *= 2;
+  return block;
+}
+
 class FaceBlockHistory final : public FaceHistory {
  public:
   FaceBlockHistory(const ElasticMaterial& material, double height, OuterFace outer_face, double length,
@@ -58,6 +76,9 @@ class FaceBlockHistory final : public FaceHistory {
             std::span<const std::complex<double>> velocity_y) override;
   std::span<const std::complex<double>> history_x() const override { return history_x_; }
   std::span<const std::complex<double>> history_y() const override { return history_y_; }
+  // The saved inputs are input_x_/_y_ with the current direct block's inputs
+  // so far (still in direct_inputs_) written in, so the state format is the
+  // one of the rows alone.
   void save_into(HistoryOperatorState& state, const std::string& prefix) const override;
   void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
   std::size_t memory_bytes() const override;
@@ -82,7 +103,9 @@ class FaceBlockHistory final : public FaceHistory {
   std::vector<double> theta_, half_a_, half_b_, half_d_;
   std::vector<double> half_block_phase_re_, half_block_phase_im_;  // e^{i theta B/2}
   std::vector<double> c0_a_, c0_b_, c0_d_;  // per q: C0 = [[c0_a, i c0_b], [-i c0_b, c0_d]]
-  std::vector<double> lag_a_, lag_b_, lag_d_;  // [q][j], j < direct_block (lag 0 := 0)
+  // [q][a, b, d][j], j < direct_block (lag 0 := 0): the three lag kernels of
+  // the direct sums, one mode's next to each other.
+  std::vector<double> lags_;
 
   struct Level {
     int size;  // s: inputs per convolution; FFT length 2s
@@ -100,6 +123,16 @@ class FaceBlockHistory final : public FaceHistory {
   std::vector<std::complex<double>> state_x_, state_y_;  // A_k of each input at the block start
   std::vector<std::complex<double>> input_x_, input_y_;  // [q][B] inputs of the current block
   std::vector<std::complex<double>> accumulator_x_, accumulator_y_;  // [q][B] outputs so far
+  // The current direct block of every mode, contiguous, so that the per-step
+  // loop over the modes streams through memory instead of reading four rows B
+  // apart per mode: its inputs so far ([q][j][x, y], copied into
+  // input_x_/_y_ when the direct block is complete) and its outputs
+  // ([q][x re, x im, y re, y im][j]): the far field's and the FFT levels'
+  // part copied from accumulator_x_/_y_ at its start, to which each input
+  // adds its direct part as it arrives (a vector loop over the later outputs).
+  std::vector<std::complex<double>> direct_inputs_;
+  std::vector<double> direct_outputs_;
+  void add_direct_part(int q, int slot, std::complex<double> vx, std::complex<double> vy);
   std::vector<std::complex<double>> running_x_, running_y_;
   std::vector<std::complex<double>> history_x_, history_y_;
 };

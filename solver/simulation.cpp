@@ -59,13 +59,14 @@ std::unique_ptr<FaceHistory> make_finite_body_history(const SimulationConfig& co
                                                       const CancelCheck& cancelled) {
   const auto& g = config.geometry;
   HistoryAlgorithm algorithm = config.time.history;
+  const std::size_t most = face_discrete_modes(m, height, face, 0.0, time_step).phase.size();
   if (algorithm == HistoryAlgorithm::automatic)
-    algorithm = face_discrete_modes(m, height, face, 0.0, time_step).phase.size() >= kBlockHistoryThreshold
-                    ? HistoryAlgorithm::block
-                    : HistoryAlgorithm::modal;
-  if (algorithm == HistoryAlgorithm::block)
-    return std::make_unique<FaceBlockHistory>(m, height, face, g.length, g.nodes, time_step, FaceBlockDesign{},
-                                              cancelled);
+    algorithm = most >= kBlockHistoryThreshold ? HistoryAlgorithm::block : HistoryAlgorithm::modal;
+  if (algorithm == HistoryAlgorithm::block) {
+    FaceBlockDesign design;
+    design.block = face_block_length(most, design.direct_block);
+    return std::make_unique<FaceBlockHistory>(m, height, face, g.length, g.nodes, time_step, design, cancelled);
+  }
   return std::make_unique<FaceModalHistory>(m, height, face, g.length, g.nodes, time_step);
 }
 
