@@ -6,8 +6,11 @@ which the rows print from the same constants the measurements use.
 
 Two checks: (1) no string in the report's code holds a number with a unit
 ("10 v0", "0.9 L", "5 %", "0.2 m", "2 σ"): such a number is printed from a
-constant instead; (2) the run descriptions of report.RUNS, which name the
-configs' parameters in words, agree with the committed configs.
+constant instead; (2) the run list's descriptions (report.run_description:
+the figure a run reproduces, from report.RUNS, then H, L and what else its
+config changes from configs/reference.toml) print every number from the
+committed configs and change with them, and the figure is the one the
+config's header comment names.
 
 Run: PYTHONPATH=$PWD/python /usr/bin/python3 -m pytest -q tests/python/test_report_numbers.py
 """
@@ -75,32 +78,74 @@ DESCRIBED = {
     r"f0 = ([\d.e-]+)": ("friction", "f0"),
     r"\ba = ([\d.e-]+)": ("friction", "a"),
     r"\bb = ([\d.e-]+)": ("friction", "b"),
-    r"first ([\d.e-]+) L/c_s": ("time", "duration_transits"),
+    r"D = ([\d.e-]+) m": ("friction", "characteristic_slip"),
+    r"duration ([\d.e-]+) L/c_s": ("time", "duration_transits"),
+    r"duration ([\d.e-]+) s\b": ("time", "duration"),
     r"snapshots every ([\d.e-]+) s": ("output", "snapshot_interval"),
     r"initial noise ([\d.e-]+)": ("initial", "noise_amplitude"),
+    r"relative amplitude ([\d.e-]+)": ("initial", "local_amplitude"),
+    r"at x = ([\d.e-]+) m": ("initial", "local_center"),
+    r"width ([\d.e-]+) m": ("initial", "local_width"),
 }
+# A number in a description: every one must be matched by a pattern above.
+ANY_NUMBER = re.compile(r"(?<![\w.^])-?\d+(?:\.\d+)?(?:e-?\d+)?(?![\w.])")
+# Figure numbers of the paper are names, not values.
+FIGURE_NAMES = re.compile(r"Figs?\. (?:S?\d+[a-d]?(?:-S?\d+)?(?:, )?)+")
 
 
 def test_run_descriptions_agree_with_the_configs():
-    from slipstrip.report import RUNS
+    from slipstrip.report import RUNS, run_description
     checked = 0
-    for name, description in RUNS.items():
-        config = _config(name)
+    for name in RUNS:
+        description, config = run_description(name), _config(name)
+        numbers = [m.span() for m in ANY_NUMBER.finditer(FIGURE_NAMES.sub(lambda m: "#" * len(m.group(0)),
+                                                                           description))]
+        matched = set()
         for pattern, (section, key) in DESCRIBED.items():
             for match in re.finditer(pattern, description):
                 assert float(match.group(1)) == float(config[section][key]), (name, match.group(0), config[section][key])
+                matched.add(match.span(1))
                 checked += 1
-    # "instead of 1e-3 (reference": the reference's noise.
-    for name, description in RUNS.items():
-        for match in re.finditer(r"instead of ([\d.e-]+) \(reference", description):
+        # "instead of the reference's 1e-3": the reference's noise.
+        for match in re.finditer(r"instead of the reference's ([\d.e-]+)", description):
             assert float(match.group(1)) == float(_config("reference")["initial"]["noise_amplitude"]), name
+            matched.add(match.span(1))
             checked += 1
-    # "c_s x 2" / "c_s / 2" of the density family: c_s = sqrt(mu/rho) against the reference's.
-    rho_ref = float(_config("reference")["material"]["density"])
-    for name, description in RUNS.items():
+        # "c_s x 2" / "c_s / 2" of the density family: c_s = sqrt(mu/rho) against the reference's.
         for match in re.finditer(r"c_s (x|/) ([\d.]+)", description):
-            ratio = math.sqrt(rho_ref / float(_config(name)["material"]["density"]))
+            ratio = math.sqrt(float(_config("reference")["material"]["density"]) / float(config["material"]["density"]))
             stated = float(match.group(2)) if match.group(1) == "x" else 1.0 / float(match.group(2))
             assert ratio == pytest.approx(stated, rel=1e-12), (name, match.group(0))  # exact ratios of densities
+            matched.add(match.span(2))
             checked += 1
-    assert checked >= 20  # the descriptions do name numbers; the patterns found them
+        unmatched = [description[a:b] for a, b in numbers if (a, b) not in matched]
+        assert unmatched == [], (name, description, unmatched)
+    assert checked >= 40  # the descriptions do name numbers; the patterns found them
+
+
+def test_run_descriptions_follow_the_configs(tmp_path):
+    """The numbers of a description come from the config: change the config and
+    the description changes with it."""
+    from slipstrip.report import run_description
+    for name in ("reference", "fig3c_H02"):
+        text = (REPO / "configs" / f"{name}.toml").read_text()
+        (tmp_path / f"{name}.toml").write_text(text)
+    edited = (tmp_path / "fig3c_H02.toml").read_text().replace("height = 0.2", "height = 0.3", 1)
+    assert edited != (tmp_path / "fig3c_H02.toml").read_text()
+    (tmp_path / "fig3c_H02.toml").write_text(edited.replace("[friction]", "[friction]\nf0 = 0.25", 1)
+                                             if "f0 =" not in edited else edited.replace("f0 = 0.28", "f0 = 0.25", 1))
+    assert "H = 0.2 m" in run_description("fig3c_H02")
+    shown = run_description("fig3c_H02", configs=tmp_path)
+    assert "H = 0.3 m" in shown and "f0 = 0.25" in shown and "H = 0.2 m" not in shown, shown
+    assert run_description("reference", configs=tmp_path) == run_description("reference")
+
+
+def test_run_roles_name_the_figure_of_the_config_header():
+    """RUNS names what each run reproduces; its first figure is the one the
+    config's header comment names (the noise run: the remark it names)."""
+    from slipstrip.report import RUNS
+    for name, role in RUNS.items():
+        header = " ".join(line.lstrip("# ") for line in (REPO / "configs" / f"{name}.toml").read_text().splitlines()
+                          if line.startswith("#"))
+        figure = re.match(r"Fig\. S?\d+[a-d]?", role)
+        assert (figure.group(0) if figure else role.split(",")[0].removeprefix("the ")) in header, (name, role)

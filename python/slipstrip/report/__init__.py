@@ -32,7 +32,7 @@ One module per concept, every name re-exported here (`slipstrip.report.X`):
 """
 from .runs import (  # noqa: F401
     FIG3_FAMILY, FIG5_VOLUME_SOLVER_JSON, MissingRun, READINGS, REPO, RUNS, Reading, Run, STATISTICS_RUNS,
-    catalog_of, fig5_volume_solver_text, material_label, open_run_file,
+    catalog_of, fig5_volume_solver_text, material_label, open_run_file, run_description,
 )
 from .measurements import (  # noqa: F401
     EDGE_TOLERANCE, FIG2_T_BEGIN, FRONT_MIN_RATE, N_BOOTSTRAP, bootstrap, burst_onset, combined_error,
@@ -61,7 +61,7 @@ __all__ = [
     "bootstrap", "burst_onset", "catalog_of", "combined_error", "example_event", "fig2_hierarchy",
     "fig5_volume_solver_text", "fit_peak_scaling", "fmt", "friction_steady_state", "local_peaks_of_pT",
     "main", "markdown", "material_label", "nucleation_event", "open_run_file", "peak_of_pT",
-    "reading_conclusion", "ring_components", "shown", "statistics_of", "tip_zones_of_run",
+    "reading_conclusion", "ring_components", "run_description", "shown", "statistics_of", "tip_zones_of_run",
     "verdict_beats_chance", "verdict_bool", "verdict_class", "verdict_factor", "verdict_guide",
     "verdict_majority", "verdict_order", "verdict_relative", "verdict_sigma", "verdict_xmin_sweep",
     "wave_speeds", "xmin_sweep_cell",

@@ -12,7 +12,7 @@ from pathlib import Path
 from .. import analysis as an
 from ..claims import CLAIMS, MEASUREMENTS
 from .measurements import _finite
-from .runs import REPO, RUNS, material_label
+from .runs import REPO, RUNS, material_label, run_description
 from .verdicts import FACTOR_RULE, LOGNORMAL_LEVEL, MAJORITY, RELATIVE_RULE, SIGMA_RULE, fmt, verdict_class
 
 
@@ -147,12 +147,12 @@ def markdown(reports: dict, command: str, rundirs: dict) -> str:
         total = 0.0
         for name in RUNS:
             if name in rep.missing:
-                out.append(f"| {d}/{name}.h5 | {RUNS[name]} | {rep.missing[name]} | | | | | |")
+                out.append(f"| {d}/{name}.h5 | {run_description(name)} | {rep.missing[name]} | | | | | |")
                 continue
             r = rep.runs[name]
             w = r.wall_seconds
             total += w if _finite(w) else 0.0
-            out.append(f"| {d}/{name}.h5 | {RUNS[name]} | {r.status} | {fmt(r.info.duration)} s = "
+            out.append(f"| {d}/{name}.h5 | {run_description(name)} | {r.status} | {fmt(r.info.duration)} s = "
                        f"{fmt(r.info.duration / r.length_transit_time)} L/c_s | {_hms(w)} | {r.info.n_nodes} | "
                        f"{r.git_hash} | {material_label(r.config)} |")
         out += ["", f"Total wall time of the runs listed: {_hms(total)}.", ""]

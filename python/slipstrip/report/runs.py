@@ -1,6 +1,6 @@
-"""The run files of the report: which cases (RUNS), the two material readings
-of Table S1 (READINGS), opening a run file (Run, MissingRun) and its event
-catalog."""
+"""The run files of the report: which cases (RUNS, described from their
+configs by run_description), the two material readings of Table S1
+(READINGS), opening a run file (Run, MissingRun) and its event catalog."""
 from __future__ import annotations
 
 import dataclasses
@@ -15,25 +15,88 @@ from .. import runfile
 
 
 REPO = Path(__file__).resolve().parents[3]
-# The run files (RUNDIR/<name>.h5), each made from configs/<name>.toml.
+# The run files (RUNDIR/<name>.h5), each made from configs/<name>.toml, and the
+# part of the paper each one reproduces, as the config's header comment names
+# it (tests/python/test_report_numbers.py checks the figure against it).  What
+# sets each case apart (H, L, the friction, ...) is read from its config by
+# run_description(), never typed here.
 RUNS = {
-    "reference": "Fig. 1, S6, S8, S9 (H = 0.1 m, L = 4 m)",
-    "fig2_L2": "Fig. 2 statistics (H = 0.1 m, L = 2 m)",
-    "fig2_events": "Fig. 2 events (L = 2 m, first 40 L/c_s, snapshots every 1e-5 s)",
-    "fig3a": "Fig. 3a (controlled nucleation, H = 0.1 m)",
-    "fig3b": "Fig. 3b (controlled nucleation, H = 0.2 m)",
-    "fig3c_H005": "Fig. 3c (H = 0.05 m)",
-    "fig3c_H02": "Fig. 3c (H = 0.2 m); Figs. S4-S6 example (H = 0.2 m)",
-    "fig3d_rho300": "Fig. 3d (rho = 300, c_s x 2)",
-    "fig3d_rho4800": "Fig. 3d (rho = 4800, c_s / 2)",
-    "fig4_slip_law": "Fig. 4 (slip law)",
-    "fig5": "Fig. 5 (f0 = 0.18, a = 0.015, b = 0.116)",
-    "fig5_H02": "Fig. 5 friction at H = 0.2 m (main text, 'not shown')",
-    "s10_D_over_3": "Fig. S10 (D / 3)",
-    "s11_a_over_3": "Fig. S11 (a / 3)",
-    "s12": "Fig. S12 (f0 = 0.313, a = 0.00166, b = 0.067)",
-    "noise_tiny": "initial noise 1e-12 instead of 1e-3 (reference, first 20 L/c_s)",
+    "reference": "Fig. 1, S6, S8, S9",
+    "fig2_L2": "Fig. 2 statistics",
+    "fig2_events": "Fig. 2 events",
+    "fig3a": "Fig. 3a, controlled nucleation",
+    "fig3b": "Fig. 3b, controlled nucleation",
+    "fig3c_H005": "Fig. 3c",
+    "fig3c_H02": "Fig. 3c; Figs. S4-S6 example",
+    "fig3d_rho300": "Fig. 3d",
+    "fig3d_rho4800": "Fig. 3d",
+    "fig4_slip_law": "Fig. 4",
+    "fig5": "Fig. 5",
+    "fig5_H02": "Fig. 5 friction, main text 'not shown'",
+    "s10_D_over_3": "Fig. S10",
+    "s11_a_over_3": "Fig. S11",
+    "s12": "Fig. S12",
+    "noise_tiny": "the initial noise, main text 'Results'",
 }
+# Keys that differ between configs without describing the case: N follows from
+# L at the paper's mesh size (the run list has a column N), and how often the
+# time series is written and the file flushed is record keeping.
+UNDESCRIBED_KEYS = ("geometry.nodes", "output.timeseries_interval", "output.flush_interval")
+
+
+def _flat(table: dict, prefix: str = "") -> dict:
+    out = {}
+    for key, value in table.items():
+        if isinstance(value, dict):
+            out.update(_flat(value, f"{prefix}{key}."))
+        else:
+            out[f"{prefix}{key}"] = value
+    return out
+
+
+def run_description(name: str, configs: Path = REPO / "configs") -> str:
+    """The run list's description of case `name`: what it reproduces (RUNS),
+    then H and L and every other key in which configs/<name>.toml differs from
+    configs/reference.toml, with its value from the config."""
+    try:
+        config = _flat(tomllib.loads((Path(configs) / f"{name}.toml").read_text()))
+        reference = _flat(tomllib.loads((Path(configs) / "reference.toml").read_text()))
+    except OSError:
+        return f"{RUNS[name]} (configs/{name}.toml not found)"
+    parts = [f"H = {config['geometry.height']:g} m", f"L = {config['geometry.length']:g} m"]
+    changed = [k for k in dict.fromkeys([*reference, *config])
+               if config.get(k) != reference.get(k) and k not in UNDESCRIBED_KEYS
+               and k not in ("geometry.height", "geometry.length")]
+    local = [k for k in changed if k.startswith("initial.local_")]
+    for key in changed:
+        value = config.get(key)
+        if key == "material.density":
+            ratio = math.sqrt(float(reference[key]) / float(value))
+            parts.append(f"rho = {value:g} kg/m^3, c_s " + (f"x {ratio:g}" if ratio >= 1 else f"/ {1 / ratio:g}"))
+        elif key in ("friction.f0", "friction.a", "friction.b"):
+            parts.append(f"{key.split('.')[1]} = {value:g}")
+        elif key == "friction.characteristic_slip":
+            parts.append(f"D = {value:g} m")
+        elif key == "state.law":
+            parts.append(f"{value} law")
+        elif key == "initial.noise_amplitude":
+            parts.append(f"initial noise {value:g} instead of the reference's {reference[key]:g}" if value
+                         else "no initial noise")
+        elif key in local:
+            if key == local[0]:
+                parts.append(f"state patch of relative amplitude {config.get('initial.local_amplitude', 0):g} at "
+                             f"x = {config.get('initial.local_center', 0):g} m, width "
+                             f"{config.get('initial.local_width', 0):g} m")
+        elif key in ("time.duration", "time.duration_transits"):
+            if value is not None:
+                parts.append(f"duration {value:g} " + ("L/c_s" if key.endswith("transits") else "s"))
+        elif key == "output.snapshot_interval":
+            parts.append(f"snapshots every {value:g} s")
+        elif value is not None:
+            parts.append(f"{key} = {value}")
+    return f"{RUNS[name]} ({', '.join(parts)})"
+
+
 STATISTICS_RUNS = ("reference", "fig2_L2", "fig3c_H005", "fig3c_H02", "fig3d_rho300", "fig3d_rho4800", "fig4_slip_law",
                    "fig5", "fig5_H02", "s10_D_over_3", "s11_a_over_3", "s12")
 FIG3_FAMILY = ("fig3c_H005", "reference", "fig3c_H02", "fig3d_rho300", "fig3d_rho4800")
