@@ -603,7 +603,11 @@ std::string to_toml(const SimulationConfig& c) {
         out << names << (k.comment.empty() ? "" : " ");
       }
       out << k.comment;
-      if (k.type == KeyType::friction_parameter && k.bind.get_profile(c)) out << " along x";
+      if (k.type == KeyType::friction_parameter && k.bind.get_profile(c)) {
+        const ParameterProfile& profile = *k.bind.get_profile(c);
+        out << (profile.kind == ParameterProfile::Kind::node_file ? " per node" : " along ")
+            << (profile.kind == ParameterProfile::Kind::node_file ? "" : to_string(profile.axis));
+      }
       out << "\n";
     }
   }

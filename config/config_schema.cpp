@@ -84,10 +84,10 @@ constexpr KeyBinding friction_parameter() {
   return {.get_real = [](const SimulationConfig& c) -> double { return c.friction.*Scalar; },
           .set_real = [](SimulationConfig& c, double v) { c.friction.*Scalar = v; },
           .get_profile = [](const SimulationConfig& c) -> const std::optional<ParameterProfile>& {
-            return c.friction_along_x.*Profile;
+            return c.friction_profiles.*Profile;
           },
           .set_profile = [](SimulationConfig& c, ParameterProfile p) {
-            c.friction_along_x.*Profile = std::move(p);
+            c.friction_profiles.*Profile = std::move(p);
             c.friction.*Scalar = std::numeric_limits<double>::quiet_NaN();
           }};
 }
@@ -208,18 +208,16 @@ void beta_rule(const SimulationConfig& c, double beta) {
 void friction_rule(const SimulationConfig& c) {
   // The regularized law divides by a (exp(psi/a)); the others stay defined at
   // a = 0 because radiation damping alone fixes the slip rate.
-  if (c.friction.strength_law == StrengthLaw::regularized && !c.friction_along_x.a &&
+  if (c.friction.strength_law == StrengthLaw::regularized && !c.friction_profiles.a &&
       !(c.friction.a > 0.0))
     throw ConfigRuleError({"a", "law"},
                           "friction.a = " + format_config_number(c.friction.a) +
                               " is out of range for friction.law = \"regularized\": expected a > 0");
-  if (c.friction_along_x.any()) {
+  if (c.friction_profiles.any()) {
     // Every node's values against the scalar rules (a profile may not carry a
     // value its key would refuse as a number).
     try {
-      (void)resolve_friction_nodes(c.friction, c.friction_along_x,
-                                   static_cast<std::size_t>(c.geometry.nodes),
-                                   c.geometry.length / c.geometry.nodes);
+      (void)resolve_friction_nodes(c.friction, c.friction_profiles, friction_node_grid(c));
     } catch (const std::invalid_argument& e) {
       throw ConfigRuleError({}, e.what());
     }
@@ -227,10 +225,9 @@ void friction_rule(const SimulationConfig& c) {
   // The Linker-Dieterich response divides by the state effect B (f0 b or b).
   if (c.friction.linker_dieterich > 0.0) {
     const auto no_state_effect = [](double b) { return !(b > 0.0); };
-    bool refused = !c.friction_along_x.b && no_state_effect(c.friction.b);
-    if (c.friction_along_x.b) {
-      const FrictionNodeValues nodes = resolve_friction_nodes(
-          c.friction, c.friction_along_x, static_cast<std::size_t>(c.geometry.nodes), c.geometry.length / c.geometry.nodes);
+    bool refused = !c.friction_profiles.b && no_state_effect(c.friction.b);
+    if (c.friction_profiles.b) {
+      const FrictionNodeValues nodes = resolve_friction_nodes(c.friction, c.friction_profiles, friction_node_grid(c));
       refused = std::any_of(nodes.b.begin(), nodes.b.end(), no_state_effect);
     }
     if (refused)

@@ -107,18 +107,27 @@ ParameterProfile parse_parameter_profile(const toml::node& node, std::string_vie
     }
   };
   if (kind == "piecewise_constant" || kind == "piecewise_linear") {
-    allow_only({"profile", "x", "values"});
+    allow_only({"profile", "x", "z", "values"});
     p.kind = kind == "piecewise_linear" ? ParameterProfile::Kind::piecewise_linear
                                         : ParameterProfile::Kind::piecewise_constant;
-    p.x = number_array(*table, "x", key);
+    // The points lie along x, or (a 2D interface) along z: exactly one of them.
+    const bool along_x = table->contains("x"), along_z = table->contains("z");
+    if (along_x && along_z)
+      invalid(key, "both 'x' and 'z' given: expected one of them (a profile varies along x or along z; "
+                   "different parameters may use different axes)");
+    if (!along_x && !along_z)
+      invalid(key, "missing 'x' (or 'z' on a 2D interface): the points, an array of numbers [m]");
+    p.axis = along_z ? ParameterProfile::Axis::z : ParameterProfile::Axis::x;
+    const std::string axis(to_string(p.axis));
+    p.x = number_array(*table, axis, key);
     p.values = number_array(*table, "values", key);
     if (p.x.size() != p.values.size())
-      invalid(key, "'x' has " + std::to_string(p.x.size()) + " points but 'values' has " +
+      invalid(key, "'" + axis + "' has " + std::to_string(p.x.size()) + " points but 'values' has " +
                        std::to_string(p.values.size()) + ": expected the same number");
     for (std::size_t k = 1; k < p.x.size(); ++k)
       if (!(p.x[k] > p.x[k - 1]))
-        invalid(key, "'x' must be strictly increasing, but x[" + std::to_string(k) + "] = " +
-                         shortest(p.x[k]) + " <= x[" + std::to_string(k - 1) + "] = " +
+        invalid(key, "'" + axis + "' must be strictly increasing, but " + axis + "[" + std::to_string(k) +
+                         "] = " + shortest(p.x[k]) + " <= " + axis + "[" + std::to_string(k - 1) + "] = " +
                          shortest(p.x[k - 1]));
     return p;
   }
@@ -162,7 +171,7 @@ std::string parameter_profile_toml(const ParameterProfile& p) {
     for (std::size_t k = 0; k < v.size(); ++k) out << (k ? ", " : "") << shortest(v[k]);
     out << "]";
   };
-  out << ", x = ";
+  out << ", " << to_string(p.axis) << " = ";
   array(p.x);
   out << ", values = ";
   array(p.values);

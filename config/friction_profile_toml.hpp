@@ -5,6 +5,7 @@
 //
 //   a = { profile = "piecewise_linear",   x = [0.0, 1.0, 1.2, 4.0], values = [0.005, 0.005, 0.02, 0.02] }
 //   a = { profile = "piecewise_constant", x = [0.0, 1.0, 1.2],      values = [0.005, 0.02, 0.005] }
+//   a = { profile = "piecewise_linear",   z = [0.0, 0.1, 0.4, 0.5], values = [0.03, 0.005, 0.005, 0.03] }  # 2D interface
 //   a = { profile = "node_file", path = "a_nodes.txt" }   # one number per line, one line per node
 #include <filesystem>
 #include <string>

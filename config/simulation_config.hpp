@@ -184,14 +184,22 @@ struct SimulationConfig {
   BottomBodyConfig bottom;
   LoadingConfig loading;
   FrictionParameters friction;  // [friction] law, f0, a, b, characteristic_slip, v_star, phi_star; [state] law
-  // [friction] f0, a, b, characteristic_slip given as profiles along x (the
-  // matching field of `friction` is then NaN; friction/parameter_profile.hpp).
-  FrictionProfiles friction_along_x;
+  // [friction] f0, a, b, characteristic_slip given as profiles along x or z
+  // (the matching field of `friction` is then NaN; friction/parameter_profile.hpp).
+  FrictionProfiles friction_profiles;
   InterfaceConfig interface;
   InitialConfig initial;
   TimeConfig time;
   OutputConfig output;
 };
+
+// The nodes friction profiles are sampled at: geometry.nodes along x and
+// geometry.nodes_z along z (1: a one-dimensional interface).
+inline FrictionNodeGrid friction_node_grid(const SimulationConfig& c) {
+  const auto& g = c.geometry;
+  return FrictionNodeGrid{static_cast<std::size_t>(g.nodes), g.length / g.nodes,
+                          static_cast<std::size_t>(g.nodes_z), g.width / g.nodes_z};
+}
 
 // The bottom body as the kernels see it: the top body's material and height
 // for "mirror", its own for "elastic" (rigid: not an elastic body; these give

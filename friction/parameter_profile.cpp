@@ -49,22 +49,27 @@ NodeRule slip_distance_rule() {
               shortest(kMaxCharacteristicSlip) + " [m]"};
 }
 
-void check_nodes(std::span<const double> values, const NodeRule& rule, double dx) {
+void check_nodes(std::span<const double> values, const NodeRule& rule, const FrictionNodeGrid& grid) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     const double v = values[i];
     const bool above = rule.low_strict ? v > rule.low : v >= rule.low;
-    if (!(std::isfinite(v) && above && v <= rule.high))
-      throw std::invalid_argument(std::string(rule.key) + " at node " + std::to_string(i) +
-                                  " (x = " + format_double(static_cast<double>(i) * dx) +
-                                  " m) = " + format_double(v) + " is out of range: expected " +
-                                  rule.allowed);
+    if (std::isfinite(v) && above && v <= rule.high) continue;
+    const std::size_t ix = i % grid.nodes_x, iz = i / grid.nodes_x;
+    const std::string where =
+        grid.nodes_z == 1
+            ? "node " + std::to_string(i) + " (x = " + format_double(static_cast<double>(i) * grid.dx) + " m)"
+            : "node (ix, iz) = (" + std::to_string(ix) + ", " + std::to_string(iz) + ") (x = " +
+                  format_double(static_cast<double>(ix) * grid.dx) + " m, z = " +
+                  format_double(static_cast<double>(iz) * grid.dz) + " m)";
+    throw std::invalid_argument(std::string(rule.key) + " at " + where + " = " + format_double(v) +
+                                " is out of range: expected " + rule.allowed);
   }
 }
 
 std::vector<double> node_values(double scalar, const std::optional<ParameterProfile>& profile,
-                                std::size_t nodes, double dx, std::string_view key) {
-  if (!profile) return std::vector<double>(nodes, scalar);
-  return profile->at_nodes(nodes, dx, key);
+                                const FrictionNodeGrid& grid, std::string_view key) {
+  if (!profile) return std::vector<double>(grid.nodes(), scalar);
+  return profile->at_nodes(grid, key);
 }
 
 bool all_equal(std::span<const double> v) {
@@ -81,6 +86,8 @@ std::string_view to_string(ParameterProfile::Kind kind) {
   }
   throw std::invalid_argument("ParameterProfile: unknown kind");
 }
+
+std::string_view to_string(ParameterProfile::Axis axis) { return axis == ParameterProfile::Axis::z ? "z" : "x"; }
 
 double ParameterProfile::at(double position) const {
   if (kind == Kind::node_file || x.empty() || x.size() != values.size())
@@ -99,15 +106,32 @@ double ParameterProfile::at(double position) const {
 
 std::vector<double> ParameterProfile::at_nodes(std::size_t nodes, double dx,
                                                std::string_view key) const {
+  return at_nodes(FrictionNodeGrid{nodes, dx}, key);
+}
+
+std::vector<double> ParameterProfile::at_nodes(const FrictionNodeGrid& grid, std::string_view key) const {
+  const std::size_t nodes = grid.nodes();
   if (kind == Kind::node_file) {
     if (values.size() != nodes)
-      throw std::invalid_argument(std::string(key) + ": the file '" + path + "' has " +
-                                  std::to_string(values.size()) + " values, expected one per node (" +
-                                  std::to_string(nodes) + " = geometry.nodes)");
+      throw std::invalid_argument(
+          std::string(key) + ": the file '" + path + "' has " + std::to_string(values.size()) +
+          " values, expected one per node (" +
+          (grid.nodes_z == 1 ? std::to_string(nodes) + " = geometry.nodes)"
+                             : std::to_string(nodes) + " = geometry.nodes x geometry.nodes_z, x fastest)"));
     return values;
   }
+  if (axis == Axis::z && grid.nodes_z == 1)
+    throw std::invalid_argument(std::string(key) +
+                                " = {...}: a profile along z (z = [...]) on a one-dimensional interface "
+                                "(geometry.nodes_z = 1): expected a profile along x (x = [...]) or a number");
+  // Sample the profile once per column (along x) or row (along z) and repeat it.
   std::vector<double> out(nodes);
-  for (std::size_t i = 0; i < nodes; ++i) out[i] = at(static_cast<double>(i) * dx);
+  for (std::size_t iz = 0; iz < grid.nodes_z; ++iz) {
+    const double along_z = axis == Axis::z ? at(static_cast<double>(iz) * grid.dz) : 0.0;
+    for (std::size_t ix = 0; ix < grid.nodes_x; ++ix)
+      out[ix + grid.nodes_x * iz] =
+          axis == Axis::z ? along_z : (iz == 0 ? at(static_cast<double>(ix) * grid.dx) : out[ix]);
+  }
   return out;
 }
 
@@ -128,19 +152,24 @@ std::string FrictionProfiles::keys() const {
 FrictionNodeValues resolve_friction_nodes(const FrictionParameters& scalars,
                                           const FrictionProfiles& profiles, std::size_t nodes,
                                           double dx) {
-  FrictionNodeValues out{node_values(scalars.f0, profiles.f0, nodes, dx, "friction.f0"),
-                         node_values(scalars.a, profiles.a, nodes, dx, "friction.a"),
-                         node_values(scalars.b, profiles.b, nodes, dx, "friction.b"),
+  return resolve_friction_nodes(scalars, profiles, FrictionNodeGrid{nodes, dx});
+}
+
+FrictionNodeValues resolve_friction_nodes(const FrictionParameters& scalars,
+                                          const FrictionProfiles& profiles, const FrictionNodeGrid& grid) {
+  FrictionNodeValues out{node_values(scalars.f0, profiles.f0, grid, "friction.f0"),
+                         node_values(scalars.a, profiles.a, grid, "friction.a"),
+                         node_values(scalars.b, profiles.b, grid, "friction.b"),
                          node_values(scalars.characteristic_slip, profiles.characteristic_slip,
-                                     nodes, dx, "friction.characteristic_slip")};
-  check_nodes(out.f0, coefficient_rule("friction.f0", "f0", true), dx);
-  check_nodes(out.a, coefficient_rule("friction.a", "a", false), dx);
-  check_nodes(out.b, coefficient_rule("friction.b", "b", false), dx);
-  check_nodes(out.characteristic_slip, slip_distance_rule(), dx);
+                                     grid, "friction.characteristic_slip")};
+  check_nodes(out.f0, coefficient_rule("friction.f0", "f0", true), grid);
+  check_nodes(out.a, coefficient_rule("friction.a", "a", false), grid);
+  check_nodes(out.b, coefficient_rule("friction.b", "b", false), grid);
+  check_nodes(out.characteristic_slip, slip_distance_rule(), grid);
   // The regularized law divides by a (exp(psi/a)).
   if (scalars.strength_law == StrengthLaw::regularized)
     check_nodes(out.a,
-                coefficient_rule("friction.a", "a", true, "for friction.law = \"regularized\""), dx);
+                coefficient_rule("friction.a", "a", true, "for friction.law = \"regularized\""), grid);
   return out;
 }
 
@@ -157,8 +186,14 @@ FrictionParameters friction_at_node(const FrictionParameters& scalars,
 FrictionParameters uniform_friction(const FrictionParameters& scalars,
                                     const FrictionProfiles& profiles, std::size_t nodes,
                                     double dx, std::string_view purpose) {
+  return uniform_friction(scalars, profiles, FrictionNodeGrid{nodes, dx}, purpose);
+}
+
+FrictionParameters uniform_friction(const FrictionParameters& scalars,
+                                    const FrictionProfiles& profiles, const FrictionNodeGrid& grid,
+                                    std::string_view purpose) {
   if (!profiles.any()) return scalars;
-  const FrictionNodeValues v = resolve_friction_nodes(scalars, profiles, nodes, dx);
+  const FrictionNodeValues v = resolve_friction_nodes(scalars, profiles, grid);
   std::string varying;
   const auto check = [&varying](std::span<const double> values, const char* key) {
     if (all_equal(values)) return;
@@ -172,9 +207,9 @@ FrictionParameters uniform_friction(const FrictionParameters& scalars,
   if (!varying.empty())
     throw std::invalid_argument(std::string(purpose) +
                                 " needs friction parameters that are the same at every node, but " +
-                                varying + " vary along x (a profile in [friction]); it "
-                                "describes homogeneous steady sliding only");
-  return nodes == 0 ? scalars : friction_at_node(scalars, v, 0);
+                                varying + (grid.nodes_z == 1 ? " vary along x" : " vary over the interface") +
+                                " (a profile in [friction]); it describes homogeneous steady sliding only");
+  return grid.nodes() == 0 ? scalars : friction_at_node(scalars, v, 0);
 }
 
 }  // namespace slipstrip

@@ -48,8 +48,8 @@ class RateAndStateLaw final : public InterfaceLaw {
     // Uniform parameters: one steady state for every node, computed once (the
     // same bits at every node); per-node spans stay empty, so the batch solve
     // takes its uniform path.
-    if (config_.friction_along_x.any()) {
-      nodes_ = resolve_friction_nodes(f, config_.friction_along_x, n,
+    if (config_.friction_profiles.any()) {
+      nodes_ = resolve_friction_nodes(f, config_.friction_profiles, n,
                                       config_.geometry.length / static_cast<double>(n));
       per_node_ = {nodes_.f0, nodes_.a, nodes_.b, nodes_.characteristic_slip};
       phi_ss_.resize(n);

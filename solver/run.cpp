@@ -70,14 +70,17 @@ class LineRun {
     if (config_.interface.law == InterfaceLawName::rate_and_state) {
       // The parameters every node ran with (profiles resolved), so the file is
       // interpretable without the profile files the config may name.
-      const auto nodes = resolve_friction_nodes(config_.friction, config_.friction_along_x,
-                                                sim_.x().size(), sim_.dx());
-      options.node_parameters = {{"f0", "1", nodes.f0},
-                                 {"a", "1", nodes.a},
-                                 {"b", "1", nodes.b},
-                                 {"characteristic_slip", "m", nodes.characteristic_slip}};
+      options.node_parameters = node_parameters(resolve_friction_nodes(
+          config_.friction, config_.friction_profiles, sim_.x().size(), sim_.dx()));
     }
     return options;
+  }
+  // The /friction datasets: the parameters every node ran with.
+  static std::vector<NodeParameter> node_parameters(const FrictionNodeValues& nodes) {
+    return {{"f0", "1", nodes.f0},
+            {"a", "1", nodes.a},
+            {"b", "1", nodes.b},
+            {"characteristic_slip", "m", nodes.characteristic_slip}};
   }
   // The slip the slip sampling records, and the slip rate whose magnitude
   // dates the rupture front.
@@ -171,6 +174,11 @@ class InterfaceRun {
     options.station_x = config_.output.stations;
     options.station_z = config_.output.stations_z;
     options.station_fields = field_units();
+    // The parameters every node ran with, flattened as the slip sampling (x
+    // fastest), so the file is interpretable without the config's profiles.
+    options.node_parameters =
+        LineRun::node_parameters(resolve_friction_nodes(config_.friction, config_.friction_profiles,
+                                                        friction_node_grid(config_)));
     return options;
   }
   std::span<const double> sampled_slip() const { return sim_.slip_x(); }

@@ -43,7 +43,6 @@ const SimulationConfig& checked_3d(const SimulationConfig& c) {
            "a dissimilar pair is 1D only)");
   if (c.interface.law != InterfaceLawName::rate_and_state)
     refuse("interface.law must be \"rate_and_state\"");
-  if (c.friction_along_x.any()) refuse("friction parameters must be numbers, not profiles along x");
   if (c.interface.load_pulse_amplitude != 0.0) refuse("interface.load_pulse_amplitude must be 0");
   if (c.loading.drive != LoadingDrive::outer_faces)
     refuse("loading.drive = \"" + std::string(kLoadingDriveNames[static_cast<int>(c.loading.drive)]) +
@@ -152,8 +151,6 @@ Simulation3d::Simulation3d(const SimulationConfig& config, std::span<const doubl
       dx_(config.geometry.length / config.geometry.nodes), dz_(config.geometry.width / config.geometry.nodes_z),
       dt_(timing_3d(config).time_step), eta_(config.material.radiation_damping()),
       v0_(config.loading.driving_velocity),
-      tau0_(frictional_strength(config.friction, config.loading.normal_stress, v0_,
-                                steady_state(config.friction, v0_))),
       bottom_height_used_(timing_3d(config).bottom_height),
       local_(config.friction, config.loading.normal_stress, eta_),
       spectral_(spectral ? spectral(config_, dt_, cancelled) : serial_spectral_step(config_, dt_, cancelled)) {
@@ -174,19 +171,46 @@ Simulation3d::Simulation3d(const SimulationConfig& config, std::span<const doubl
   for (auto* v : {&slip_x_, &slip_z_, &slip_rate_x_, &slip_rate_z_, &state_, &shear_stress_x_,
                   &shear_stress_z_, &speed_, &previous_speed_, &previous_state_, &previous_rate_x_,
                   &previous_rate_z_, &load_x_, &load_z_, &load_magnitude_, &rate_perturbation_x_,
-                  &rate_perturbation_z_})
+                  &rate_perturbation_z_, &reference_, &drive_})
     v->assign(n, 0.0);
   if (dissimilar(config_)) {
     // Steady sliding: sigma = sigma_eff = sigma0 (the history is empty).
     normal_stress_.assign(n, config_.loading.normal_stress);
-    previous_normal_stress_ = effective_normal_stress_ = normal_stress_;
+    previous_normal_stress_ = effective_normal_stress_ = previous_effective_ = normal_stress_;
     gap_.assign(n, 0.0);
     opening_stress_ = opening_ = opening_rate_ = normal_perturbation_ = gap_;
   }
-  initialise(initial_state);
+  // Steady sliding at v0 on the whole interface (the initial state needs it
+  // everywhere), tau_0 and the drive on this process's rows.
+  const std::size_t all = static_cast<std::size_t>(nodes_x_) * nodes_z_;
+  const std::size_t first = static_cast<std::size_t>(nodes_x_) * slab.first_row;
+  const double sigma = config_.loading.normal_stress;
+  std::vector<double> phi_ss(all);
+  if (config_.friction_profiles.any()) {
+    const FrictionNodeValues whole = resolve_friction_nodes(config_.friction, config_.friction_profiles,
+                                                            friction_node_grid(config_));
+    for (std::size_t i = 0; i < all; ++i) phi_ss[i] = steady_state(friction_at_node(config_.friction, whole, i), v0_);
+    const auto rows = [&](const std::vector<double>& v) {
+      return std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(first),
+                                 v.begin() + static_cast<std::ptrdiff_t>(first + n));
+    };
+    friction_nodes_ = {rows(whole.f0), rows(whole.a), rows(whole.b), rows(whole.characteristic_slip)};
+    local_ = LocalSolveParameters(config_.friction, sigma, eta_,
+                                  {friction_nodes_.f0, friction_nodes_.a, friction_nodes_.b,
+                                   friction_nodes_.characteristic_slip});
+    for (std::size_t i = 0; i < n; ++i)
+      reference_[i] = frictional_strength(friction_at_node(config_.friction, friction_nodes_, i), sigma, v0_,
+                                          phi_ss[first + i]);
+  } else {
+    // One steady state and one tau_0 for every node, computed once.
+    std::fill(phi_ss.begin(), phi_ss.end(), steady_state(config_.friction, v0_));
+    std::fill(reference_.begin(), reference_.end(), frictional_strength(config_.friction, sigma, v0_, phi_ss[0]));
+  }
+  for (std::size_t i = 0; i < n; ++i) drive_[i] = reference_[i] + eta_ * v0_;
+  initialise(initial_state, phi_ss);
 }
 
-void Simulation3d::initialise(std::span<const double> initial_state) {
+void Simulation3d::initialise(std::span<const double> initial_state, std::span<const double> steady_state_all) {
   // The whole interface's initial state, then this process's rows of it.
   const std::size_t n = static_cast<std::size_t>(nodes_x_) * nodes_z_;
   const std::size_t first = static_cast<std::size_t>(nodes_x_) * spectral_->slab().first_row;
@@ -205,13 +229,12 @@ void Simulation3d::initialise(std::span<const double> initial_state) {
       x[i] = static_cast<double>(i % nodes_x_) * dx_;
       z[i] = static_cast<double>(i / nodes_x_) * dz_;
     }
-    const std::vector<double> phi_ss(n, steady_state(config_.friction, v0_));
     const std::vector<double> phi = perturbed_steady_state(config_.initial, x, z, config_.geometry.length,
-                                                           config_.geometry.width, phi_ss);
+                                                           config_.geometry.width, steady_state_all);
     std::copy_n(phi.begin() + first, nodes(), state_.begin());
   }
   // t = 0: no history; tau_h = tau_0 + eta v0 along x.
-  std::fill(load_x_.begin(), load_x_.end(), tau0_ + eta_ * v0_);
+  std::copy(drive_.begin(), drive_.end(), load_x_.begin());
   std::fill(load_z_.begin(), load_z_.end(), 0.0);
   solve(/*initial=*/true);
   check_finite("initial fields");
@@ -255,36 +278,39 @@ void Simulation3d::directions() {
   }
 }
 
-// Node by node with the scalar routines on the magnitudes (the batch ones take
-// one sigma for all nodes), as the 1D pair's law does on the signed slip rate
-// (laws/law_rate_and_state.cpp): |tau_h| - eta |v| = sigma_eff f(|v|, phi).
+// The batch predictor-corrector with a normal stress per node
+// (friction/batch_solve.hpp), as the 1D pair's law runs it on the signed slip
+// rate (laws/law_rate_and_state.cpp), here on the magnitudes:
+// |tau_h| - eta |v| = sigma_eff f(|v|, phi), each node with its own sigma_eff and
+// its own friction parameters (local_.per_node with [friction] profiles).
 void Simulation3d::solve_with_normal_stress(bool initial) {
-  const std::size_t n = nodes();
-  const FrictionParameters& p = config_.friction;
   const auto& in = config_.interface;
-  const NormalStressMemory memory{in.normal_stress_time,
-                                  in.normal_stress_slip > 0.0 ? in.normal_stress_slip : p.characteristic_slip,
-                                  p.v_star};
-  std::size_t i = 0;
+  // L_sigma: interface.normal_stress_slip, or friction.characteristic_slip
+  // (a number: a profiled one with neither memory key is refused,
+  // config/config_schema.cpp).
+  const NormalStressMemory memory{
+      in.normal_stress_time, in.normal_stress_slip > 0.0 ? in.normal_stress_slip : config_.friction.characteristic_slip,
+      config_.friction.v_star};
+  LocalSolveParameters params = local_;
   try {
-    for (i = 0; i < n; ++i) {
-      if (initial) {
-        effective_normal_stress_[i] = normal_stress_[i];
-        speed_[i] = solve_slip_rate(p, normal_stress_[i], eta_, load_magnitude_[i], state_[i], v0_);
-        continue;
-      }
-      const NormalStressNodeStep s =
-          normal_stress_node_step(p, memory, eta_, load_magnitude_[i], previous_speed_[i], previous_state_[i],
-                                  previous_normal_stress_[i], normal_stress_[i], effective_normal_stress_[i], dt_);
-      speed_[i] = s.slip_rate;
-      state_[i] = s.state;
-      effective_normal_stress_[i] = s.effective_normal_stress;
+    if (initial) {
+      std::copy(normal_stress_.begin(), normal_stress_.end(), effective_normal_stress_.begin());
+      params.normal_stress_per_node = normal_stress_;
+      std::fill(speed_.begin(), speed_.end(), v0_);  // the guess
+      solve_slip_rate_parallel(params, load_magnitude_, state_, speed_, speed_);
+    } else {
+      // sigma_eff at t_n, kept while the step writes the new level in place.
+      std::copy(effective_normal_stress_.begin(), effective_normal_stress_.end(), previous_effective_.begin());
+      const NormalStressStep normal{previous_normal_stress_, normal_stress_, previous_effective_,
+                                    effective_normal_stress_};
+      predictor_corrector_normal_stress_parallel(params, memory, dt_, load_magnitude_, previous_speed_,
+                                                 previous_state_, normal, speed_, state_);
     }
-  } catch (const std::exception& e) {
+  } catch (const BatchFailure& e) {
     std::ostringstream msg;
-    msg << "local friction solve failed at node (ix, iz) = (" << i % nodes_x_ << ", "
-        << i / nodes_x_ + spectral_->slab().first_row << "), t = " << time_ << " s, step " << step_index_ << ": "
-        << e.what();
+    msg << "local friction solve failed at node (ix, iz) = (" << e.index % nodes_x_ << ", "
+        << e.index / nodes_x_ + spectral_->slab().first_row << "), t = " << time_ << " s, step " << step_index_
+        << ": " << e.what();
     throw SimulationError(msg.str());
   }
 }
@@ -344,9 +370,8 @@ void Simulation3d::step() {
   } else {
     spectral_->history(rate_perturbation_x_, rate_perturbation_z_, load_x_, load_z_);
   }
-  const double drive = tau0_ + eta_ * v0_;
   for (std::size_t i = 0; i < n; ++i) {
-    load_x_[i] = drive - load_x_[i];
+    load_x_[i] = drive_[i] - load_x_[i];
     load_z_[i] = -load_z_[i];
   }
   std::copy(speed_.begin(), speed_.end(), previous_speed_.begin());

@@ -99,9 +99,11 @@ std::unique_ptr<InterfaceSpectralStep> serial_spectral_step(const SimulationConf
 
 class Simulation3d {
  public:
-  // The initial state is steady sliding plus config.initial's perturbations
-  // (white noise node by node; the sine, the bump and band-limited noise as
-  // functions of x, the same on every row z).  Throws
+  // The initial state is steady sliding at v0 with each node's friction
+  // parameters ([friction] profiles along x or z) plus config.initial's
+  // perturbations (white noise node by node; the sine, the bump and
+  // band-limited noise as functions of x, the same on every row z; the bump a
+  // patch with initial.local_width_z > 0).  Throws
   // std::invalid_argument naming the key for a config the 3D path does not
   // support (docs/3d.md, "Limits").
   explicit Simulation3d(const SimulationConfig& config, const CancelCheck& cancelled = {});
@@ -126,7 +128,9 @@ class Simulation3d {
   long long step_index() const { return step_index_; }
   double time_step() const { return dt_; }
   double radiation_damping() const { return eta_; }
-  double reference_shear_stress() const { return tau0_; }  // steady sliding, along x
+  // tau_0 [Pa] at this process's nodes: the steady-sliding strength at v0 with
+  // each node's friction parameters (the same at every node without profiles).
+  std::span<const double> reference_shear_stress() const { return reference_; }
   // The bottom body's height as its operators use it (its shear echo rounded
   // to whole time steps, two_body_time_step); NaN for a rigid base.
   double bottom_height_used() const { return bottom_height_used_; }
@@ -170,7 +174,7 @@ class Simulation3d {
   void restore_state(const SimulationState& saved);
 
  private:
-  void initialise(std::span<const double> initial_state);
+  void initialise(std::span<const double> initial_state, std::span<const double> steady_state_all);
   void solve(bool initial);
   void solve_with_normal_stress(bool initial);
   void directions();  // v, tau from |v| and the load
@@ -180,10 +184,15 @@ class Simulation3d {
 
   SimulationConfig config_;
   int nodes_x_, nodes_z_;
-  double dx_, dz_, dt_, eta_, v0_, tau0_, bottom_height_used_;
+  double dx_, dz_, dt_, eta_, v0_, bottom_height_used_;
   double time_ = 0.0;
   long long step_index_ = 0;
+  // Per-node friction parameters of this process's nodes ([friction] profiles;
+  // empty without them: the batch solve's uniform path) and, per node, tau_0 and
+  // the drive tau_0 + eta v0 of the history load.
+  FrictionNodeValues friction_nodes_;
   LocalSolveParameters local_;
+  std::vector<double> reference_, drive_;
   std::unique_ptr<InterfaceSpectralStep> spectral_;
 
   std::vector<double> slip_x_, slip_z_, slip_rate_x_, slip_rate_z_, state_;
@@ -194,7 +203,7 @@ class Simulation3d {
   std::vector<double> load_x_, load_z_, load_magnitude_;
   std::vector<double> rate_perturbation_x_, rate_perturbation_z_;
   // Dissimilar bodies only (empty otherwise): as Simulation's.
-  std::vector<double> normal_stress_, previous_normal_stress_, effective_normal_stress_;
+  std::vector<double> normal_stress_, previous_normal_stress_, effective_normal_stress_, previous_effective_;
   std::vector<double> gap_, opening_stress_, opening_, opening_rate_, normal_perturbation_;
   bool any_opening_stress_ = false;
 };

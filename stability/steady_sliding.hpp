@@ -18,9 +18,7 @@ inline SteadySliding steady_sliding_of(const SimulationConfig& config) {
   sliding.strip_height = config.geometry.height;
   // Linear stability perturbs *homogeneous* steady sliding: with parameters
   // that vary along x it does not apply, and node 0's values must not stand in.
-  sliding.friction = uniform_friction(config.friction, config.friction_along_x,
-                                      static_cast<std::size_t>(config.geometry.nodes),
-                                      config.geometry.length / config.geometry.nodes,
+  sliding.friction = uniform_friction(config.friction, config.friction_profiles, friction_node_grid(config),
                                       "linear stability (growth rates, Lc(H))");
   sliding.normal_stress = config.loading.normal_stress;
   sliding.driving_velocity = config.loading.driving_velocity;
@@ -47,9 +45,7 @@ inline PairSliding pair_sliding_of(const SimulationConfig& config) {
   pair.top = ElasticBody{config.material, config.geometry.height, config.top.outer_face, false};
   pair.bottom = ElasticBody{bottom_material(config), bottom_height(config), config.bottom.outer_face,
                             config.bottom.body == BodyKind::rigid};
-  pair.friction = uniform_friction(config.friction, config.friction_along_x,
-                                   static_cast<std::size_t>(config.geometry.nodes),
-                                   config.geometry.length / config.geometry.nodes,
+  pair.friction = uniform_friction(config.friction, config.friction_profiles, friction_node_grid(config),
                                    "linear stability (growth rates, Lc(H))");
   const auto& in = config.interface;
   if (in.normal_stress_time > 0.0) {

@@ -1,5 +1,10 @@
 #pragma once
-// Shared by the config tests: the message of a rejected config.
+// Shared by the config tests: the message of a rejected config, a temporary
+// file (profiles' node files) and a bit-for-bit comparison of fields.
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -20,5 +25,19 @@ inline std::string error_of(const std::string& text, const std::vector<std::stri
 inline bool contains(const std::string& haystack, const std::string& needle) {
   return haystack.find(needle) != std::string::npos;
 }
+
+inline bool same_bits(std::span<const double> a, std::span<const double> b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+// A temporary file removed at the end of the scope.
+struct TempFile {
+  std::filesystem::path path;
+  TempFile(const std::string& name, const std::string& text)
+      : path(std::filesystem::temp_directory_path() / name) {
+    std::ofstream(path) << text;
+  }
+  ~TempFile() { std::filesystem::remove(path); }
+};
 
 }  // namespace slipstrip::testing

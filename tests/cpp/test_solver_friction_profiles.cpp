@@ -18,22 +18,10 @@
 using namespace slipstrip;
 using slipstrip::testing::contains;
 using slipstrip::testing::error_of;
+using slipstrip::testing::same_bits;
+using slipstrip::testing::TempFile;
 
 namespace {
-
-bool same_bits(std::span<const double> a, std::span<const double> b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
-}
-
-// A temporary file removed at the end of the scope.
-struct TempFile {
-  std::filesystem::path path;
-  TempFile(const std::string& name, const std::string& text)
-      : path(std::filesystem::temp_directory_path() / name) {
-    std::ofstream(path) << text;
-  }
-  ~TempFile() { std::filesystem::remove(path); }
-};
 
 const std::string kSmall = "[geometry]\nlength = 4.0\nnodes = 16\n";
 
@@ -45,12 +33,12 @@ TEST_CASE("profile spelling: piecewise_linear, piecewise_constant, node_file") {
       "[friction]\n"
       "a = { profile = \"piecewise_linear\", x = [0.0, 1.0, 1.2, 4.0], values = [0.005, 0.005, 0.02, 0.02] }\n"
       "b = { profile = \"piecewise_constant\", x = [0.0, 2.0], values = [0.075, 0.05] }\n");
-  REQUIRE(c.friction_along_x.a);
-  REQUIRE(c.friction_along_x.b);
+  REQUIRE(c.friction_profiles.a);
+  REQUIRE(c.friction_profiles.b);
   CHECK(std::isnan(c.friction.a));  // no one value for the whole interface
   CHECK(std::isnan(c.friction.b));
   CHECK(c.friction.f0 == 0.28);     // untouched scalars keep their value
-  const auto nodes = resolve_friction_nodes(c.friction, c.friction_along_x, 16, 0.25);
+  const auto nodes = resolve_friction_nodes(c.friction, c.friction_profiles, 16, 0.25);
   CHECK(nodes.a[0] == 0.005);
   CHECK(nodes.a[4] == 0.005);  // x = 1.0
   CHECK(nodes.a[5] == 0.02);   // x = 1.25
@@ -68,7 +56,7 @@ TEST_CASE("profile spelling: piecewise_linear, piecewise_constant, node_file") {
   const auto d = load_config_string(kSmall + "[friction]\ncharacteristic_slip = { profile = "
                                              "\"node_file\", path = \"" +
                                     file.path.string() + "\" }\n");
-  const auto dn = resolve_friction_nodes(d.friction, d.friction_along_x, 16, 0.25);
+  const auto dn = resolve_friction_nodes(d.friction, d.friction_profiles, 16, 0.25);
   CHECK(dn.characteristic_slip[0] == 4e-7);
   CHECK(dn.characteristic_slip[15] == doctest::Approx(4e-7 + 15e-8).epsilon(1e-15));
 }
@@ -81,11 +69,11 @@ TEST_CASE("profiles round-trip through to_toml, and overrides accept them") {
   const auto text = to_toml(c);
   CHECK(contains(text, "a = { profile = \"piecewise_linear\", x = [0.0, 4.0], values = [0.004, 0.02] }"));
   const auto back = load_config_string(text);
-  REQUIRE(back.friction_along_x.a);
-  REQUIRE(back.friction_along_x.f0);
-  CHECK(back.friction_along_x.a->x == c.friction_along_x.a->x);
-  CHECK(back.friction_along_x.a->values == c.friction_along_x.a->values);
-  CHECK(back.friction_along_x.f0->values == c.friction_along_x.f0->values);
+  REQUIRE(back.friction_profiles.a);
+  REQUIRE(back.friction_profiles.f0);
+  CHECK(back.friction_profiles.a->x == c.friction_profiles.a->x);
+  CHECK(back.friction_profiles.a->values == c.friction_profiles.a->values);
+  CHECK(back.friction_profiles.f0->values == c.friction_profiles.f0->values);
   CHECK(to_toml(back) == text);
 }
 

@@ -1,0 +1,68 @@
+"""Friction that varies over a 2D interface (docs/3d.md, docs/config.md
+"Parameters along x"): a run with `a` along z and `b` along x writes the
+per-node parameters to /friction ([N*N_z], x fastest) equal to the profiles'
+formula at every node, and the resolved config keeps the profile along z;
+configs/3d/band.toml (slow tier) gives events that stay in the rate-weakening
+band: every kept event is narrower in z than the width.
+
+Run: SLIPSTRIP_BUILD_DIR=$PWD/build PYTHONPATH=$PWD/python OMP_NUM_THREADS=1 \\
+     /usr/bin/python3 -m pytest -q tests/python/test_interface_2d_friction.py
+"""
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+from conftest import REPO
+
+TINY_3D = REPO / "configs" / "3d" / "tiny.toml"
+BAND = REPO / "configs" / "3d" / "band.toml"
+NX, NZ, LX, LZ = 32, 16, 0.25, 0.125
+
+
+def test_friction_profiles_along_z_and_x_reach_every_node(tmp_path, slipstrip_module):
+    out = tmp_path / "profiles.h5"
+    a_z, a_v = [0.0, 0.03, 0.05, 0.09, 0.125], [0.03, 0.03, 0.005, 0.005, 0.03]
+    slipstrip_module.run(TINY_3D, out, overrides={
+        "geometry.nodes_z": NZ, "geometry.width": LZ, "time.duration_transits": 1.0,
+        "friction.a": {"profile": "piecewise_linear", "z": a_z, "values": a_v},
+        "friction.b": {"profile": "piecewise_constant", "x": [0.0, 0.1], "values": [0.075, 0.06]}})
+    with h5py.File(out, "r") as f:
+        x, z = f["friction/x"][:], f["friction/z"][:]
+        a, b = f["friction/a"][:], f["friction/b"][:]
+        config = f.attrs["config"]
+        config = config.decode() if isinstance(config, bytes) else config
+    assert a.shape == (NX * NZ,)
+    # Node i = ix + NX iz at (ix dx, iz dz), x fastest.
+    i = np.arange(NX * NZ)
+    assert np.array_equal(x, (i % NX) * (LX / NX)) and np.array_equal(z, (i // NX) * (LZ / NZ))
+    # np.interp is the piecewise-linear formula with constant ends; 1e-15
+    # absolute (a ~ 0.03): a few roundings of another evaluation order.
+    assert np.max(np.abs(a - np.interp(z, a_z, a_v))) <= 1e-15
+    assert np.array_equal(b, np.where(x < 0.1, 0.075, 0.06))
+    assert "z = [0.0, 0.03, 0.05, 0.09, 0.125]" in config
+
+
+def test_a_profile_along_z_on_a_line_is_refused_by_name(tmp_path, cli):
+    r = subprocess.run([str(cli), "run", str(REPO / "configs" / "quickstart.toml"), "--out", str(tmp_path / "x.h5"),
+                        "--set", 'friction.a = { profile = "piecewise_linear", z = [0.0, 1.0], values = [0.01, 0.02] }'],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode != 0
+    assert "friction.a = {...}: a profile along z (z = [...]) on a one-dimensional interface" in r.stderr
+    assert "expected a profile along x (x = [...]) or a number" in r.stderr
+
+
+@pytest.mark.slow
+def test_band_config_events_stay_in_the_band(tmp_path, cli, slipstrip_module):
+    out = tmp_path / "band.h5"
+    subprocess.run([str(cli), "run", str(BAND), "--out", str(out), "--quiet"], check=True, timeout=1800)
+    subprocess.run([str(cli), "events", str(out)], check=True, capture_output=True, timeout=600)
+    run = slipstrip_module.open_run(out)
+    events = run.events
+    width = run.width
+    assert len(events["t_start"]) >= 1
+    # Localised in z: every kept event is narrower than the width, and its
+    # hypocentre lies in the rate-weakening band (a < f0 b, 0.08 < z < 0.42).
+    assert np.all(events["L_z"] < width)
+    assert np.all((events["z_start"] > 0.08) & (events["z_start"] < 0.42))
