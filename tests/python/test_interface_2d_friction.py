@@ -24,10 +24,12 @@ NX, NZ, LX, LZ = 32, 16, 0.25, 0.125
 def test_friction_profiles_along_z_and_x_reach_every_node(tmp_path, slipstrip_module):
     out = tmp_path / "profiles.h5"
     a_z, a_v = [0.0, 0.03, 0.05, 0.09, 0.125], [0.03, 0.03, 0.005, 0.005, 0.03]
-    slipstrip_module.run(TINY_3D, out, overrides={
-        "geometry.nodes_z": NZ, "geometry.width": LZ, "time.duration_transits": 1.0,
-        "friction.a": {"profile": "piecewise_linear", "z": a_z, "values": a_v},
-        "friction.b": {"profile": "piecewise_constant", "x": [0.0, 0.1], "values": [0.075, 0.06]}})
+    # Profiles as TOML inline tables (the --set form, docs/config.md).
+    slipstrip_module.run(TINY_3D, out, overrides=[
+        f"geometry.nodes_z={NZ}", f"geometry.width={LZ}", "time.duration_transits=1.0",
+        'friction.a={ profile = "piecewise_linear", z = [0.0, 0.03, 0.05, 0.09, 0.125], '
+        'values = [0.03, 0.03, 0.005, 0.005, 0.03] }',
+        'friction.b={ profile = "piecewise_constant", x = [0.0, 0.1], values = [0.075, 0.06] }'])
     with h5py.File(out, "r") as f:
         x, z = f["friction/x"][:], f["friction/z"][:]
         a, b = f["friction/a"][:], f["friction/b"][:]
