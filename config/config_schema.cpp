@@ -322,6 +322,15 @@ void interface_rule(const SimulationConfig& c) {
                               " and interface.normal_stress_time = " +
                               format_config_number(c.interface.normal_stress_time) +
                               ": give one of them (slip-scale or time-scale relaxation), not both");
+  // In-plane dissimilar bodies relax sigma_eff over one length L_sigma; 0
+  // takes friction.characteristic_slip, which has no single value when it is a
+  // profile.
+  if (c.bottom.body != BodyKind::mirror && !c.material.antiplane() && c.friction_profiles.characteristic_slip &&
+      c.interface.normal_stress_slip == 0.0 && c.interface.normal_stress_time == 0.0)
+    throw ConfigRuleError({"normal_stress_slip", "characteristic_slip"},
+                          "interface.normal_stress_slip = 0 takes friction.characteristic_slip, which is a profile "
+                          "here: expected interface.normal_stress_slip > 0 or interface.normal_stress_time > 0 "
+                          "(in-plane dissimilar bodies relax the normal stress over one length)");
 }
 
 // With bottom.body = "mirror" a [bottom] value must be the top body's (what
@@ -628,7 +637,8 @@ constexpr ConfigKey kKeys[] = {
      .generous = {0.0, true, 1.0, true},
      .help = "in-plane dissimilar bodies: L_sigma of the normal-stress memory; the friction sees "
              "sigma_eff with d sigma_eff/dt = -((|v| + v*)/L_sigma)(sigma_eff - sigma) (Prakash & Clifton "
-             "1993; Cochard & Rice 2000); 0 = friction.characteristic_slip. Identical bodies keep "
+             "1993; Cochard & Rice 2000); 0 = friction.characteristic_slip (refused when that is a profile, "
+             "unless normal_stress_time > 0). Identical bodies keep "
              "sigma = sigma0 and do not use it (docs/bodies.md)",
      .comment = "L_sigma [m]; 0 = friction.characteristic_slip (dissimilar in-plane pairs)",
      .bind = real_member<&C::interface, &InterfaceConfig::normal_stress_slip>()},

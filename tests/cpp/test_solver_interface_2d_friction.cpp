@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -43,6 +44,22 @@ double piecewise_linear(const std::vector<double>& s, const std::vector<double>&
   std::size_t k = 0;
   while (!(at < s[k + 1])) ++k;
   return v[k] + (at - s[k]) / (s[k + 1] - s[k]) * (v[k + 1] - v[k]);
+}
+
+// Every field of two runs, bit for bit (the normal-stress fields too for
+// dissimilar bodies).
+void check_same_fields(const Simulation3d& one, const Simulation3d& other) {
+  CHECK(same_bits(one.slip_x(), other.slip_x()));
+  CHECK(same_bits(one.slip_z(), other.slip_z()));
+  CHECK(same_bits(one.speed(), other.speed()));
+  CHECK(same_bits(one.state(), other.state()));
+  CHECK(same_bits(one.shear_stress_x(), other.shear_stress_x()));
+  CHECK(same_bits(one.shear_stress_z(), other.shear_stress_z()));
+  CHECK(same_bits(one.reference_shear_stress(), other.reference_shear_stress()));
+  REQUIRE(one.variable_normal_stress() == other.variable_normal_stress());
+  CHECK(same_bits(one.normal_stress(), other.normal_stress()));
+  CHECK(same_bits(one.effective_normal_stress(), other.effective_normal_stress()));
+  CHECK(same_bits(one.opening(), other.opening()));
 }
 
 }  // namespace
@@ -151,12 +168,7 @@ TEST_CASE("constant profiles along z or x step bit for bit as the same numbers")
   // above round-off): the comparison is away from steady sliding.
   MESSAGE("max |v| / v0 after 300 steps = " << one.max_slip_rate() / scalars.loading.driving_velocity);
   CHECK(one.max_slip_rate() > 1.0005 * scalars.loading.driving_velocity);
-  CHECK(same_bits(one.slip_x(), other.slip_x()));
-  CHECK(same_bits(one.slip_z(), other.slip_z()));
-  CHECK(same_bits(one.speed(), other.speed()));
-  CHECK(same_bits(one.state(), other.state()));
-  CHECK(same_bits(one.shear_stress_x(), other.shear_stress_x()));
-  CHECK(same_bits(one.shear_stress_z(), other.shear_stress_z()));
+  check_same_fields(one, other);
   // A profile whose values are all equal is uniform for linear stability too.
   CHECK(steady_sliding_of(profiles).friction.a == 0.005);
 }
@@ -194,4 +206,153 @@ TEST_CASE("refusals name the key, the value and what is allowed") {
   CHECK_THROWS_WITH_AS(steady_sliding_of(band),
                        doctest::Contains("friction.a vary over the interface (a profile in [friction])"),
                        std::invalid_argument);
+}
+
+namespace {
+
+// The grid above between dissimilar bodies: the top strip on a stiffer,
+// denser base of twice its height with a clamped outer face
+// (configs/3d/tiny_bodies.toml), sigma_eff relaxing over L_sigma = D.
+const std::string kDissimilar =
+    "[bottom]\nbody = \"elastic\"\nshear_modulus = 18e9\npoisson_ratio = 0.25\ndensity = 2400.0\n"
+    "height = 0.05\nouter_face = \"clamped\"\n"
+    "[interface]\nnormal_stress_slip = 1.667e-7\n";
+
+// A rate-weakening band in z (a), two steps of b along x, D in two steps
+// along z: the values of the formula at (x, z).
+const std::string kBandFriction =
+    "[friction]\ncharacteristic_slip = { profile = \"piecewise_constant\", z = [0.0, 0.06], "
+    "values = [1.667e-7, 2.5e-7] }\n"
+    "a = { profile = \"piecewise_linear\", z = [0.0, 0.02, 0.04, 0.08, 0.1, 0.125], "
+    "values = [0.03, 0.03, 0.005, 0.005, 0.03, 0.03] }\n"
+    "b = { profile = \"piecewise_constant\", x = [0.0, 0.1, 0.2], values = [0.075, 0.06, 0.075] }\n";
+FrictionParameters band_formula(const FrictionParameters& scalars, double x, double z) {
+  FrictionParameters p = scalars;
+  p.a = piecewise_linear({0.0, 0.02, 0.04, 0.08, 0.1, 0.125}, {0.03, 0.03, 0.005, 0.005, 0.03, 0.03}, z);
+  p.b = x < 0.1 ? 0.075 : x < 0.2 ? 0.06 : 0.075;
+  p.characteristic_slip = z < 0.06 ? 1.667e-7 : 2.5e-7;
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("dissimilar bodies: constant profiles step bit for bit as the same numbers") {
+  // The pair's path: the batch predictor-corrector with a normal stress per
+  // node, per-node parameter spans against the uniform path.  A bump patch
+  // and the noise make the normal stress change.
+  const std::string bump = "local_amplitude = 1.0\nlocal_center = 0.125\nlocal_width = 0.02\n";
+  const std::string base = kGrid + bump + kDissimilar;
+  const SimulationConfig scalars = load_config_string(base);
+  const SimulationConfig profiles = load_config_string(
+      base +
+      "[friction]\n"
+      "a = { profile = \"piecewise_linear\", z = [0.0, 0.125], values = [0.005, 0.005] }\n"
+      "b = { profile = \"piecewise_constant\", x = [0.0], values = [0.075] }\n"
+      "characteristic_slip = { profile = \"piecewise_constant\", z = [0.0], values = [5e-7] }\n");
+  REQUIRE(std::isnan(profiles.friction.characteristic_slip));
+  REQUIRE(scalars.friction.characteristic_slip == 5e-7);
+  Simulation3d one(scalars), other(profiles);
+  REQUIRE(one.variable_normal_stress());
+  REQUIRE(other.variable_normal_stress());
+  for (int s = 0; s < 300; ++s) {
+    one.step();
+    other.step();
+  }
+  // Away from steady sliding and with a normal stress that varies node by node
+  // (far above round-off), so every part of the pair's step is exercised.
+  double sigma_change = 0.0;
+  for (double s : one.normal_stress()) sigma_change = std::max(sigma_change, std::abs(s / 1e6 - 1.0));
+  MESSAGE("dissimilar, 300 steps: max |v| / v0 = " << one.max_slip_rate() / scalars.loading.driving_velocity
+                                                   << ", max |sigma / sigma0 - 1| = " << sigma_change);
+  CHECK(one.max_slip_rate() > 1.01 * scalars.loading.driving_velocity);
+  CHECK(sigma_change > 1e-5);  // far above round-off (1e-16)
+  check_same_fields(one, other);
+}
+
+TEST_CASE("dissimilar bodies: every node runs with the formula's parameters") {
+  const double v0 = 2e-3, sigma0 = 1e6;
+  // Steady sliding, no perturbation: each node's state and tau_0 are those of
+  // the formula's parameters, bit for bit (the same routines on the same
+  // inputs), and sliding at v0 stays an equilibrium of the pair.
+  const std::string steady =
+      "[geometry]\nlength = 0.25\nwidth = 0.125\nheight = 0.025\nnodes = 16\nnodes_z = 8\n"
+      "[loading]\ndriving_velocity = 2e-3\n[time]\nbeta = 0.24\n" +
+      kDissimilar + kBandFriction;
+  const SimulationConfig c = load_config_string(steady);
+  Simulation3d sim(c);
+  REQUIRE(sim.variable_normal_stress());
+  for (int iz = 0; iz < kNz; ++iz)
+    for (int ix = 0; ix < kNx; ++ix) {
+      const std::size_t i = static_cast<std::size_t>(ix + kNx * iz);
+      const FrictionParameters p = band_formula(c.friction, ix * kDx, iz * kDz);
+      const double phi = steady_state(p, v0);
+      CHECK(sim.state()[i] == phi);
+      CHECK(sim.reference_shear_stress()[i] == frictional_strength(p, sigma0, v0, phi));
+    }
+  // tau_0 differs between the rows (the test would see a uniform tau_0).
+  CHECK(sim.reference_shear_stress()[0] != sim.reference_shear_stress()[static_cast<std::size_t>(kNx * 3)]);
+  for (int s = 0; s < 200; ++s) sim.step();
+  double worst = 0.0, worst_sigma = 0.0;
+  for (double v : sim.speed()) worst = std::max(worst, std::abs(v / v0 - 1.0));
+  for (double s : sim.normal_stress()) worst_sigma = std::max(worst_sigma, std::abs(s / sigma0 - 1.0));
+  MESSAGE("dissimilar, band, steady sliding 200 steps: max |v/v0 - 1| = " << worst
+                                                                          << ", max |sigma/sigma0 - 1| = " << worst_sigma);
+  // 1e-9: the local solve's tolerance carried through the history, as above.
+  CHECK(worst <= 1e-9);
+  CHECK(worst_sigma <= 1e-9);
+
+  // Perturbed (a patch and noise): after 300 steps every node's traction is
+  // its friction with the formula's parameters at its own sigma_eff,
+  // |tau| = sigma_eff f_i(|v|, phi), to the local solve's tolerance: the slip
+  // rate within 2e-12 relative of the root (friction/batch_solve.hpp), i.e.
+  // (eta + d strength/d|v|) 2e-12 |v| in stress, plus 32 eps of the stresses
+  // |tau| and eta |v| that tau = tau_h - eta v subtracts.
+  const SimulationConfig perturbed = load_config_string(
+      steady + "[initial]\nnoise_amplitude = 1e-2\nnoise_seed = 3\nlocal_amplitude = 1.0\nlocal_center = 0.125\n"
+               "local_width = 0.02\nlocal_center_z = 0.06\nlocal_width_z = 0.02\n");
+  Simulation3d run(perturbed);
+  for (int s = 0; s < 300; ++s) run.step();
+  const double eta = run.radiation_damping();
+  double worst_residual = 0.0, smallest_wrong = std::numeric_limits<double>::infinity(), sigma_eff_change = 0.0;
+  for (int iz = 0; iz < kNz; ++iz)
+    for (int ix = 0; ix < kNx; ++ix) {
+      const std::size_t i = static_cast<std::size_t>(ix + kNx * iz);
+      const FrictionParameters p = band_formula(perturbed.friction, ix * kDx, iz * kDz);
+      const double v = run.speed()[i], phi = run.state()[i], e = run.effective_normal_stress()[i];
+      sigma_eff_change = std::max(sigma_eff_change, std::abs(e / sigma0 - 1.0));
+      const double tau = std::hypot(run.shear_stress_x()[i], run.shear_stress_z()[i]);
+      const double tolerance = (eta + frictional_strength_dv(p, e, v, phi)) * 2e-12 * v +
+                               32.0 * std::numeric_limits<double>::epsilon() * (tau + eta * v);
+      const double residual = std::abs(tau - frictional_strength(p, e, v, phi));
+      worst_residual = std::max(worst_residual, residual / tolerance);
+      CHECK(residual <= tolerance);
+      // The same check with the band's a = 0.005 at the nodes outside it
+      // (a = 0.03) misses by far: it sees each node's own parameters.
+      if (p.a == 0.03) {
+        FrictionParameters wrong = p;
+        wrong.a = 0.005;
+        smallest_wrong = std::min(smallest_wrong, std::abs(tau - frictional_strength(wrong, e, v, phi)) / tolerance);
+      }
+    }
+  MESSAGE("dissimilar, band, perturbed 300 steps: max |v| / v0 = " << run.max_slip_rate() / v0
+                                                                   << ", max |sigma_eff/sigma0 - 1| = " << sigma_eff_change
+                                                                   << ", worst residual / tolerance = " << worst_residual
+                                                                   << ", smallest residual / tolerance with a = 0.005 "
+                                                                      "outside the band = "
+                                                                   << smallest_wrong);
+  CHECK(sigma_eff_change > 1e-5);  // far above round-off (1e-16)
+  CHECK(smallest_wrong > 1e3);
+}
+
+TEST_CASE("dissimilar bodies: a profiled characteristic_slip needs a normal-stress memory of its own") {
+  const std::string text =
+      kGrid + "[bottom]\nbody = \"elastic\"\nshear_modulus = 18e9\nheight = 0.05\nouter_face = \"clamped\"\n"
+              "[friction]\ncharacteristic_slip = { profile = \"piecewise_constant\", z = [0.0], values = [1e-7] }\n";
+  CHECK(contains(error_of(text),
+                 "interface.normal_stress_slip = 0 takes friction.characteristic_slip, which is a profile here: "
+                 "expected interface.normal_stress_slip > 0 or interface.normal_stress_time > 0"));
+  // Either memory key, or identical bodies, runs.
+  CHECK_NOTHROW(load_config_string(text + "[interface]\nnormal_stress_time = 1e-4\n"));
+  CHECK_NOTHROW(load_config_string(kGrid + "[friction]\ncharacteristic_slip = { profile = \"piecewise_constant\", "
+                                           "z = [0.0], values = [1e-7] }\n"));
 }

@@ -2,6 +2,8 @@
 "Parameters along x"): a run with `a` along z and `b` along x writes the
 per-node parameters to /friction ([N*N_z], x fastest) equal to the profiles'
 formula at every node, and the resolved config keeps the profile along z;
+a pair of dissimilar bodies (configs/3d/tiny_bodies.toml) with `a` along z
+runs and writes the same;
 configs/3d/band.toml (slow tier) gives events that stay in the rate-weakening
 band: every kept event is narrower in z than the width.
 
@@ -17,6 +19,7 @@ import pytest
 from conftest import REPO
 
 TINY_3D = REPO / "configs" / "3d" / "tiny.toml"
+TINY_BODIES = REPO / "configs" / "3d" / "tiny_bodies.toml"
 BAND = REPO / "configs" / "3d" / "band.toml"
 NX, NZ, LX, LZ = 32, 16, 0.25, 0.125
 
@@ -44,6 +47,27 @@ def test_friction_profiles_along_z_and_x_reach_every_node(tmp_path, slipstrip_mo
     assert np.max(np.abs(a - np.interp(z, a_z, a_v))) <= 1e-15
     assert np.array_equal(b, np.where(x < 0.1, 0.075, 0.06))
     assert "z = [0.0, 0.03, 0.05, 0.09, 0.125]" in config
+
+
+def test_dissimilar_bodies_run_with_a_profile_along_z(tmp_path, slipstrip_module):
+    # The pair of configs/3d/tiny_bodies.toml (32 x 32, 0.25 m x 0.25 m) with a
+    # band in a along z: the run file's /friction is the formula at every node
+    # and the normal-stress fields are written (the pair's path ran).
+    out = tmp_path / "bodies.h5"
+    a_z, a_v = [0.0, 0.05, 0.07, 0.18, 0.2, 0.25], [0.03, 0.03, 0.005, 0.005, 0.03, 0.03]
+    slipstrip_module.run(TINY_BODIES, out, overrides=[
+        "time.duration_transits=0.5",
+        'friction.a={ profile = "piecewise_linear", z = [0.0, 0.05, 0.07, 0.18, 0.2, 0.25], '
+        'values = [0.03, 0.03, 0.005, 0.005, 0.03, 0.03] }'])
+    with h5py.File(out, "r") as f:
+        z, a = f["friction/z"][:], f["friction/a"][:]
+        sigma = f["snapshots/normal_stress"][-1]
+        assert f["snapshots/slip_rate_x"].shape[1:] == (32, 32)
+    assert a.shape == (32 * 32,)
+    # np.interp is the piecewise-linear formula; 1e-15 absolute (a ~ 0.03):
+    # a few roundings of another evaluation order.
+    assert np.max(np.abs(a - np.interp(z, a_z, a_v))) <= 1e-15
+    assert np.all(np.isfinite(sigma)) and np.all(sigma > 0.0)
 
 
 def test_a_profile_along_z_on_a_line_is_refused_by_name(tmp_path, cli):
