@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "friction/batch_kernels.hpp"
+#include "simd/parallel_for.hpp"
 
 namespace slipstrip {
 
@@ -201,22 +202,25 @@ namespace {
 // the call.
 constexpr std::size_t kChunk = 64;
 
-// Runs body(begin, count) over fixed chunks of kChunk nodes in an OpenMP
-// parallel loop; rethrows the BatchFailure with the lowest node index.
+// Runs body(begin, count) over fixed chunks of kChunk nodes on the OpenMP
+// threads (simd::parallel_for); rethrows the BatchFailure with the lowest node
+// index.  The counts are integers: their sum does not depend on the order.
 template <class Body>
 BatchCounts parallel_chunks(std::size_t n, Body&& body) {
   const long long chunks = static_cast<long long>((n + kChunk - 1) / kChunk);
   BatchCounts total;
   long long solves = 0, evaluations = 0, scalar_nodes = 0;
   std::optional<BatchFailure> failure;
-#pragma omp parallel for schedule(static) reduction(+ : solves, evaluations, scalar_nodes)
-  for (long long k = 0; k < chunks; ++k) {
+  simd::parallel_for(chunks, [&](long long k) {
     const std::size_t begin = static_cast<std::size_t>(k) * kChunk;
     const std::size_t count = std::min(kChunk, n - begin);
     try {
       const BatchCounts c = body(begin, count);
+#pragma omp atomic
       solves += c.solves;
+#pragma omp atomic
       evaluations += c.evaluations;
+#pragma omp atomic
       scalar_nodes += c.scalar_nodes;
     } catch (const BatchFailure& e) {
 #pragma omp critical(slipstrip_batch_failure)
@@ -225,7 +229,7 @@ BatchCounts parallel_chunks(std::size_t n, Body&& body) {
 #pragma omp critical(slipstrip_batch_failure)
       if (!failure || begin < failure->index) failure.emplace(begin, e.what());
     }
-  }
+  });
   if (failure) throw *failure;
   total.solves = solves;
   total.evaluations = evaluations;

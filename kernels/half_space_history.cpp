@@ -9,6 +9,7 @@
 
 #include "kernels/half_space_kernel.hpp"
 #include "simd/instruction_set.hpp"
+#include "simd/parallel_for.hpp"
 
 namespace slipstrip {
 
@@ -184,9 +185,8 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
   const int chunks = (n_modes - 1 + kModeChunk - 1) / kModeChunk;
   const simd::InstructionSet set = instruction_set_;
   const std::complex<double>* v = slip_rate_spectrum.data();
-#pragma omp parallel for schedule(static, 1)
-  for (int k = 0; k < chunks; ++k) {
-    const int q_begin = 1 + k * kModeChunk, q_end = std::min(n_modes, q_begin + kModeChunk);
+  const auto advance_chunk = [&](long long k) {
+    const int q_begin = 1 + static_cast<int>(k) * kModeChunk, q_end = std::min(n_modes, q_begin + kModeChunk);
     switch (set) {
 #if SLIPSTRIP_X86_DISPATCH
       case simd::InstructionSet::avx512:
@@ -200,7 +200,8 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
         advance_modes_baseline(q_begin, q_end, v);
         break;
     }
-  }
+  };
+  simd::parallel_for(chunks, advance_chunk, 1);
   ++step_;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "kernels/strip_response.hpp"
+#include "simd/parallel_for.hpp"
 
 namespace slipstrip {
 
@@ -183,8 +184,8 @@ ModeOperatorStats StripHistory::stats() const {
 void StripHistory::push(std::span<const std::complex<double>> slip_rate_spectrum) {
   const int n_modes = static_cast<int>(history_.size());
   history_[0] = echo_.push(slip_rate_spectrum[0]);
-#pragma omp parallel for schedule(static)
-  for (int q = 1; q < n_modes; ++q) {
+  simd::parallel_for(n_modes - 1, [&](long long item) {
+    const int q = static_cast<int>(item) + 1;
     const std::complex<double> v = slip_rate_spectrum[q];
     const double vr = v.real(), vi = v.imag();
     double acc_r = 0.0, acc_i = 0.0;
@@ -205,7 +206,7 @@ void StripHistory::push(std::span<const std::complex<double>> slip_rate_spectrum
     running_sum_[q] += v;
     history_[q] = integrator_weight_[q] * running_sum_[q] +
                   dt_ * (weight_sum_[q] * running_sum_[q] - std::complex<double>(acc_r, acc_i));
-  }
+  });
 }
 
 void HistoryOperatorState::add(const std::string& name, std::span<const double> values) {

@@ -18,6 +18,7 @@
 #include "friction/friction_law.hpp"
 #include "friction/normal_stress_response.hpp"
 #include "friction/parameter_profile.hpp"
+#include "simd/parallel_for.hpp"
 
 namespace slipstrip {
 namespace {
@@ -102,11 +103,15 @@ class RateAndStateLaw final : public InterfaceLaw {
     const int n = static_cast<int>(fields.x.size());
     // The loads: a few flops per node unless a load pulse is imposed (an exp
     // per node); only then is it worth a parallel region of its own.
-    const bool pulse = in.load_pulse_amplitude != 0.0;
-#pragma omp parallel for schedule(static) if (pulse)
-    for (int i = 0; i < n; ++i)
+    const auto load = [&](long long i) {
       tau_history_[i] = reference_[i] + drive - fields.history_stress[i] +
                         imposed_stress(in, in.load_pulse_amplitude, length, fields.x[i], t_load);
+    };
+    if (in.load_pulse_amplitude != 0.0) {
+      simd::parallel_for(n, load);
+    } else {
+      for (int i = 0; i < n; ++i) load(i);
+    }
     if (!fields.normal_stress.empty()) {
       solve_with_normal_stress(fields, dt, initial);
       return;

@@ -11,6 +11,9 @@
 // Include in exactly one source file of a test program (it defines the entry
 // points).  The counter is the program's one static: allocation calls reach a
 // test only through these global entry points, so it cannot live anywhere else.
+#include <doctest/doctest.h>
+#include <omp.h>
+
 #include <atomic>
 #include <cerrno>
 #include <cstddef>
@@ -24,6 +27,21 @@ inline std::atomic<long>& allocation_counter() {
 }
 inline long allocations() { return allocation_counter().load(std::memory_order_relaxed); }
 inline void count_allocation() { allocation_counter().fetch_add(1, std::memory_order_relaxed); }
+
+// Runs `body` with `threads` OpenMP threads, the runtime's thread pool already
+// started (its one start per process is not the code under test's).  Code that
+// sizes per-thread memory at construction must be built inside body.
+template <class Body>
+void with_threads(int threads, Body body) {
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  int started = 0;
+#pragma omp parallel num_threads(threads) reduction(+ : started)
+  started += 1;
+  REQUIRE(started == threads);
+  body();
+  omp_set_num_threads(saved);
+}
 }  // namespace slipstrip_test
 
 #if defined(__SANITIZE_ADDRESS__)

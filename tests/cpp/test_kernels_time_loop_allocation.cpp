@@ -11,7 +11,6 @@
 // a team of one at every region) and with two (the thread pool is started
 // before counting: the OpenMP runtime's one start per process).
 #include <doctest/doctest.h>
-#include <omp.h>
 
 #include <complex>
 #include <memory>
@@ -30,6 +29,7 @@ namespace {
 using cplx = std::complex<double>;
 using slipstrip::ElasticMaterial;
 using slipstrip_test::allocations;
+using slipstrip_test::with_threads;
 
 constexpr int kBlock = 2048;
 // Two block ends and more: every FFT level and the far field (locate, the
@@ -46,21 +46,6 @@ std::vector<std::vector<cplx>> white_noise(int modes, unsigned seed) {
     v[0] = v[0].real();
   }
   return steps;
-}
-
-// Runs `body` with `threads` OpenMP threads (operators size their per-thread
-// work memory at construction, so body builds its own), the runtime's thread
-// pool already started.
-template <class Body>
-void with_threads(int threads, Body body) {
-  const int saved = omp_get_max_threads();
-  omp_set_num_threads(threads);
-  int started = 0;
-#pragma omp parallel num_threads(threads) reduction(+ : started)
-  started += 1;
-  REQUIRE(started == threads);
-  body();
-  omp_set_num_threads(saved);
 }
 
 }  // namespace
