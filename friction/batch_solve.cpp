@@ -167,9 +167,17 @@ BatchCounts predictor_corrector_batch(const LocalSolveParameters& params, double
 
 namespace {
 
-void check_normal_stress_step(std::size_t n, const NormalStressStep& normal) {
+// The inputs of a step with a per-node normal stress: the fields, the four
+// normal stresses and the per-node parameters all have n values (checked in
+// this order; std::invalid_argument otherwise).
+void check_normal_stress_inputs(const LocalSolveParameters& params, std::size_t n,
+                                std::span<const double> slip_rate_old, std::span<const double> state_old,
+                                const NormalStressStep& normal, std::span<const double> slip_rate_new,
+                                std::span<const double> state_new) {
+  check_sizes(n, {slip_rate_old.size(), state_old.size(), slip_rate_new.size(), state_new.size()});
   check_sizes(n, {normal.sigma_old.size(), normal.sigma_new.size(), normal.effective_old.size(),
                   normal.effective_new.size()});
+  check_per_node_sizes(params, n);
 }
 
 NormalStressStep slice(const NormalStressStep& normal, std::size_t begin, std::size_t count) {
@@ -188,9 +196,7 @@ BatchCounts predictor_corrector_normal_stress_batch(const LocalSolveParameters& 
                                                     std::span<double> slip_rate_new,
                                                     std::span<double> state_new) {
   const std::size_t n = tau_history.size();
-  check_sizes(n, {slip_rate_old.size(), state_old.size(), slip_rate_new.size(), state_new.size()});
-  check_normal_stress_step(n, normal);
-  check_per_node_sizes(params, n);
+  check_normal_stress_inputs(params, n, slip_rate_old, state_old, normal, slip_rate_new, state_new);
   return batch_kernels().predictor_corrector_normal_stress(params, response, dt, tau_history, slip_rate_old,
                                                            state_old, normal, slip_rate_new, state_new);
 }
@@ -267,9 +273,8 @@ BatchCounts predictor_corrector_normal_stress_parallel(const LocalSolveParameter
                                                        std::span<double> slip_rate_new,
                                                        std::span<double> state_new) {
   const std::size_t n = tau_history.size();
-  check_sizes(n, {slip_rate_old.size(), state_old.size(), slip_rate_new.size(), state_new.size()});
-  check_normal_stress_step(n, normal);
-  check_per_node_sizes(params, n);  // before slicing them
+  // Every input, before the chunks slice them.
+  check_normal_stress_inputs(params, n, slip_rate_old, state_old, normal, slip_rate_new, state_new);
   return parallel_chunks(n, [&](std::size_t begin, std::size_t count) {
     return predictor_corrector_normal_stress_batch(
         params.slice(begin, count), response, dt, tau_history.subspan(begin, count),
