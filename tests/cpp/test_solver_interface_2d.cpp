@@ -20,6 +20,8 @@
 #include "solver/simulation_3d.hpp"
 #include "stability/oblique_stability.hpp"
 #include "stability/steady_sliding.hpp"
+#include "field_test_helpers.hpp"
+#include "solver_test_configs.hpp"
 
 using namespace slipstrip;
 constexpr double pi = std::numbers::pi;
@@ -27,20 +29,7 @@ constexpr double pi = std::numbers::pi;
 namespace {
 
 // Table S1 defaults, a short strip pair, a few nodes.
-SimulationConfig small_config(double length, int nodes) {
-  SimulationConfig c;
-  c.geometry.length = length;
-  c.geometry.height = 0.1;
-  c.geometry.nodes = nodes;
-  c.time.beta = 0.25;
-  return c;
-}
-
-double max_abs(std::span<const double> a) {
-  double m = 0.0;
-  for (double v : a) m = std::max(m, std::abs(v));
-  return m;
-}
+SimulationConfig small_config(double length, int nodes) { return testing::short_strip_pair(length, nodes, 0.25); }
 
 }  // namespace
 
@@ -49,10 +38,7 @@ namespace {
 void check_z_independent_equals_plane_strain(HistoryAlgorithm history) {
   SimulationConfig c2 = small_config(0.8, 32);
   c2.time.history = history;
-  c2.initial.sine_amplitude = 0.5;  // large: the run leaves steady sliding within the window
-  c2.initial.local_amplitude = 2.0;
-  c2.initial.local_center = 0.3;
-  c2.initial.local_width = 0.05;
+  testing::add_large_perturbation(c2, 0.3);
   Simulation flat(c2);
   for (int nodes_z : {1, 4}) {
     SimulationConfig c3 = c2;
@@ -109,10 +95,7 @@ TEST_CASE("2D interface, field independent of z = the 2D plane-strain solver, bl
 TEST_CASE("2D interface, field independent of x with slip along x = the 2D antiplane solver (round-off)") {
   SimulationConfig c2 = small_config(0.8, 32);
   c2.material.plane = PlaneCondition::antiplane;
-  c2.initial.sine_amplitude = 0.5;
-  c2.initial.local_amplitude = 2.0;
-  c2.initial.local_center = 0.5;
-  c2.initial.local_width = 0.05;
+  testing::add_large_perturbation(c2, 0.5);
   Simulation flat(c2);
   // The 3D run: z takes the 2D run's x; two nodes along x, dx = L_z >= dz.
   SimulationConfig c3 = small_config(1.6, 2);

@@ -19,34 +19,18 @@
 
 #include "solver/simulation.hpp"
 #include "solver/simulation_3d.hpp"
+#include "field_test_helpers.hpp"
+#include "solver_test_configs.hpp"
 
 using namespace slipstrip;
 
 namespace {
 
-// A strip H = 0.1 m (Table S1 material) on a slower, denser bottom body of
-// another Poisson ratio and half the height with a clamped outer face: c_s of
-// the bottom is half the top's, so its echo 2 H_b / c_b equals the top's and
-// the time step is the top strip's, as in the 1D in-plane pair.
+// A strip H = 0.1 m (Table S1 material) on a slower, denser bottom body
+// (testing::with_dissimilar_bottom: the time step is the top strip's, as in
+// the 1D in-plane pair).
 SimulationConfig dissimilar_config(double length, int nodes) {
-  SimulationConfig c;
-  c.geometry.length = length;
-  c.geometry.height = 0.1;
-  c.geometry.nodes = nodes;
-  c.time.beta = 0.2;
-  c.bottom.body = BodyKind::elastic;
-  c.bottom.shear_modulus = 4.5e9;
-  c.bottom.density = 2400.0;
-  c.bottom.poisson_ratio = 0.25;
-  c.bottom.height = 0.05;
-  c.bottom.outer_face = OuterFace::clamped;
-  return c;
-}
-
-double max_abs(std::span<const double> a) {
-  double m = 0.0;
-  for (double v : a) m = std::max(m, std::abs(v));
-  return m;
+  return testing::with_dissimilar_bottom(testing::short_strip_pair(length, nodes, 0.2));
 }
 
 struct Worst {
@@ -58,10 +42,7 @@ struct Worst {
 
 TEST_CASE("2D interface, dissimilar bodies, field independent of z = the 1D in-plane dissimilar pair (round-off)") {
   SimulationConfig c1 = dissimilar_config(0.8, 32);
-  c1.initial.sine_amplitude = 0.5;
-  c1.initial.local_amplitude = 2.0;
-  c1.initial.local_center = 0.3;
-  c1.initial.local_width = 0.05;
+  testing::add_large_perturbation(c1, 0.3);
   c1.interface.normal_stress_slip = 0.5 * c1.friction.characteristic_slip;
   SimulationConfig c3 = c1;
   c3.geometry.nodes_z = 4;
@@ -117,10 +98,7 @@ TEST_CASE("2D interface, dissimilar bodies, field independent of z = the 1D in-p
 TEST_CASE("2D interface, dissimilar bodies, field independent of x with slip along x = the 1D antiplane dissimilar pair") {
   SimulationConfig c1 = dissimilar_config(0.8, 32);
   c1.material.plane = PlaneCondition::antiplane;
-  c1.initial.sine_amplitude = 0.5;
-  c1.initial.local_amplitude = 2.0;
-  c1.initial.local_center = 0.5;
-  c1.initial.local_width = 0.05;
+  testing::add_large_perturbation(c1, 0.5);
   Simulation flat(c1);
   REQUIRE(!flat.variable_normal_stress());
   // The 3D run: z takes the 1D run's x; two nodes along x, dx = 0.8 m >= dz.
