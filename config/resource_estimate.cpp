@@ -74,9 +74,11 @@ struct BodyOperator {
 
 // `pair_operator`: the operator of docs/theory.md (modal/block strip or the
 // half-space), as the mirror pair and each antiplane body use it; otherwise an
-// in-plane body's 2x2 operator.
+// in-plane body's 2x2 operator.  `body_of_two`: an antiplane body of two
+// different ones, whose block operator takes face_block_length's B.
 BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, double fourier_modes,
-                           HistoryAlgorithm history, bool pair_operator, bool allow_block) {
+                           HistoryAlgorithm history, bool pair_operator, bool allow_block,
+                           bool body_of_two = false) {
   BodyOperator b;
   if (is_half_space(height)) {
     b.bytes = fourier_modes * (pair_operator ? kHalfSpaceBytesPerFourierMode : kFaceHalfSpaceBytesPerFourierMode);
@@ -110,6 +112,12 @@ BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, d
                             (history == HistoryAlgorithm::automatic && b.modes_per_fourier_mode >= kBlockThreshold));
   b.bytes = fourier_modes * b.modes_per_fourier_mode * (b.block ? kBlockBytesPerMode : kModalBytesPerMode) +
             8.0 * b.echo_steps;
+  if (b.block && body_of_two) {
+    // 64 P + 48 B + the kernels (16 P), at the doubled B instead of B < 2P.
+    const double block = face_block_length(static_cast<std::size_t>(std::ceil(b.modes_per_fourier_mode)),
+                                           FaceBlockDesign{}.direct_block);
+    b.bytes = fourier_modes * (80.0 * b.modes_per_fourier_mode + 48.0 * block) + 8.0 * b.echo_steps;
+  }
   b.seconds = b.block ? fourier_modes * kBlockSecondsPerFourierMode
                       : fourier_modes * b.modes_per_fourier_mode * kModalSecondsPerMode;
   return b;
@@ -163,8 +171,9 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
   const bool per_body = !interface_2d && c.bottom.body != BodyKind::mirror && !c.material.antiplane();
   const ElasticMaterial bottom = bottom_material(c);
   if (elastic_bottom && bottom.shear_wave_speed() > cs) e.time_step = c.time.beta * dx / bottom.shear_wave_speed();
+  const bool antiplane_bodies = !interface_2d && c.bottom.body != BodyKind::mirror && c.material.antiplane();
   const BodyOperator top = body_operator(c.material, c.geometry.height, e.time_step, fourier_modes, c.time.history,
-                                         !per_body, !interface_2d);
+                                         !per_body, !interface_2d, antiplane_bodies);
   e.echo_steps = top.echo_steps;
   e.modes_per_fourier_mode = top.modes_per_fourier_mode;
   e.block_history = top.block;
@@ -198,7 +207,8 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
   }
   if (elastic_bottom) {
     const BodyOperator b =
-        body_operator(bottom, c.bottom.height, e.time_step, fourier_modes, c.time.history, !per_body, true);
+        body_operator(bottom, c.bottom.height, e.time_step, fourier_modes, c.time.history, !per_body, true,
+                      antiplane_bodies);
     e.bottom_echo_steps = b.echo_steps;
     e.bottom_modes_per_fourier_mode = b.modes_per_fourier_mode;
     e.operator_bytes += b.bytes;

@@ -62,13 +62,15 @@ void check_saved_state(std::span<const SavedField> fields, const SimulationState
 // `most_normal_modes` > 0 replaces the kernels' own largest count of normal
 // modes per Fourier mode, for the automatic choice and the block length B:
 // kernels holding part of an operator's modes (one process of a split run)
-// then choose as the whole operator does.
+// then choose as the whole operator does.  `block` > 0: the block operator's B
+// (a body of a pair of different bodies, face_block_length); 0: the identical
+// pair's automatic_block_length.
 inline constexpr std::size_t kBlockHistoryThreshold = 128;
 std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& material,
                                                     const StripKernels& kernels,
                                                     HistoryAlgorithm algorithm,
                                                     const CancelCheck& cancelled = {},
-                                                    std::size_t most_normal_modes = 0);
+                                                    std::size_t most_normal_modes = 0, int block = 0);
 // The largest number of normal modes of any Fourier mode of `kernels`.
 std::size_t most_normal_modes(const StripKernels& kernels);
 
