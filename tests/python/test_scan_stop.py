@@ -10,8 +10,11 @@ and exited 1; SIGTERM ended the scan at once and left its solver running;
 a relaunch ran a second writer on the orphan's file; a Dask scan left its
 workers' solvers running.
 
-Runs: configs/quickstart.toml at N = 64 for 200 L/c_s (~3 s of wall time on
-a quiet core), long enough to be signalled mid-run.
+Runs: configs/quickstart.toml at N = 64 for 1500 L/c_s (3 s of wall time on
+a quiet core: 1000 L/c_s took 2.05 s), long enough to be signalled mid-run.
+A Dask task sees the stop only after its worker has connected a client to
+the scheduler, which can take a second, so the Dask test's runs are four
+times longer; it stops them, so their length costs nothing when it passes.
 
 Run: /usr/bin/python3 -m pytest tests/python/test_scan_stop.py
 """
@@ -32,7 +35,7 @@ sys.path.insert(0, str(REPO / "python"))
 scan = importlib.import_module("slipstrip.scan")
 runfile = importlib.import_module("slipstrip.runfile")
 
-LONG = {"geometry.nodes": 64, "time.duration_transits": 200, "output.snapshot_interval": 0}
+LONG = {"geometry.nodes": 64, "time.duration_transits": 1500, "output.snapshot_interval": 0}
 WAIT_SECONDS = 120  # upper bound on anything here; a loaded machine is slow, a hung scan fails the test
 
 
@@ -46,9 +49,10 @@ def one_thread(monkeypatch):
     monkeypatch.setenv("OMP_NUM_THREADS", "1")
 
 
-def write_scan(path: Path, n_runs: int) -> Path:
+def write_scan(path: Path, n_runs: int, duration_factor: int = 1) -> Path:
+    fixed = dict(LONG, **{"time.duration_transits": LONG["time.duration_transits"] * duration_factor})
     lines = [f'base = "{REPO / "configs/quickstart.toml"}"', "", "[fixed]"]
-    lines += [f'"{k}" = {json.dumps(v)}' for k, v in LONG.items()]
+    lines += [f'"{k}" = {json.dumps(v)}' for k, v in fixed.items()]
     seeds = ", ".join(str(s) for s in range(1, n_runs + 1))
     path.write_text("\n".join(lines) + f'\n\n[[parameter]]\nkey = "initial.noise_seed"\nvalues = [{seeds}]\n')
     return path
@@ -188,7 +192,8 @@ def test_dask_scan_stop_reaches_the_workers_solvers(binary, tmp_path):
     out = tmp_path / "out"
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster:
-        proc = start_scan(write_scan(tmp_path / "s.toml", 3), out, binary, "--dask", cluster.scheduler_address)
+        proc = start_scan(write_scan(tmp_path / "s.toml", 3, duration_factor=4), out, binary, "--dask",
+                          cluster.scheduler_address)
         pids = solver_pids(out, 2)
         # The scan (the Dask client) alone: its workers are this test's processes, not its children.
         proc.send_signal(signal.SIGINT)
