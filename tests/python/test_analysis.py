@@ -441,6 +441,10 @@ def test_numpy_grouping_matches_cpp_catalog(quick_run, tmp_path):
         assert cat["u_mean"][row] == pytest.approx(delta_th * mask.sum() / k, rel=1e-12)
 
 
+# Slow tier for its cost (11 s of CPU, most of it six figures drawn as PNG and
+# PDF): it checks the command's outputs; the detection and statistics it
+# calls are checked in the fast tier by the tests above.
+@pytest.mark.slow
 def test_analyze_end_to_end(quick_run, tmp_path):
     run = tmp_path / "run.h5"
     run.write_bytes(quick_run.read_bytes())  # analyze --write-events adds /events to the run file

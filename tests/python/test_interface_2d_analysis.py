@@ -116,6 +116,10 @@ def _module(*args):
                           env=env, timeout=300)
 
 
+# Slow tier for its cost (four plot processes, 3 s of CPU): it checks the
+# command line; the maps themselves are checked in the fast tier by
+# test_interface_2d_python.py::test_slip_rate_maps_with_rupture_front_contours.
+@pytest.mark.slow
 def test_plot_draws_the_maps_of_a_2d_interface(analysed, tmp_path):
     run = analysed[0]
     r = _module("plot", run, "--out", tmp_path / "maps.png", "--times", "1e-3,2e-3,3e-3")

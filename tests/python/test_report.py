@@ -345,6 +345,11 @@ def test_the_claim_list_is_complete():
         assert c.where and len(c.words) > 20, c.id  # a place and the paper's own words
 
 
+# Slow tier for its cost (the whole report at both readings, 11 s of CPU, half
+# of it drawing figures): it checks the report's assembly, not physics; the
+# claims' criteria and numbers are checked in the fast tier by the tests above
+# and by test_report_numbers.py.
+@pytest.mark.slow
 def test_report_has_a_row_for_every_claim_at_both_readings(tiny_rundir, tiny_printed, tmp_path, binary):
     r, out, figs = _report(tiny_rundir, tmp_path, env_bin=binary, printed=tiny_printed)
     assert r.returncode == 0, r.stderr
@@ -374,9 +379,7 @@ def test_report_has_a_row_for_every_claim_at_both_readings(tiny_rundir, tiny_pri
     assert (figs / "asrun").is_dir() and (figs / "printed").is_dir()
 
 
-# Slow tier for its cost (the whole report built twice, minutes of CPU); the
-# fast tier builds the whole report once in
-# test_report_has_a_row_for_every_claim_at_both_readings.
+# Slow tier for its cost (the whole report built twice, minutes of CPU).
 @pytest.mark.slow
 def test_report_rows_come_from_the_run_files(tiny_rundir, tiny_printed, tmp_path, binary):
     d = tmp_path / "runs"
@@ -608,6 +611,11 @@ def _module_cli(*args):
                           env=env, timeout=300)
 
 
+# Slow tier for its cost (eight command processes, 4.4 s of CPU): it checks the
+# commands' wiring; what they compute is checked in the fast tier by
+# test_pulse_episodes_reports_what_the_report_functions_compute and the
+# trajectory-divergence tests below.
+@pytest.mark.slow
 def test_pulse_episodes_and_trajectory_divergence_are_subcommands(tiny_rundir, tmp_path):
     """Both are `python3 -m slipstrip` subcommands with their own help, and
     follow the output-path rule: an existing --json is refused (exit 2, one

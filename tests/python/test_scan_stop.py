@@ -118,6 +118,10 @@ def check_interrupted(out: Path, rows: list[dict], pids: dict[str, int], code: i
         assert not alive(pid), f"the solver of {name} (pid {pid}) still runs"
 
 
+# Slow tier for its cost (three 3-s runs, two of them twice): it checks the
+# scan's process control; test_sigterm_to_the_scan_alone_reaches_its_solver
+# keeps a stop that reaches the solver in the fast tier.
+@pytest.mark.slow
 def test_sigint_to_the_group_stops_a_scan_that_ignored_sigint(binary, tmp_path, capfd):
     out = tmp_path / "out"
     proc = start_scan(write_scan(tmp_path / "s.toml", 3), out, binary, "--jobs", "2", ignore_sigint=True)
