@@ -309,3 +309,26 @@ def test_run_file_resumes_from_its_checkpoint(exe, tmp_path):
         for group in ("snapshots", "timeseries"):
             for name in a[group]:
                 assert np.array_equal(a[f"{group}/{name}"][:], b[f"{group}/{name}"][:]), (group, name)
+
+
+def test_a_new_run_never_empties_an_earlier_runs_records(exe, tmp_path):
+    """volume.py run into the OUT of a halted run (its raw records and checkpoint
+    are all it has until resume or convert) is refused with what to do instead;
+    the records are untouched, and resume still completes the run. --overwrite
+    starts again."""
+    from slipstrip import runfile
+    from volume import refuse_to_replace, resume_run, run_to_file
+    kw = dict(duration=1e-3, snapshot_interval=5e-5, exe=exe)
+    part = run_to_file(CONFIG, tmp_path / "part.h5", 80, checkpoint_interval=3600.0, halt_after_steps=300, **kw)
+    records = {q: q.read_bytes() for q in tmp_path.iterdir() if q.name.startswith("part.h5.")}
+    assert any(q.name.endswith(".snapshots.bin") for q in records)
+    with pytest.raises(FileExistsError, match=r"part\.h5: an earlier run's files exist \(part\.h5, .*"
+                                              r"part\.h5\.snapshots\.bin.*volume\.py resume .*--overwrite"):
+        run_to_file(CONFIG, part, 80, **kw)
+    assert {q: q.read_bytes() for q in records} == records
+    resume_run(part, exe=exe)
+    assert runfile.read_status(part) == "completed"
+    # A fresh OUT has nothing to refuse; --overwrite (overwrite=True) replaces.
+    refuse_to_replace(tmp_path / "new.h5", overwrite=False)
+    again = run_to_file(CONFIG, part, 80, overwrite=True, **kw)
+    assert runfile.read_status(again) == "completed"

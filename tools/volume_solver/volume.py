@@ -268,6 +268,23 @@ def _paths(out) -> dict:
         ("checkpoint", ".checkpoint.bin"))}
 
 
+def refuse_to_replace(out, overwrite: bool) -> None:
+    """A new run opens its raw records for writing, which would empty those of
+    an earlier run into the same `out`: a run that finished but whose
+    conversion was interrupted, or one waiting for `resume`.  So they are
+    replaced only when asked (overwrite), and the message says what else to do."""
+    if overwrite:
+        return
+    out = Path(out)
+    found = [q for q in (out, out.with_name(out.name + ".partial"), *_paths(out).values()) if q.exists()]
+    if found:
+        names = ", ".join(q.name for q in found)
+        raise FileExistsError(
+            f"{out}: an earlier run's files exist ({names}); continue it with `volume.py resume {out}` "
+            f"(a checkpoint exists) or `volume.py convert {out}` (its raw records), or pass --overwrite "
+            f"to start again and lose them")
+
+
 def _parse_value(text: str):
     """A --set value as TOML reads it (number, bool, quoted string), else the bare string."""
     try:
@@ -279,7 +296,8 @@ def _parse_value(text: str):
 def run_to_file(config, out, nx: int, *, overrides: dict | None = None, cfl: float | None = None,
                 dt: float | None = None, duration: float | None = None, snapshot_interval: float | None = None,
                 timeseries_interval: float | None = None, progress: float = 0.0, exe=None,
-                keep_raw: bool = False, checkpoint_interval: float = 0.0, halt_after_steps: int = 0) -> Path:
+                keep_raw: bool = False, checkpoint_interval: float = 0.0, halt_after_steps: int = 0,
+                overwrite: bool = False) -> Path:
     """Run slipstrip_volume on `config` (a TOML path; overrides {"section.key": value})
     and write the run file `out` (HDF5, slipstrip's layout).  The snapshot and
     time-series intervals default to the config's [output] values.  While it runs,
@@ -288,8 +306,12 @@ def run_to_file(config, out, nx: int, *, overrides: dict | None = None, cfl: flo
     interruption).  checkpoint_interval > 0: a checkpoint out.checkpoint.bin every
     that many wall seconds, from which resume_run(out) continues a killed run;
     halt_after_steps > 0: stop with a checkpoint after that step (the run file is
-    then 'interrupted' until resume_run).  Returns the path of the run file."""
+    then 'interrupted' until resume_run).  Refuses (FileExistsError) when the
+    run file or any record of an earlier run into `out` exists, unless
+    overwrite: the raw records of a long run are all it has until convert()
+    has written the run file.  Returns the path of the run file."""
     import time as _time
+    refuse_to_replace(out, overwrite)
     overrides = dict(overrides or {})
     table = load_table(config, overrides)
     p = read_config(table, allow_slipstrip_initial=True)
@@ -483,6 +505,8 @@ def main(argv: list[str]) -> int:
     r.add_argument("--timeseries-interval", type=float)
     r.add_argument("--progress", type=float, default=60.0, help="seconds between progress lines in OUT.log")
     r.add_argument("--keep-raw", action="store_true")
+    r.add_argument("--overwrite", action="store_true",
+                   help="replace OUT and the records of an earlier run into OUT (otherwise refused)")
     r.add_argument("--checkpoint-interval", type=float, default=0.0,
                    help="wall seconds between checkpoints (OUT.checkpoint.bin; `resume OUT` continues)")
     u = sub.add_parser("resume", help="continue OUT from its last checkpoint to the end")
@@ -504,7 +528,8 @@ def main(argv: list[str]) -> int:
         overrides[k] = _parse_value(v)
     path = run_to_file(a.config, a.out, a.nx, overrides=overrides, cfl=a.cfl, dt=a.dt, duration=a.duration,
                        snapshot_interval=a.snapshot_interval, timeseries_interval=a.timeseries_interval,
-                       progress=a.progress, keep_raw=a.keep_raw, checkpoint_interval=a.checkpoint_interval)
+                       progress=a.progress, keep_raw=a.keep_raw, checkpoint_interval=a.checkpoint_interval,
+                       overwrite=a.overwrite)
     print(path)
     return 0
 
