@@ -185,6 +185,9 @@ void write_event_catalog(const std::string& path, const EventCatalog& c) {
     io::write_attribute(g, "min_mean_slip_dth", c.options.min_mean_slip_dth);
     io::write_attribute(g, "min_extent", c.min_extent);
     io::write_attribute(g, "min_mean_slip", c.min_mean_slip);
+    // The creep filter (0: off, every nodal slip counted).
+    io::write_attribute(g, "min_slip_rate_v0", c.options.min_slip_rate_v0);
+    io::write_attribute(g, "min_slip_rate", c.min_slip_rate);
     count("exclude_first_last", c.options.exclude_first_last ? 1 : 0);
     io::write_attribute(g, "delta_th", c.delta_th);
     io::write_attribute(g, "dx", c.dx);
@@ -192,13 +195,14 @@ void write_event_catalog(const std::string& path, const EventCatalog& c) {
     io::write_attribute(g, "mu", c.mu);
     count("n_nodes", c.n_nodes);
     count("n_nodal_slips", c.n_nodal_slips);
+    count("n_nodal_slips_below_min_slip_rate", c.n_nodal_slips_below_min_slip_rate);
     count("n_events_detected", c.n_events_detected);
     count("n_events_excluded_first_last", c.n_events_excluded_first_last);
     count("n_events_below_thresholds", c.n_events_below_thresholds);
     count("n_events", c.n_events());
     io::write_attribute(g, "units",
-                        "alpha, *_dx, *_dth: 1; waiting_time_threshold: s; min_extent, min_mean_slip, "
-                        "delta_th, dx: m; v0: m/s; mu: Pa");
+                        "alpha, *_dx, *_dth, *_v0: 1; waiting_time_threshold: s; min_extent, min_mean_slip, "
+                        "delta_th, dx: m; v0, min_slip_rate: m/s; mu: Pa");
   }
   io::close_file(file);
 }
@@ -228,6 +232,12 @@ EventCatalog read_event_catalog(const std::string& path) {
   c.options.min_mean_slip_dth = io::read_attribute<double>(g, "min_mean_slip_dth");
   c.min_extent = io::read_attribute<double>(g, "min_extent");
   c.min_mean_slip = io::read_attribute<double>(g, "min_mean_slip");
+  // Catalogs written before the creep filter existed have none: they are unfiltered.
+  if (io::has_attribute(g, "min_slip_rate_v0")) {
+    c.options.min_slip_rate_v0 = io::read_attribute<double>(g, "min_slip_rate_v0");
+    c.min_slip_rate = io::read_attribute<double>(g, "min_slip_rate");
+    c.n_nodal_slips_below_min_slip_rate = io::read_attribute<std::uint64_t>(g, "n_nodal_slips_below_min_slip_rate");
+  }
   c.options.exclude_first_last = io::read_attribute<std::uint64_t>(g, "exclude_first_last") != 0;
   c.delta_th = io::read_attribute<double>(g, "delta_th");
   c.dx = io::read_attribute<double>(g, "dx");

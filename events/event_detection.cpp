@@ -201,8 +201,10 @@ class OpenEvent {
     if (count_[i] == 0) {
       touched_.push_back(static_cast<std::int32_t>(i));
     } else {
-      // Successive crossings of the same node, both inside the event.
-      min_dt_ = std::min(min_dt_, s.time - last_time_[i]);
+      // A node's later crossing inside the event: its own Delta t (the time
+      // since the node's previous crossing, equal to s.time - last_time_[i]
+      // unless the min_slip_rate filter dropped a crossing in between).
+      min_dt_ = std::min(min_dt_, s.duration);
     }
     ++count_[i];
     last_time_[i] = s.time;
@@ -317,6 +319,7 @@ EventCatalog empty_catalog(const SlipSamplingInfo& info, const EventDetectionOpt
   catalog.waiting_time_threshold = waiting_time_threshold(options.alpha, info.delta_th, info.v0, threshold_nodes);
   catalog.min_extent = options.min_extent_dx * info.dx;
   catalog.min_mean_slip = options.min_mean_slip_dth * info.delta_th;
+  catalog.min_slip_rate = options.min_slip_rate_v0 * info.v0;
   return catalog;
 }
 
@@ -332,6 +335,7 @@ EventCatalog detect_events(const CrossingTimeSource& source, const SlipSamplingI
   require_positive("alpha", options.alpha);
   require_non_negative("min_extent_dx", options.min_extent_dx);
   require_non_negative("min_mean_slip_dth", options.min_mean_slip_dth);
+  require_non_negative("min_slip_rate_v0", options.min_slip_rate_v0);
   if (info.x.size() != n)
     throw std::invalid_argument("x size = " + std::to_string(info.x.size()) +
                                 " is invalid: must equal the number of crossing_time columns N = " +
@@ -363,6 +367,10 @@ EventCatalog detect_events(const CrossingTimeSource& source, const SlipSamplingI
   NodalSlip s;
   while (stream.next(s)) {
     ++catalog.n_nodal_slips;
+    if (below_min_slip_rate(s, info.delta_th, catalog.min_slip_rate)) {
+      ++catalog.n_nodal_slips_below_min_slip_rate;
+      continue;
+    }
     if (!open.empty() && s.time - open.last_time() > catalog.waiting_time_threshold) close_open_event();
     open.add(s);
   }
@@ -380,9 +388,15 @@ std::string empty_catalog_reason(const EventCatalog& c, double run_duration) {
   if (c.n_events() > 0) return "";
   std::ostringstream s;
   s.precision(3);
-  s << "0 events kept (" << c.n_nodal_slips << " nodal slips, " << c.n_events_detected
-    << " events detected with alpha = " << c.options.alpha << "): ";
-  if (c.n_nodal_slips == 0) {
+  s << "0 events kept (" << c.n_nodal_slips << " nodal slips";
+  if (c.options.min_slip_rate_v0 > 0.0)
+    s << " of which " << c.n_nodal_slips_below_min_slip_rate << " slower than min_slip_rate_v0 = "
+      << c.options.min_slip_rate_v0 << " v0 ignored";
+  s << ", " << c.n_events_detected << " events detected with alpha = " << c.options.alpha << "): ";
+  if (c.n_nodal_slips > 0 && c.n_nodal_slips_below_min_slip_rate == c.n_nodal_slips) {
+    s << "every nodal slip is slower than " << c.options.min_slip_rate_v0
+      << " v0: give a smaller --min-slip-rate (0 keeps every nodal slip)";
+  } else if (c.n_nodal_slips == 0) {
     s << "no node slipped by output.delta_th = " << c.delta_th << " m";
     if (run_duration > 0.0 && c.v0 > 0.0) s << " (the mean slip of the run is v0 t = " << c.v0 * run_duration << " m)";
     s << ": run longer (time.duration) or lower output.delta_th";
@@ -392,6 +406,10 @@ std::string empty_catalog_reason(const EventCatalog& c, double run_duration) {
     if (run_duration > 0.0) s << " (" << run_duration << " s)";
     s << " or slides steadily; run longer (time.duration_transits), or give a smaller --alpha to split the "
       << "slip into more events";
+    // A 2D interface whose rate-strengthening part creeps fills every gap
+    // of the stream (docs/events.md "Ignoring creep").
+    if (c.nodes_z > 1 && c.options.min_slip_rate_v0 == 0.0)
+      s << "; if part of the interface creeps, ignore its nodal slips with --min-slip-rate";
   } else {
     s << "all " << c.n_events_below_thresholds << " events between the first and the last are below the size "
       << "thresholds (" << c.options.min_extent_dx << " dx in extent, " << c.options.min_mean_slip_dth

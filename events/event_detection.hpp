@@ -154,6 +154,13 @@ struct EventDetectionOptions {
   // The first event (triggered by the initial state) and the last one
   // (possibly cut by the end of the run) are excluded.
   bool exclude_first_last = true;
+  // Nodal slips slower than min_slip_rate_v0 * v0 (rate delta_th / Delta t,
+  // Delta t the time since the node's previous crossing) are ignored before
+  // the grouping: creep then leaves gaps in the stream instead of filling
+  // them.  0 (the default) keeps every nodal slip, and the catalog is bit for
+  // bit the unfiltered one.  The waiting-time threshold is the same with and
+  // without the filter (docs/events.md "Ignoring creep").
+  double min_slip_rate_v0 = 0.0;
   // Rows of crossing_time read per block from the source.
   std::size_t block_rows = 256;
 };
@@ -166,7 +173,8 @@ struct EventCatalog {
   std::vector<double> extent;         // L_s = (distinct slipped nodes) * dx [m]
   std::vector<double> mean_slip;      // u_mean = delta_th * n_NS / (distinct slipped nodes) [m]
   std::vector<double> moment;         // M0 = mu L_s u_mean [N/m] (per unit thickness)
-  std::vector<double> max_slip_rate;  // delta_th / min Delta t inside the event [m/s]
+  std::vector<double> max_slip_rate;  // delta_th / min Delta t of the event's nodal slips (each node's
+                                      // first one in the event excepted) [m/s]
   std::vector<int> n_clusters;        // connected slipped patches kept by the filters [1]
   // A 2D interface (nodes_z > 1, docs/3d.md) only, else empty: each event is
   // one connected patch of nodes in (x, z); extent is the patch's extent along
@@ -187,9 +195,11 @@ struct EventCatalog {
   double waiting_time_threshold = 0.0;  // alpha delta_th / (v0 N) [s]; N = nodes_x on a 2D interface
   double min_extent = 0.0;              // min_extent_dx * dx [m]
   double min_mean_slip = 0.0;           // min_mean_slip_dth * delta_th [m]
+  double min_slip_rate = 0.0;           // min_slip_rate_v0 * v0 [m/s]; 0: every nodal slip counts
 
   // Counts.
-  std::uint64_t n_nodal_slips = 0;
+  std::uint64_t n_nodal_slips = 0;                  // all of them, the ignored ones included
+  std::uint64_t n_nodal_slips_below_min_slip_rate = 0;  // ignored: slower than min_slip_rate
   std::uint64_t n_events_detected = 0;             // before any exclusion
   std::uint64_t n_events_excluded_first_last = 0;  // 0, 1 or 2
   std::uint64_t n_events_below_thresholds = 0;     // removed by the size filters
@@ -199,6 +209,13 @@ struct EventCatalog {
 
 // alpha * delta_th / (v0 * n_nodes) [s]
 double waiting_time_threshold(double alpha, double delta_th, double v0, std::size_t n_nodes);
+
+// True if the nodal slip's rate delta_th / s.duration is below min_slip_rate
+// [m/s]; never when min_slip_rate = 0 (s.duration is finite), so the filter
+// off changes nothing.  A slip at exactly min_slip_rate is kept.
+inline bool below_min_slip_rate(const NodalSlip& s, double delta_th, double min_slip_rate) {
+  return delta_th < min_slip_rate * s.duration;
+}
 
 // A catalog without events: the options, the scales of `info` and the
 // thresholds, for n_nodes nodes of which threshold_nodes set the waiting time

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -44,7 +45,9 @@ class OpenGroup {
       first_time_[i] = s.time;
       first_order_[i] = order_++;
     } else {
-      min_dt_[i] = std::min(min_dt_[i], s.time - last_time_[i]);
+      // The crossing's own Delta t (s.time - last_time_[i] unless the
+      // min_slip_rate filter dropped a crossing of the node in between).
+      min_dt_[i] = std::min(min_dt_[i], s.duration);
     }
     ++count_[i];
     last_time_[i] = s.time;
@@ -114,6 +117,13 @@ class OpenGroup {
   double t_last_ = 0.0;
 };
 
+std::string to_string_g(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
 void require_positive_value(const char* name, double value) {
   if (!(value > 0.0) || !std::isfinite(value))
     throw std::invalid_argument(std::string(name) + " = " + std::to_string(value) +
@@ -133,6 +143,9 @@ EventCatalog detect_interface_2d_events(const CrossingTimeSource& source, const 
   for (const auto& [name, value] : {std::pair{"delta_th", info.delta_th}, {"dx", info.dx}, {"dz", info.dz},
                                     {"v0", info.v0}, {"mu", info.mu}, {"alpha", options.alpha}})
     require_positive_value(name, value);
+  if (!(options.min_slip_rate_v0 >= 0.0) || !std::isfinite(options.min_slip_rate_v0))
+    throw std::invalid_argument("min_slip_rate_v0 = " + to_string_g(options.min_slip_rate_v0) +
+                                " is invalid: must be finite and >= 0 (0 keeps every nodal slip)");
   if (!(options.min_extent_dx >= 0.0) || !(options.min_mean_slip_dth >= 0.0))
     throw std::invalid_argument("min_extent_dx, min_mean_slip_dth = " + std::to_string(options.min_extent_dx) +
                                 ", " + std::to_string(options.min_mean_slip_dth) + " are invalid: must be >= 0");
@@ -193,6 +206,12 @@ EventCatalog detect_interface_2d_events(const CrossingTimeSource& source, const 
   NodalSlip s;
   while (stream.next(s)) {
     ++catalog.n_nodal_slips;
+    // Creep ignored (min_slip_rate_v0 > 0): the waiting time then measures
+    // the gaps between the fast nodal slips only.
+    if (below_min_slip_rate(s, dth, catalog.min_slip_rate)) {
+      ++catalog.n_nodal_slips_below_min_slip_rate;
+      continue;
+    }
     if (!open.empty() && s.time - open.last_time() > catalog.waiting_time_threshold) close_group();
     open.add(s);
   }

@@ -47,9 +47,10 @@ std::vector<T> from_numpy(const py::dict& d, const char* key) {
 }
 
 ev::EventDetectionOptions make_options(double alpha, double min_extent_dx, double min_mean_slip_dth,
-                                       bool exclude_first_last, std::size_t block_rows) {
+                                       bool exclude_first_last, std::size_t block_rows, double min_slip_rate_v0) {
   ev::EventDetectionOptions o;
   o.alpha = alpha;
+  o.min_slip_rate_v0 = min_slip_rate_v0;
   o.min_extent_dx = min_extent_dx;
   o.min_mean_slip_dth = min_mean_slip_dth;
   o.exclude_first_last = exclude_first_last;
@@ -81,7 +82,10 @@ py::dict catalog_to_dict(ev::EventCatalog&& c) {
   options["min_mean_slip_dth"] = c.options.min_mean_slip_dth;
   options["exclude_first_last"] = c.options.exclude_first_last;
   options["block_rows"] = c.options.block_rows;
+  options["min_slip_rate_v0"] = c.options.min_slip_rate_v0;
   d["options"] = options;
+  d["min_slip_rate"] = c.min_slip_rate;
+  d["n_nodal_slips_below_min_slip_rate"] = c.n_nodal_slips_below_min_slip_rate;
   d["delta_th"] = c.delta_th;
   d["dx"] = c.dx;
   d["v0"] = c.v0;
@@ -126,7 +130,8 @@ ev::EventCatalog catalog_from_dict(const py::dict& d) {
     c.options = make_options(scalar_or(o, "alpha", c.options.alpha), scalar_or(o, "min_extent_dx", c.options.min_extent_dx),
                              scalar_or(o, "min_mean_slip_dth", c.options.min_mean_slip_dth),
                              scalar_or(o, "exclude_first_last", c.options.exclude_first_last),
-                             scalar_or(o, "block_rows", c.options.block_rows));
+                             scalar_or(o, "block_rows", c.options.block_rows),
+                             scalar_or(o, "min_slip_rate_v0", c.options.min_slip_rate_v0));
   }
   c.delta_th = scalar_or(d, "delta_th", 0.0);
   c.dx = scalar_or(d, "dx", 0.0);
@@ -137,6 +142,8 @@ ev::EventCatalog catalog_from_dict(const py::dict& d) {
   c.min_extent = scalar_or(d, "min_extent", 0.0);
   c.min_mean_slip = scalar_or(d, "min_mean_slip", 0.0);
   c.n_nodal_slips = scalar_or<std::uint64_t>(d, "n_nodal_slips", 0);
+  c.min_slip_rate = scalar_or(d, "min_slip_rate", 0.0);
+  c.n_nodal_slips_below_min_slip_rate = scalar_or<std::uint64_t>(d, "n_nodal_slips_below_min_slip_rate", 0);
   c.n_events_detected = scalar_or<std::uint64_t>(d, "n_events_detected", n);
   c.n_events_excluded_first_last = scalar_or<std::uint64_t>(d, "n_events_excluded_first_last", 0);
   c.n_events_below_thresholds = scalar_or<std::uint64_t>(d, "n_events_below_thresholds", 0);
@@ -201,8 +208,9 @@ void bind_events(py::module_& m) {
   m.def(
       "detect_events_in_file",
       [](const std::filesystem::path& path, double alpha, double min_extent_dx, double min_mean_slip_dth,
-         bool exclude_first_last, std::size_t block_rows) {
-        const auto options = make_options(alpha, min_extent_dx, min_mean_slip_dth, exclude_first_last, block_rows);
+         bool exclude_first_last, std::size_t block_rows, double min_slip_rate_v0) {
+        const auto options =
+            make_options(alpha, min_extent_dx, min_mean_slip_dth, exclude_first_last, block_rows, min_slip_rate_v0);
         ev::EventCatalog c;
         {
           py::gil_scoped_release release;
@@ -212,8 +220,9 @@ void bind_events(py::module_& m) {
         return catalog_to_dict(std::move(c));
       },
       py::arg("path"), py::arg("alpha") = 15.0, py::arg("min_extent_dx") = 2.0, py::arg("min_mean_slip_dth") = 2.0,
-      py::arg("exclude_first_last") = true, py::arg("block_rows") = 256,
-      "Detect slip events from /slip_sampling of an HDF5 file (streamed).  Returns a catalog dict.");
+      py::arg("exclude_first_last") = true, py::arg("block_rows") = 256, py::arg("min_slip_rate_v0") = 0.0,
+      "Detect slip events from /slip_sampling of an HDF5 file (streamed); nodal slips slower than "
+      "min_slip_rate_v0 * v0 are ignored (0: none).  Returns a catalog dict.");
   // What `slipstrip events RUN [--out OUT]` does (apps/slipstrip_main.cpp),
   // in-process: detection and the /events write both in C++, so the file
   // written is the CLI's byte for byte and the arrays never cross into Python
@@ -221,8 +230,10 @@ void bind_events(py::module_& m) {
   m.def(
       "detect_events_into_file",
       [](const std::filesystem::path& run_path, const std::optional<std::filesystem::path>& out_path, double alpha,
-         double min_extent_dx, double min_mean_slip_dth, bool exclude_first_last, std::size_t block_rows) {
-        const auto options = make_options(alpha, min_extent_dx, min_mean_slip_dth, exclude_first_last, block_rows);
+         double min_extent_dx, double min_mean_slip_dth, bool exclude_first_last, std::size_t block_rows,
+         double min_slip_rate_v0) {
+        const auto options =
+            make_options(alpha, min_extent_dx, min_mean_slip_dth, exclude_first_last, block_rows, min_slip_rate_v0);
         const std::string target = out_path ? out_path->string() : run_path.string();
         ev::EventCatalog c;
         {
@@ -235,6 +246,7 @@ void bind_events(py::module_& m) {
       },
       py::arg("run_path"), py::arg("out_path") = py::none(), py::arg("alpha") = 15.0, py::arg("min_extent_dx") = 2.0,
       py::arg("min_mean_slip_dth") = 2.0, py::arg("exclude_first_last") = true, py::arg("block_rows") = 256,
+      py::arg("min_slip_rate_v0") = 0.0,
       "Detect slip events from /slip_sampling of run_path and write the catalog as /events of out_path "
       "(default: the run file itself, replacing its /events), as `slipstrip events` does.  Returns the "
       "catalog dict.");
@@ -242,12 +254,13 @@ void bind_events(py::module_& m) {
       "detect_events",
       [](CrossingArray crossing_time, double delta_th, double dx, double v0, double mu, py::object x, double D,
          double L, double alpha, double min_extent_dx, double min_mean_slip_dth, bool exclude_first_last,
-         std::size_t block_rows) {
+         std::size_t block_rows, double min_slip_rate_v0) {
         check_matrix(crossing_time);
         const auto n_levels = static_cast<std::size_t>(crossing_time.shape(0));
         const auto n_nodes = static_cast<std::size_t>(crossing_time.shape(1));
         const auto info = make_info(n_nodes, delta_th, dx, v0, mu, x, D, L);
-        const auto options = make_options(alpha, min_extent_dx, min_mean_slip_dth, exclude_first_last, block_rows);
+        const auto options =
+            make_options(alpha, min_extent_dx, min_mean_slip_dth, exclude_first_last, block_rows, min_slip_rate_v0);
         const ev::RowMajorCrossingTimes source({crossing_time.data(), n_levels * n_nodes}, n_levels, n_nodes);
         ev::EventCatalog c;
         {
@@ -259,8 +272,9 @@ void bind_events(py::module_& m) {
       py::arg("crossing_time"), py::arg("delta_th"), py::arg("dx"), py::arg("v0"), py::arg("mu"),
       py::arg("x") = py::none(), py::arg("D") = nan, py::arg("L") = nan, py::arg("alpha") = 15.0,
       py::arg("min_extent_dx") = 2.0, py::arg("min_mean_slip_dth") = 2.0, py::arg("exclude_first_last") = true,
-      py::arg("block_rows") = 256,
-      "Detect slip events from an in-memory crossing_time [n_levels, N] (NaN = not reached).");
+      py::arg("block_rows") = 256, py::arg("min_slip_rate_v0") = 0.0,
+      "Detect slip events from an in-memory crossing_time [n_levels, N] (NaN = not reached); nodal slips "
+      "slower than min_slip_rate_v0 * v0 are ignored (0: none).");
   m.def(
       "read_event_catalog", [](const std::filesystem::path& path) { return catalog_to_dict(ev::read_event_catalog(path.string())); },
       py::arg("path"), "Read /events of an HDF5 file as a catalog dict.");
@@ -312,6 +326,9 @@ void bind_events(py::module_& m) {
         c.options.alpha = scalar_or(attrs, "alpha", c.options.alpha);
         c.options.min_extent_dx = scalar_or(attrs, "min_extent_dx", c.options.min_extent_dx);
         c.options.min_mean_slip_dth = scalar_or(attrs, "min_mean_slip_dth", c.options.min_mean_slip_dth);
+        c.options.min_slip_rate_v0 = scalar_or(attrs, "min_slip_rate_v0", 0.0);
+        c.nodes_z = static_cast<int>(scalar_or<std::int64_t>(attrs, "nodes_z", 1));
+        c.n_nodal_slips_below_min_slip_rate = scalar_or<std::uint64_t>(attrs, "n_nodal_slips_below_min_slip_rate", 0);
         c.delta_th = scalar_or(attrs, "delta_th", 0.0);
         c.v0 = scalar_or(attrs, "v0", 0.0);
         c.n_nodal_slips = scalar_or<std::uint64_t>(attrs, "n_nodal_slips", 0);

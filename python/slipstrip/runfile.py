@@ -424,7 +424,8 @@ class RunFile:
 
     def detect_events(self, **options) -> dict[str, Any]:
         """Detect events from /slip_sampling (options: alpha, min_extent_dx,
-        min_mean_slip_dth, exclude_first_last, block_rows); does not write."""
+        min_mean_slip_dth, exclude_first_last, block_rows, min_slip_rate_v0);
+        does not write."""
         from . import _slipstrip
         return _slipstrip.detect_events_in_file(self.path, **options)
 

@@ -3,7 +3,8 @@
 // catalog is known by construction: two patches slipping at the same time,
 // a patch wrapping across both periodic boundaries, a patch one row wide
 // (below the size filter), and a line's record repeated along z, which must
-// give the line's catalog with area = extent * width.
+// give the line's catalog with area = extent * width; and the creep filter
+// (min_slip_rate_v0) on a band record and on a line.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -182,4 +183,191 @@ TEST_CASE("2D interface: bad metadata is refused naming it") {
   bad.z.pop_back();
   CHECK_THROWS_WITH_AS(detect_interface_2d_events(RowMajorCrossingTimes(m, 1, 32), bad),
                        doctest::Contains("x, z sizes = 32, 31"), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------
+// The creep filter (EventDetectionOptions::min_slip_rate_v0).  A record as
+// configs/3d/band.toml's: rate-strengthening rows that creep at v0 all the
+// time (their nodal slips, staggered across the nodes, never leave a gap as
+// long as the waiting time) and a band of rows that stick between fast
+// patches.  Unfiltered, the creep joins the whole record into one time group
+// (first and last: nothing kept); with the filter the creep and each node's
+// first crossing of a patch (its Delta t reaches back to the node's previous
+// patch, or t = 0) are dropped, and the catalog is exactly that of the record
+// without those nodal slips.
+namespace {
+
+// A patch as `patch` above but only its levels first_level.. (the crossing
+// times are those of `patch`'s formula, bit for bit).
+void patch_levels(std::vector<std::vector<double>>& columns, std::size_t nx, std::size_t nz, std::size_t x0,
+                  std::size_t z0, std::size_t wx, std::size_t wz, int first_level, int levels, double t0) {
+  for (std::size_t a = 0; a < wz; ++a)
+    for (std::size_t b = 0; b < wx; ++b) {
+      const std::size_t node = ((z0 + a) % nz) * nx + (x0 + b) % nx;
+      const double r = static_cast<double>(std::max(a, b));
+      for (int k = first_level; k < levels; ++k) columns[node].push_back(t0 + (r + k) * kStep);
+    }
+}
+
+std::vector<double> to_matrix(std::vector<std::vector<double>> columns, std::size_t& n_levels) {
+  History h(columns.size());
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    std::sort(columns[i].begin(), columns[i].end());
+    for (const double t : columns[i]) h.slip(i, t);
+  }
+  n_levels = h.n_levels();
+  return h.matrix();
+}
+
+constexpr double kPatchTimes[] = {1e-3, 2e-3, 3e-3, 4e-3};
+
+// The band's patches (rows 5..10 of 16; 4 levels each at 50 v0), all nodes
+// of a patch slipping again at each time; with_first = false leaves out
+// every node's first crossing of each patch.  `creep`: rows 0..3 and 12..15
+// cross a level every delta_th / v0, the c-th of these C nodes offset by
+// c delta_th / (v0 C).
+std::vector<double> band_record(std::size_t nx, std::size_t nz, const SlipSamplingInfo& info, bool creep,
+                                bool with_first, std::size_t& n_levels, std::uint64_t& n_creep) {
+  std::vector<std::vector<double>> columns(nx * nz);
+  const double period = info.delta_th / info.v0, end = 5e-3, creepers = 8.0 * static_cast<double>(nx);
+  n_creep = 0;
+  std::size_t c = 0;
+  if (creep)
+    for (std::size_t i = 0; i < nx * nz; ++i) {
+      const std::size_t row = i / nx;
+      if (row >= 4 && row < 12) continue;
+      for (double t = period * (1.0 + static_cast<double>(c) / creepers); t < end; t += period) {
+        columns[i].push_back(t);
+        ++n_creep;
+      }
+      ++c;
+    }
+  for (const double t0 : kPatchTimes) patch_levels(columns, nx, nz, 8, 5, 12, 6, with_first ? 0 : 1, 4, t0);
+  return to_matrix(std::move(columns), n_levels);
+}
+
+bool same_catalog(const EventCatalog& a, const EventCatalog& b) {
+  return a.t_start == b.t_start && a.duration == b.duration && a.x_start == b.x_start && a.z_start == b.z_start &&
+         a.extent == b.extent && a.extent_z == b.extent_z && a.area == b.area && a.mean_slip == b.mean_slip &&
+         a.moment == b.moment && a.max_slip_rate == b.max_slip_rate && a.n_clusters == b.n_clusters &&
+         a.n_events_detected == b.n_events_detected && a.n_events_below_thresholds == b.n_events_below_thresholds &&
+         a.n_events_excluded_first_last == b.n_events_excluded_first_last;
+}
+
+}  // namespace
+
+TEST_CASE("2D interface: min_slip_rate_v0 drops the creep and the slow first crossings, keeps the fast ones") {
+  const std::size_t nx = 32, nz = 16;
+  const SlipSamplingInfo info = plane_info(nx, nz);
+  std::size_t nl = 0, nl_fast = 0;
+  std::uint64_t n_creep = 0, none = 0;
+  const std::vector<double> m = band_record(nx, nz, info, true, true, nl, n_creep);
+  const RowMajorCrossingTimes record(m, nl, nx * nz);
+  // Creep gaps: delta_th / (v0 C) = 2e-8 s between successive nodal slips
+  // (C = 256 creeping nodes), far below the waiting time 15 delta_th / (v0
+  // nx) = 2.3e-6 s.
+  REQUIRE(n_creep > 0);
+
+  // Unfiltered: one time group (the first and the last), nothing kept.
+  const EventCatalog off = detect_events(record, info);
+  CHECK(off.n_events() == 0);
+  CHECK(off.n_events_detected == 2);  // the creep rows (joined across z = W) and the band's patches, not touching
+  CHECK(off.n_nodal_slips_below_min_slip_rate == 0);
+  CHECK(off.min_slip_rate == 0.0);
+
+  // K = 8: creep (rate v0) and each patch node's first crossing (Delta t
+  // ~1e-3 s, or from t = 0) are below 8 v0; the later crossings, kStep
+  // apart (delta_th / kStep = 50 v0), are kept.
+  EventDetectionOptions o;
+  o.min_slip_rate_v0 = 8.0;
+  const EventCatalog on = detect_events(record, info, o);
+  const std::uint64_t patch_nodes = 12 * 6, n_patches = std::size(kPatchTimes);
+  CHECK(on.min_slip_rate == 8.0 * info.v0);
+  CHECK(on.n_nodal_slips == off.n_nodal_slips);
+  CHECK(on.n_nodal_slips_below_min_slip_rate == n_creep + n_patches * patch_nodes);
+  CHECK(on.n_events_detected == n_patches);
+  REQUIRE(on.n_events() == n_patches - 2);
+  for (std::size_t e = 0; e < on.n_events(); ++e) {
+    CAPTURE(e);
+    // The hypocentre's second crossing, at the corner (8, 5); 3 of 4 levels.
+    CHECK(on.t_start[e] == kPatchTimes[e + 1] + 1.0 * kStep);
+    CHECK(on.x_start[e] == info.x[5 * nx + 8]);
+    CHECK(on.z_start[e] == info.z[5 * nx + 8]);
+    CHECK(on.area[e] == doctest::Approx(72 * info.dx * info.dz).epsilon(1e-15));  // a product of 3 numbers
+    CHECK(on.mean_slip[e] == doctest::Approx(3 * info.delta_th).epsilon(1e-15));  // 216 dth / 72
+    CHECK(on.max_slip_rate[e] == doctest::Approx(info.delta_th / kStep).epsilon(1e-6));  // kStep differences at t ~ 1e-3 s
+  }
+
+  // The filter is the record without those nodal slips: bit for bit.
+  const std::vector<double> m_fast = band_record(nx, nz, info, false, false, nl_fast, none);
+  const EventCatalog without = detect_events(RowMajorCrossingTimes(m_fast, nl_fast, nx * nz), info);
+  CHECK(same_catalog(on, without));
+
+  // A threshold below every nodal slip's rate (the slowest: the first
+  // patch's first crossings, Delta t ~1e-3 s from t = 0, rate ~5e-3 v0)
+  // drops nothing and is bit for bit the unfiltered catalog.
+  o.min_slip_rate_v0 = 1e-4;
+  const EventCatalog tiny = detect_events(record, info, o);
+  CHECK(tiny.n_nodal_slips_below_min_slip_rate == 0);
+  CHECK(same_catalog(tiny, off));
+  // K = 0 explicitly is the default.
+  o.min_slip_rate_v0 = 0.0;
+  CHECK(same_catalog(detect_events(record, info, o), off));
+}
+
+TEST_CASE("A line: min_slip_rate_v0 = the record without the slow nodal slips, bit for bit; 0 changes nothing") {
+  // 32 nodes: nodes 0..7 creep at v0 (staggered), a fast 10-node event
+  // (nodes 14..23, 3 levels, kStep apart) at 1, 2, 3 and 4 ms.
+  const std::size_t n = 32;
+  SlipSamplingInfo line;
+  line.delta_th = 1e-8;
+  line.dx = 0.01;
+  line.v0 = 2e-3;
+  line.mu = 9e9;
+  for (std::size_t i = 0; i < n; ++i) line.x.push_back(static_cast<double>(i) * line.dx);
+  const auto record = [&](bool creep, int first_level, std::size_t& nl) {
+    std::vector<std::vector<double>> columns(n);
+    const double period = line.delta_th / line.v0;
+    if (creep)
+      for (std::size_t i = 0; i < 8; ++i)
+        for (double t = period * (1.0 + static_cast<double>(i) / 8.0); t < 5e-3; t += period) columns[i].push_back(t);
+    for (const double t0 : kPatchTimes)
+      for (std::size_t b = 0; b < 10; ++b)
+        for (int k = first_level; k < 3; ++k)
+          columns[14 + b].push_back(t0 + (std::abs(static_cast<double>(b) - 5.0) + k) * kStep);
+    return to_matrix(std::move(columns), nl);
+  };
+  std::size_t nl = 0, nl_fast = 0;
+  const std::vector<double> m = record(true, 0, nl), m_fast = record(false, 1, nl_fast);
+  const RowMajorCrossingTimes source(m, nl, n);
+  const EventCatalog off = detect_events(source, line);
+  CHECK(off.n_events_detected == 1);  // the creep fills every gap
+  CHECK(off.n_events() == 0);
+  EventDetectionOptions o;
+  o.min_slip_rate_v0 = 8.0;
+  const EventCatalog on = detect_events(source, line, o);
+  const EventCatalog without = detect_events(RowMajorCrossingTimes(m_fast, nl_fast, n), line);
+  REQUIRE(on.n_events() == 2);
+  CHECK(same_catalog(on, without));
+  CHECK(on.mean_slip[0] == doctest::Approx(2 * line.delta_th).epsilon(1e-15));
+  CHECK(on.extent[0] == doctest::Approx(10 * line.dx).epsilon(1e-15));
+  CHECK(on.n_nodal_slips_below_min_slip_rate == off.n_nodal_slips - without.n_nodal_slips);
+  o.min_slip_rate_v0 = 0.0;
+  CHECK(same_catalog(detect_events(source, line, o), off));
+}
+
+TEST_CASE("min_slip_rate_v0: a negative or non-finite value is refused naming it") {
+  const SlipSamplingInfo info = plane_info(8, 4);
+  const std::vector<double> m(32, 1e-3);
+  EventDetectionOptions o;
+  for (const double bad : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    CAPTURE(bad);
+    o.min_slip_rate_v0 = bad;
+    CHECK_THROWS_WITH_AS(detect_events(RowMajorCrossingTimes(m, 1, 32), info, o),
+                         doctest::Contains("min_slip_rate_v0 = "), std::invalid_argument);
+    SlipSamplingInfo line = info;
+    line.nodes_z = 1;
+    CHECK_THROWS_WITH_AS(detect_events(RowMajorCrossingTimes(m, 1, 32), line, o),
+                         doctest::Contains("min_slip_rate_v0 = "), std::invalid_argument);
+  }
 }

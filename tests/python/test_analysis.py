@@ -419,16 +419,21 @@ def test_in_process_detection_of_a_damaged_file_raises_without_hdf5_stack(quick_
     assert "HDF5-DIAG" not in capfd.readouterr().err
 
 
-def test_numpy_grouping_matches_cpp_catalog(quick_run, tmp_path):
+# min_slip_rate_v0 = 3: the creep filter (docs/events.md "Ignoring creep")
+# applied by both, with the same comparison of delta_th against K v0 Delta t.
+@pytest.mark.parametrize("min_slip_rate_v0", [0.0, 3.0])
+def test_numpy_grouping_matches_cpp_catalog(quick_run, tmp_path, min_slip_rate_v0):
     out = tmp_path / "cat.h5"
-    analysis.run_event_detection(quick_run, 15.0, out)
+    analysis.run_event_detection(quick_run, 15.0, out, min_slip_rate_v0)
     cat = analysis.read_catalog(out)
     with h5py.File(quick_run, "r") as f:
         ct = f["slip_sampling/crossing_time"][:]
         delta_th = float(f["slip_sampling"].attrs["delta_th"])
         v0 = float(f["slip_sampling"].attrs["v0"])
         dx = float(f["slip_sampling"].attrs["dx"])
-    g = analysis.group_nodal_slips(ct, delta_th, v0, 15.0)
+    g = analysis.group_nodal_slips(ct, delta_th, v0, 15.0, min_slip_rate_v0=min_slip_rate_v0)
+    assert cat["attrs"]["min_slip_rate_v0"] == min_slip_rate_v0
+    assert (cat["attrs"]["n_nodal_slips_below_min_slip_rate"] > 0) == (min_slip_rate_v0 > 0)
     assert g.n_detected == cat["attrs"]["n_events_detected"]
     assert int(g.kept.sum()) == cat["attrs"]["n_events"]
     # The kept events' u_mean and L_s recomputed from the numpy labels agree with the

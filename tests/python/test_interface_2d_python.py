@@ -1,7 +1,9 @@
 """A 2D interface (geometry.nodes_z > 1, docs/3d.md) from Python and through
 `slipstrip events`: slipstrip.run writes it, slipstrip.open_run reads its
 snapshots as (time, z, x) arrays, its grid, time series and rupture front;
-`slipstrip events RUN.h5` writes a catalog of (x, z) events; the slip-rate
+`slipstrip events RUN.h5` writes a catalog of (x, z) events, and with
+`--min-slip-rate K` records K and the ignored nodal slips in it (0: the
+same catalog bit for bit; a bad K refused in one line); the slip-rate
 maps with rupture-front contours are checked for what they draw (arrays,
 axis ranges, contours) and for the pixels of the PNG.
 
@@ -9,6 +11,7 @@ Run: SLIPSTRIP_BUILD_DIR=$PWD/build PYTHONPATH=$PWD/python OMP_NUM_THREADS=1 \\
      /usr/bin/python3 -m pytest -q tests/python/test_interface_2d_python.py
 """
 import subprocess
+import sys
 
 import h5py
 import matplotlib.image
@@ -73,6 +76,49 @@ def test_events_of_a_2d_interface_run(run_2d, cli, slipstrip_module):
     catalog = slipstrip_module.open_run(run_2d).events
     assert catalog["nodes_z"] == NZ and len(catalog["area"]) == n
     print(f"{n} events kept: {r.stdout.strip()}")
+
+
+def test_events_min_slip_rate_is_recorded_and_zero_changes_nothing(run_2d, cli, slipstrip_module, tmp_path):
+    from slipstrip.analysis import catalog_for
+    paths = {k: tmp_path / f"events_{k}.h5" for k in ("default", "zero", "filtered")}
+    for key, extra in (("default", []), ("zero", ["--min-slip-rate", "0"]), ("filtered", ["--min-slip-rate", "1.5"])):
+        r = subprocess.run([str(cli), "events", str(run_2d), "--out", str(paths[key]), *extra],
+                           capture_output=True, text=True, timeout=120)
+        assert r.returncode in (0, 1), r.stderr
+    with h5py.File(paths["default"], "r") as a, h5py.File(paths["zero"], "r") as b, h5py.File(paths["filtered"], "r") as c:
+        ga, gb, gc = a["events"], b["events"], c["events"]
+        # --min-slip-rate 0 is the default: every dataset and attribute the same bits.
+        assert set(ga) == set(gb) and all(np.array_equal(ga[k][:], gb[k][:], equal_nan=True) for k in ga)
+        assert set(ga.attrs) == set(gb.attrs)
+        assert all(np.array_equal(ga.attrs[k], gb.attrs[k]) for k in ga.attrs)
+        assert ga.attrs["min_slip_rate_v0"] == 0.0 and ga.attrs["min_slip_rate"] == 0.0
+        assert ga.attrs["n_nodal_slips_below_min_slip_rate"] == 0
+        # The filter's value and what it removed are in the catalog (this run
+        # slides at about v0: 1.5 v0 drops some of its nodal slips, not all).
+        v0 = float(gc.attrs["v0"])
+        assert gc.attrs["min_slip_rate_v0"] == 1.5 and gc.attrs["min_slip_rate"] == 1.5 * v0
+        assert gc.attrs["n_nodal_slips"] == ga.attrs["n_nodal_slips"]
+        assert 0 < gc.attrs["n_nodal_slips_below_min_slip_rate"] < gc.attrs["n_nodal_slips"]
+        n_ignored = int(gc.attrs["n_nodal_slips_below_min_slip_rate"])
+    # The Python API: the same counts as the CLI, and analyze's catalog_for
+    # does not take an unfiltered catalog for a filtered one.
+    api = slipstrip_module.open_run(run_2d).detect_events(min_slip_rate_v0=1.5)
+    assert api["options"]["min_slip_rate_v0"] == 1.5 and api["n_nodal_slips_below_min_slip_rate"] == n_ignored
+    filtered = catalog_for(run_2d, 15.0, workdir=tmp_path, min_slip_rate_v0=1.5)
+    assert filtered["attrs"]["min_slip_rate_v0"] == 1.5
+    assert filtered["attrs"]["n_nodal_slips_below_min_slip_rate"] == n_ignored
+    assert (tmp_path / "events_alpha15_rate1.5.h5").is_file()
+    # A bad value: one line naming the option, the value and what is allowed.
+    for bad in ("-1", "nan", "inf"):
+        r = subprocess.run([str(cli), "events", str(run_2d), "--out", str(tmp_path / "bad.h5"), "--min-slip-rate", bad],
+                           capture_output=True, text=True, timeout=60)
+        assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+        assert f"--min-slip-rate {bad} is invalid: must be a finite number >= 0" in r.stderr
+        r = subprocess.run([sys.executable, "-m", "slipstrip", "analyze", str(run_2d), "--out-dir",
+                            str(tmp_path / "analysis"), "--min-slip-rate", bad], capture_output=True, text=True,
+                           timeout=120)
+        assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+        assert "--min-slip-rate" in r.stderr and "is invalid: must be a finite number >= 0" in r.stderr
 
 
 def test_slip_rate_maps_with_rupture_front_contours(run_2d, slipstrip_module, tmp_path):

@@ -19,7 +19,7 @@ from ..runfile import open_h5, unreadable_reason
 from .criteria import group_nodal_slips, periodic_pulse_of_run
 from .figures import (plot_event_fields, plot_event_map, plot_event_maps, plot_hypocentres, plot_pdf_comparison,
                       plot_pdfs, plot_space_slip, plot_space_time)
-from .reading import DEFAULT_ALPHA, RunInfo, _read_crossing_time, catalog_for, read_run_info
+from .reading import DEFAULT_ALPHA, RunInfo, _read_crossing_time, catalog_file_name, catalog_for, read_run_info
 from .statistics import _public, catalog_statistics, stationarity, stationary_part
 
 
@@ -60,12 +60,16 @@ def _jsonable(obj):
 
 
 def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, event: int | None = None,
-            sensitivity_alphas=SENSITIVITY_ALPHAS, seed: int = 0, write_events: bool = False) -> dict:
-    """Everything: statistics, stationarity, threshold sensitivity, figures, summary.json."""
+            sensitivity_alphas=SENSITIVITY_ALPHAS, seed: int = 0, write_events: bool = False,
+            min_slip_rate_v0: float = 0.0) -> dict:
+    """Everything: statistics, stationarity, threshold sensitivity, figures, summary.json.
+    min_slip_rate_v0 > 0 ignores the nodal slips slower than that many v0 in
+    every catalog (the sensitivity's too), as `slipstrip events --min-slip-rate`."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     info = read_run_info(path)
-    catalog = catalog_for(path, alpha, workdir=out_dir, write_into_run=write_events)
+    catalog = catalog_for(path, alpha, workdir=out_dir, write_into_run=write_events,
+                          min_slip_rate_v0=min_slip_rate_v0)
     if len(catalog["t_start"]) == 0:
         raise EmptyCatalog(f"{path}: {empty_catalog_reason(catalog['attrs'], info, alpha)}")
     st = catalog_statistics(catalog, info, seed=seed)
@@ -74,13 +78,14 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
     # interface's is a moment (M0 = mu A u_mean [N m]) and A an area [m^2].
     normalisation = ({"u": "u_mean/D", "T": "T*v0/D", "M0": "M0/(mu*D*L*W)", "A": "A/(L*W)"} if plane
                      else {"u": "u_mean/D", "T": "T*v0/D", "M0": "M0/(mu*D*L)"})
-    summary = {"run": str(path), "alpha": float(alpha), "interface": "2d" if plane else "line",
+    summary = {"run": str(path), "alpha": float(alpha), "min_slip_rate_v0": float(min_slip_rate_v0),
+               "interface": "2d" if plane else "line",
                "normalisation": normalisation,
                "moment_units": "N m (mu A u_mean)" if plane else "N/m (mu L_s u_mean, per unit width)",
                "scales": dataclasses.asdict(info)}
     summary.update(_public(st))
     summary["catalog_counts"] = {k: catalog["attrs"].get(k) for k in (
-        "n_nodal_slips", "n_events_detected", "n_events_excluded_first_last", "n_events_below_thresholds",
+        "n_nodal_slips", "n_nodal_slips_below_min_slip_rate", "n_events_detected", "n_events_excluded_first_last", "n_events_below_thresholds",
         "n_events")}
     with open_h5(path) as f:
         has_snap = "snapshots" in f and f["snapshots/time"].shape[0] > 0
@@ -98,7 +103,8 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
     sens = {}
     catalogs_by_alpha = {}
     for a in sensitivity_alphas:
-        cat_a = catalog if float(a) == float(alpha) else catalog_for(path, a, workdir=out_dir)
+        cat_a = (catalog if float(a) == float(alpha)
+                 else catalog_for(path, a, workdir=out_dir, min_slip_rate_v0=min_slip_rate_v0))
         catalogs_by_alpha[f"alpha={a:g}"] = cat_a
         st_a = catalog_statistics(cat_a, info, n_bootstrap=0)
         sens[f"{a:g}"] = {k: st_a[k] for k in ("n_events", "small_exponent_u", "small_exponent_u_err",
@@ -116,7 +122,8 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
         groups = group_nodal_slips(ct, info.delta_th, info.v0, alpha,
                                    catalog["attrs"].get("min_extent_dx", 2.0),
                                    catalog["attrs"].get("min_mean_slip_dth", 2.0),
-                                   bool(catalog["attrs"].get("exclude_first_last", 1)))
+                                   bool(catalog["attrs"].get("exclude_first_last", 1)),
+                                   float(catalog["attrs"].get("min_slip_rate_v0", 0.0)))
         figures += plot_event_map(groups, x, info, out_dir, pdf)
         summary["event_map"] = {"n_detected_numpy": groups.n_detected, "n_kept_numpy": int(groups.kept.sum()),
                                 "n_detected_cpp": catalog["attrs"].get("n_events_detected")}
@@ -167,7 +174,9 @@ def format_summary(s: dict) -> str:
     # The moment's normalisation: per unit width on a line, per area on a 2D interface.
     moment = s.get("normalisation", {}).get("M0", "M0/(mu*D*L)").replace("*", " ")
     lines = [
-        f"run: {s['run']}  (alpha = {s['alpha']:g})",
+        f"run: {s['run']}  (alpha = {s['alpha']:g}"
+        + (f", nodal slips slower than {s['min_slip_rate_v0']:g} v0 ignored" if s.get("min_slip_rate_v0") else "")
+        + ")",
         f"events: {s['n_events']} ({s['n_events_small']} small u<D, {s['n_events_large']} large)",
         f"small-event exponent p(u/D) ~ x^-a: a = {f(s['small_exponent_u'])} +- {f(s['small_exponent_u_err'])}"
         f" (bootstrap {f(s.get('small_exponent_u_bootstrap_err'))}, xmin = {f(s['small_exponent_u_xmin'])},"
@@ -198,12 +207,12 @@ FIGURE_NAMES = ("space_time", "space_slip", "event_map", "pdfs", "stationarity",
 
 
 def analysis_outputs(out_dir, alpha: float = DEFAULT_ALPHA, pdf: bool = False,
-                     sensitivity_alphas=SENSITIVITY_ALPHAS) -> dict[str, Path]:
+                     sensitivity_alphas=SENSITIVITY_ALPHAS, min_slip_rate_v0: float = 0.0) -> dict[str, Path]:
     """The files analyze() writes into out_dir under fixed names, as
     {"--out-dir NAME": path}, for the output-path check (slipstrip.paths)."""
     out_dir = Path(out_dir)
     names = ["summary.json"] + [f"{n}.png" for n in FIGURE_NAMES] + ([f"{n}.pdf" for n in FIGURE_NAMES] if pdf else [])
-    names += [f"events_alpha{a:g}.h5" for a in dict.fromkeys([alpha, *sensitivity_alphas])]
+    names += [catalog_file_name(a, min_slip_rate_v0) for a in dict.fromkeys([alpha, *sensitivity_alphas])]
     return {f"--out-dir {name}": out_dir / name for name in names}
 
 
@@ -214,6 +223,8 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--out-dir", default=None, help="output directory (default: <run>_analysis)")
     parser.add_argument("--pdf", action="store_true", help="also write PDF figures")
     parser.add_argument("--alpha", type=float, default=DEFAULT_ALPHA, help="waiting-time threshold factor")
+    parser.add_argument("--min-slip-rate", type=float, default=0.0, dest="min_slip_rate",
+                        help="ignore nodal slips slower than this many v0 (creep); 0 keeps all (docs/events.md)")
     parser.add_argument("--event", type=int, default=None,
                         help="event index for the before/after fields figure (default: largest M0)")
     parser.add_argument("--write-events", action="store_true",
@@ -225,19 +236,24 @@ def main(argv: list[str]) -> int:
     if not args.alpha > 0:
         print(f"analyze: --alpha {args.alpha}: must be > 0", file=sys.stderr)
         return 2
+    if not (math.isfinite(args.min_slip_rate) and args.min_slip_rate >= 0):
+        print(f"analyze: --min-slip-rate {args.min_slip_rate} is invalid: must be a finite number >= 0 "
+              "(nodal slip rate in units of v0; 0 keeps every nodal slip)", file=sys.stderr)
+        return 2
     if not (Path(args.run).is_file() and h5py.is_hdf5(args.run)):
         print(f"analyze: {unreadable_reason(args.run)}", file=sys.stderr)
         return 2
     out_dir = args.out_dir or str(Path(args.run).with_suffix("")) + "_analysis"
     try:
-        check_outputs(analysis_outputs(out_dir, args.alpha, args.pdf), directories={"--out-dir": out_dir},
+        check_outputs(analysis_outputs(out_dir, args.alpha, args.pdf, min_slip_rate_v0=args.min_slip_rate),
+                      directories={"--out-dir": out_dir},
                       inputs=[args.run], overwrite=args.overwrite)
     except OutputPathError as err:
         print(f"analyze: {err}", file=sys.stderr)
         return 2
     try:
         summary = analyze(args.run, out_dir, pdf=args.pdf, alpha=args.alpha, event=args.event,
-                          write_events=args.write_events)
+                          write_events=args.write_events, min_slip_rate_v0=args.min_slip_rate)
     except EmptyCatalog as err:  # a valid run with nothing to analyse: no figures, exit 1
         print(f"analyze: {err}", file=sys.stderr)
         return 1

@@ -277,17 +277,24 @@ class NodalSlipGroups:
 
 def group_nodal_slips(crossing_time: np.ndarray, delta_th: float, v0: float, alpha: float = DEFAULT_ALPHA,
                       min_extent_dx: float = 2.0, min_mean_slip_dth: float = 2.0,
-                      exclude_first_last: bool = True) -> NodalSlipGroups:
+                      exclude_first_last: bool = True, min_slip_rate_v0: float = 0.0) -> NodalSlipGroups:
     """Groups the nodal slips of crossing_time [n_levels, N] into events by the
     global waiting time (> alpha delta_th / (v0 N) starts a new event), with
     the conventions of docs/events.md: a column ends at its first NaN, ties
     are ordered by node then level, first and last events are excluded before
-    the size filters.  For plotting only; the catalog comes from the C++ code.
+    the size filters; with min_slip_rate_v0 > 0 the nodal slips slower than
+    min_slip_rate_v0 v0 (delta_th / Delta t, Delta t from the node's previous
+    crossing or t = 0) are ignored (label -1).  For plotting only; the catalog
+    comes from the C++ code.
     """
     ct = np.asarray(crossing_time, float)
     n_levels, n = ct.shape
     finite = np.isfinite(ct)
     valid = np.cumprod(finite, axis=0).astype(bool)  # NaN tail: ignore after the first NaN
+    if min_slip_rate_v0 > 0:
+        dt = np.diff(np.vstack([np.zeros((1, n)), ct]), axis=0)
+        with np.errstate(invalid="ignore"):
+            valid &= ~(delta_th < min_slip_rate_v0 * v0 * dt)  # the C++ below_min_slip_rate
     level, node = np.nonzero(valid)
     t = ct[level, node]
     order = np.lexsort((level, node, t))

@@ -89,46 +89,59 @@ def read_catalog(path: str | os.PathLike) -> dict:
 
 
 def run_event_detection(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
-                        out: str | os.PathLike | None = None) -> str:
+                        out: str | os.PathLike | None = None, min_slip_rate_v0: float = 0.0) -> str:
     """Detects slip events in /slip_sampling of `run_path` and writes the
     catalog as /events of `out` (default: the run file itself, replacing its
     /events); returns the file holding /events.  The same C++ calls as
-    `slipstrip events RUN --alpha A [--out OUT]` (bindings, in-process), so
-    the file is the CLI's byte for byte.  RuntimeError if the run file cannot
-    be read or the target cannot be written."""
+    `slipstrip events RUN --alpha A --min-slip-rate K [--out OUT]` (bindings,
+    in-process), so the file is the CLI's byte for byte.  RuntimeError if the
+    run file cannot be read or the target cannot be written."""
     from .. import _slipstrip
     target = os.fspath(out if out is not None else run_path)
-    _slipstrip.detect_events_into_file(os.fspath(run_path), target, alpha=float(alpha))
+    _slipstrip.detect_events_into_file(os.fspath(run_path), target, alpha=float(alpha),
+                                       min_slip_rate_v0=float(min_slip_rate_v0))
     return target
 
 
+def catalog_file_name(alpha: float, min_slip_rate_v0: float = 0.0) -> str:
+    """The catalog file analyze writes for (alpha, min_slip_rate_v0); the
+    filter's value is in the name only when it is on."""
+    return f"events_alpha{alpha:g}" + (f"_rate{min_slip_rate_v0:g}" if min_slip_rate_v0 > 0 else "") + ".h5"
+
+
 def catalog_for(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPHA,
-                workdir: str | os.PathLike | None = None, write_into_run: bool = False) -> dict:
-    """The catalog of `run_path` for `alpha`: /events of the run file if it was
-    made with this alpha; else detection is run into a catalog file in
-    `workdir` (or a temporary one).  Only with write_into_run=True, and when
-    the run file has no /events yet, is the catalog added to the run file."""
+                workdir: str | os.PathLike | None = None, write_into_run: bool = False,
+                min_slip_rate_v0: float = 0.0) -> dict:
+    """The catalog of `run_path` for `alpha` and `min_slip_rate_v0`: /events
+    of the run file if it was made with both (a catalog without the
+    min_slip_rate_v0 attribute is unfiltered, 0); else detection is run into a
+    catalog file in `workdir` (or a temporary one).  Only with
+    write_into_run=True, and when the run file has no /events yet, is the
+    catalog added to the run file."""
+    stored = None
     with open_h5(run_path) as f:
-        stored_alpha = float(f["events"].attrs["alpha"]) if "events" in f else None
-    if stored_alpha is not None and stored_alpha == float(alpha):
+        if "events" in f:
+            a = f["events"].attrs
+            stored = (float(a["alpha"]), float(a.get("min_slip_rate_v0", 0.0)))
+    if stored == (float(alpha), float(min_slip_rate_v0)):
         return read_catalog(run_path)
-    if stored_alpha is None and write_into_run:
+    if stored is None and write_into_run:
         # Not while a run or resume writes the file (LockHeldError, a ValueError,
         # is raised); a read-only directory or file falls back to a separate
         # catalog file.
         try:
             with lock_run(run_path):
-                run_event_detection(run_path, alpha)
+                run_event_detection(run_path, alpha, min_slip_rate_v0=min_slip_rate_v0)
                 return read_catalog(run_path)
         except (RuntimeError, OSError):
             pass
     if workdir is not None:
-        out = Path(workdir) / f"events_alpha{alpha:g}.h5"
-        run_event_detection(run_path, alpha, out)
+        out = Path(workdir) / catalog_file_name(alpha, min_slip_rate_v0)
+        run_event_detection(run_path, alpha, out, min_slip_rate_v0)
         return read_catalog(out)
     with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / f"events_alpha{alpha:g}.h5"
-        run_event_detection(run_path, alpha, out)
+        out = Path(tmp) / catalog_file_name(alpha, min_slip_rate_v0)
+        run_event_detection(run_path, alpha, out, min_slip_rate_v0)
         return read_catalog(out)
 
 
