@@ -19,6 +19,7 @@
 #include "kernels/block_strip_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/inplane_pair_history.hpp"
+#include "kernels/two_body_history.hpp"
 #include "kernels/elastic_material.hpp"
 #include "friction/batch_solve.hpp"
 #include "friction/friction_law.hpp"
@@ -49,9 +50,10 @@ struct BenchCase {
   int nodes;
   double height;  // inf = half-space
   PlaneCondition plane = PlaneCondition::strain;
-  // An in-plane dissimilar pair (per-body 2x2 operators): the bottom body has
-  // the same height (a half-space for height = inf) and wave speeds, twice mu
-  // and rho (twice the impedances).
+  // A pair of different bodies (in-plane: per-body 2x2 operators; antiplane:
+  // one scalar operator per body, TwoBodyHistory): the bottom body has the
+  // same height (a half-space for height = inf) and wave speeds, twice mu and
+  // rho (twice the impedances).
   bool dissimilar = false;
 };
 
@@ -98,6 +100,8 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
     block_steps = std::max(1, half_space->slow_block());
   if (const auto* pair = dynamic_cast<const InplanePairHistory*>(&sim.history_operator()))
     block_steps = pair->period();
+  if (const auto* bodies = dynamic_cast<const TwoBodyHistory*>(&sim.history_operator()))
+    block_steps = bodies->period();
   steps = ((std::max(steps, block_steps) + block_steps - 1) / block_steps) * block_steps;
   const auto t0 = clock::now();
   const double cpu0 = process_cpu_seconds();
@@ -135,11 +139,13 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
   const auto stats = sim.history_operator().stats();
   const std::string height = std::isinf(c.height) ? "null" : std::to_string(c.height);
   const auto* pair = dynamic_cast<const InplanePairHistory*>(&sim.history_operator());
+  const auto* bodies = dynamic_cast<const TwoBodyHistory*>(&sim.history_operator());
   const char* algorithm = pair ? (std::isinf(c.height) ? "pair_half_space" : pair->period() > 1 ? "pair_block" : "pair_modal")
+                          : bodies ? (std::isinf(c.height) ? "pair_half_space" : bodies->period() > 1 ? "pair_block" : "pair_modal")
                           : dynamic_cast<const BlockStripHistory*>(&sim.history_operator())
                               ? "block"
                               : (std::isinf(c.height) ? "half_space" : "modal");
-  const char* plane = c.dissimilar ? "strain-2b" : kPlaneConditionNames[static_cast<std::size_t>(c.plane)].data();
+  const std::string plane = std::string(kPlaneConditionNames[static_cast<std::size_t>(c.plane)]) + (c.dissimilar ? "-2b" : "");
   if (options.json) {
     std::printf(
         "{\"N\": %d, \"height\": %s, \"length\": 4.0, \"plane\": \"%s\", \"us_per_step\": %.3f, "
@@ -148,12 +154,12 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
         "\"dt\": %.6g, \"threads\": %d, \"steps\": %d, \"setup_ms\": %.2f, \"history\": \"%s\", "
         "\"cpu_us_per_step\": %.3f, \"floor_cpu_us_per_step\": %.3f, \"cpu_ratio_to_floor\": %.3f, "
         "\"simd\": \"%s\"}\n",
-        c.nodes, height.c_str(), plane, us_per_step, floor_us, us_per_step / floor_us, rss, stats.oscillators,
+        c.nodes, height.c_str(), plane.c_str(), us_per_step, floor_us, us_per_step / floor_us, rss, stats.oscillators,
         stats.memory_bytes / 1048576.0, dt, options.threads, steps, setup_ms, algorithm, cpu_us_per_step,
         floor_cpu_us, cpu_us_per_step / floor_cpu_us, std::string(simd::to_string(simd::instruction_set())).c_str());
   } else {
     std::printf("%6d  %-8s  %-9s  %12.1f  %12.1f  %8.2f  %9.1f  %12zu  %10.1f  %s\n", c.nodes,
-                std::isinf(c.height) ? "inf" : std::to_string(c.height).substr(0, 5).c_str(), plane, us_per_step,
+                std::isinf(c.height) ? "inf" : std::to_string(c.height).substr(0, 5).c_str(), plane.c_str(), us_per_step,
                 floor_us, us_per_step / floor_us, rss, stats.oscillators, setup_ms, algorithm);
   }
   std::fflush(stdout);
@@ -334,7 +340,8 @@ int run_bench(const BenchOptions& options) {
      std::vector<std::pair<BenchCase, BenchResult>> results;
      std::vector<BenchCase> cases;
      for (PlaneCondition plane : options.planes) cases.push_back({n, height, plane});
-     if (options.dissimilar) cases.push_back({n, height, PlaneCondition::strain, true});
+     if (options.dissimilar)
+       for (PlaneCondition plane : options.planes) cases.push_back({n, height, plane, true});
      for (const BenchCase& bench : cases) {
       const PlaneCondition plane = bench.plane;
       // Thick strips hold O(N H/dx) normal modes: estimate the operator's
@@ -353,10 +360,14 @@ int run_bench(const BenchOptions& options) {
                                                                    material.dilatational_wave_speed()));
         const bool block = options.history == HistoryAlgorithm::block ||
                            (options.history == HistoryAlgorithm::automatic && per_mode >= 128);
-        // A dissimilar pair: two 2x2 operators, modal ~144 bytes per normal
-        // mode each, block ~64 P + 112 B bytes per Fourier mode each (B < 2P
-        // where that is > 1024 and this guard matters; face_block_length).
-        const double bytes_per_mode = bench.dissimilar ? (block ? 2.0 * (64.0 + 112.0 * 2.0) * per_mode
+        // A dissimilar pair: in-plane two 2x2 operators, modal ~144 bytes per
+        // normal mode each, block ~64 P + 112 B bytes per Fourier mode each;
+        // antiplane two scalar ones, modal 56 and block ~80 P + 48 B bytes
+        // (B < 2P where that is > 1024 and this guard matters; face_block_length,
+        // body_block_length).
+        const double bytes_per_mode = bench.dissimilar && material.antiplane()
+                                          ? (block ? 2.0 * (80.0 + 48.0 * 2.0) * per_mode : 112.0 * per_mode)
+                                      : bench.dissimilar ? (block ? 2.0 * (64.0 + 112.0 * 2.0) * per_mode
                                                                 : 288.0 * per_mode)
                                       : block          ? 64.0 * per_mode + 48.0 * 2.0 * per_mode
                                                        : 56.0 * per_mode;
@@ -401,19 +412,25 @@ int run_bench(const BenchOptions& options) {
       int status = 0;
       waitpid(pid, &status, 0);
      }
-      // The antiplane and the dissimilar rows against the identical in-plane
-      // one at the same N and height.
+      // The antiplane and the dissimilar in-plane rows against the identical
+      // in-plane one at the same N and height, and the antiplane pair of
+      // different bodies against the in-plane one.
       const BenchResult* inplane = nullptr;
       const BenchResult* antiplane = nullptr;
       const BenchResult* dissimilar = nullptr;
-      for (const auto& [bench, result] : results)
-        (bench.dissimilar ? dissimilar : bench.plane == PlaneCondition::antiplane ? antiplane : inplane) = &result;
+      const BenchResult* dissimilar_antiplane = nullptr;
+      for (const auto& [bench, result] : results) {
+        const bool is_antiplane = bench.plane == PlaneCondition::antiplane;
+        (bench.dissimilar ? (is_antiplane ? dissimilar_antiplane : dissimilar)
+                          : (is_antiplane ? antiplane : inplane)) = &result;
+      }
       // Both from the CPU time of one thread (the figure to quote on a shared
       // machine) and from the wall clock.
-      const auto ratio_line = [&](const BenchResult* row, const char* key, const char* words) {
-        if (!inplane || !row) return;
-        const double ratio = row->us_per_step / inplane->us_per_step;
-        const double cpu_ratio = row->cpu_us_per_step / inplane->cpu_us_per_step;
+      const auto ratio_line = [&](const BenchResult* row, const char* key, const char* words,
+                                  const BenchResult* reference) {
+        if (!reference || !row) return;
+        const double ratio = row->us_per_step / reference->us_per_step;
+        const double cpu_ratio = row->cpu_us_per_step / reference->cpu_us_per_step;
         if (options.json)
           std::printf("{\"N\": %d, \"height\": %s, \"%s\": %.3f, \"cpu_%s\": %.3f}\n", n,
                       std::isinf(height) ? "null" : std::to_string(height).c_str(), key, ratio, key, cpu_ratio);
@@ -421,8 +438,10 @@ int run_bench(const BenchOptions& options) {
           std::printf("#      %s time per step: %.2f (CPU time: %.2f)\n", words, ratio, cpu_ratio);
         std::fflush(stdout);
       };
-      ratio_line(antiplane, "antiplane_over_inplane", "antiplane / in-plane");
-      ratio_line(dissimilar, "dissimilar_over_identical", "dissimilar pair / identical pair (in-plane)");
+      ratio_line(antiplane, "antiplane_over_inplane", "antiplane / in-plane", inplane);
+      ratio_line(dissimilar, "dissimilar_over_identical", "dissimilar pair / identical pair (in-plane)", inplane);
+      ratio_line(dissimilar_antiplane, "dissimilar_antiplane_over_inplane",
+                 "dissimilar pair: antiplane / in-plane", dissimilar);
     }
   }
   return 0;

@@ -19,8 +19,9 @@ struct BenchOptions {
   // > 1: time a 2D interface of nodes x nodes_z nodes (square spacing, L_x =
   // 4 m, L_z = 4 m nodes_z/nodes) instead (solver/simulation_3d.hpp).
   int nodes_z = 1;
-  // --pairs: also an in-plane dissimilar pair at each height (inf: two
-  // half-spaces), and its time per step over the identical pair's.
+  // --pairs: also a pair of different bodies at each height (inf: two
+  // half-spaces) and plane, the in-plane one's time per step over the
+  // identical pair's and the antiplane one's over the in-plane one's.
   bool dissimilar = false;
   HistoryAlgorithm history = HistoryAlgorithm::automatic;  // strip history algorithm  // cases whose estimated operator memory exceeds this are reported as skipped
 };

@@ -61,8 +61,9 @@ Command add_bench_command(CLI::App& app) {
           "rows and their time ratio to in-plane)")
       ->delimiter(',');
   bench->add_flag("--pairs", o->dissimilar,
-                  "Also time an in-plane dissimilar pair (bottom body: same height and wave speeds, twice mu "
-                  "and rho; at inf a pair of half-spaces) at each height, and its ratio to the identical pair");
+                  "Also time a pair of different bodies (bottom body: same height and wave speeds, twice mu "
+                  "and rho; at inf a pair of half-spaces) at each height and plane, its ratio to the identical "
+                  "in-plane pair and, with antiplane, the antiplane pair's ratio to the in-plane one");
   bench->add_option("--history", o->history, "Strip history algorithm: auto, modal or block (same operator)")
       ->transform(CLI::CheckedTransformer(history_algorithms_by_name(), CLI::ignore_case));
   bench->add_option("--max-gib", o->max_operator_gib,

@@ -5,8 +5,6 @@
 // L = 4 m, beta = 0.25, Table S1 material, driven outer face; one JSON line.
 // Threads: OMP_NUM_THREADS.  Steps default to two blocks (the far-field update
 // at its average rate); MODAL_STEPS = 0 (default) skips the modal operator.
-#include <time.h>
-
 #include <chrono>
 #include <complex>
 #include <cstdio>
@@ -14,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "bench/process_cpu_time.hpp"
 #include "kernels/face_block_history.hpp"
 #include "kernels/face_history.hpp"
 #include "kernels/history_convolution.hpp"
@@ -21,21 +20,15 @@
 using namespace slipstrip;
 
 namespace {
-double cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
 double cpu_us_per_push(FaceHistory& op, int steps) {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::vector<std::vector<std::complex<double>>> inputs(16, std::vector<std::complex<double>>(op.modes()));
   for (auto& in : inputs)
     for (auto& x : in) x = {normal(rng), normal(rng)};
-  const double t0 = cpu_seconds();
+  const double t0 = bench::process_cpu_seconds();
   for (int n = 0; n < steps; ++n) op.push(inputs[n % inputs.size()], inputs[(n + 5) % inputs.size()]);
-  return 1e6 * (cpu_seconds() - t0) / steps;
+  return 1e6 * (bench::process_cpu_seconds() - t0) / steps;
 }
 }  // namespace
 

@@ -9,6 +9,7 @@
 
 #include "config/config.hpp"
 #include "config/config_schema.hpp"
+#include "kernels/block_strip_history.hpp"
 #include "kernels/face_block_history.hpp"
 #include "kernels/strip_response.hpp"
 
@@ -75,7 +76,7 @@ struct BodyOperator {
 // `pair_operator`: the operator of docs/theory.md (modal/block strip or the
 // half-space), as the mirror pair and each antiplane body use it; otherwise an
 // in-plane body's 2x2 operator.  `body_of_two`: an antiplane body of two
-// different ones, whose block operator takes face_block_length's B.
+// different ones, whose block operator takes body_block_length's B.
 BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, double fourier_modes,
                            HistoryAlgorithm history, bool pair_operator, bool allow_block,
                            bool body_of_two = false) {
@@ -113,9 +114,9 @@ BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, d
   b.bytes = fourier_modes * b.modes_per_fourier_mode * (b.block ? kBlockBytesPerMode : kModalBytesPerMode) +
             8.0 * b.echo_steps;
   if (b.block && body_of_two) {
-    // 64 P + 48 B + the kernels (16 P), at the doubled B instead of B < 2P.
-    const double block = face_block_length(static_cast<std::size_t>(std::ceil(b.modes_per_fourier_mode)),
-                                           FaceBlockDesign{}.direct_block);
+    // 64 P + 48 B + the kernels (16 P), at body_block_length's B instead of B < 2P.
+    const double block = body_block_length(static_cast<std::size_t>(std::ceil(b.modes_per_fourier_mode)),
+                                           BlockHistoryDesign{}.direct_block);
     b.bytes = fourier_modes * (80.0 * b.modes_per_fourier_mode + 48.0 * block) + 8.0 * b.echo_steps;
   }
   b.seconds = b.block ? fourier_modes * kBlockSecondsPerFourierMode

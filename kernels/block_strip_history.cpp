@@ -45,6 +45,10 @@ int automatic_block_length(std::size_t most_normal_modes, int direct_block) {
   return block;
 }
 
+int body_block_length(std::size_t most_normal_modes, int direct_block) {
+  return std::max(automatic_block_length(most_normal_modes, direct_block), kBodyBlockLength);
+}
+
 BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,
                                      const BlockHistoryDesign& design, const CancelCheck& cancelled)
     : dt_(kernels.time_step), eta_(material.radiation_damping()),
@@ -163,8 +167,7 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
     }
   }
 
-  input_.assign(n_modes_ * B, 0.0);
-  accumulator_.assign(n_modes_ * B, 0.0);
+  rows_ = BlockRows<1>(static_cast<std::size_t>(n_modes_), block_, direct_block_);
   running_sum_.assign(n_modes_, 0.0);
   history_.assign(n_modes_, 0.0);
 }
@@ -180,9 +183,9 @@ ModeOperatorStats BlockStripHistory::stats() const {
                                      c0_.size()) +
                    sizeof(std::size_t) * (design_.size() + first_frequency_.size() + first_state_.size() +
                                           design_first_mode_.size() + design_modes_.size()) +
-                   sizeof(cplx) * (state_.size() + spectrum_.size() + input_.size() +
-                                   accumulator_.size() + running_sum_.size() + echo_.steps() +
+                   sizeof(cplx) * (state_.size() + spectrum_.size() + running_sum_.size() + echo_.steps() +
                                    history_.size()) +
+                   rows_.memory_bytes() +
                    scratch_.size() * sizeof(cplx) *
                        (4 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency.size());
   return s;
@@ -193,9 +196,8 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
   // lags 1..2s-1, no wrap-around in a circular convolution of length 2s.
   const Level& level = levels_[l];
   const int s = level.size;
-  const std::size_t B = block_;
   auto* buffer = reinterpret_cast<cplx*>(scratch.level.get());
-  const cplx* in = input_.data() + q * B + start;
+  const cplx* in = rows_.input(0, q) + start;
   for (int j = 0; j < s; ++j) buffer[j] = in[j];
   for (int j = s; j < 2 * s; ++j) buffer[j] = 0.0;
   fftw_execute_dft(level.forward.get(), scratch.level.get(), scratch.spectrum.get());
@@ -216,7 +218,7 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
     x[2 * j + 1] = xr * ki + xi * kr;
   }
   fftw_execute_dft(level.backward.get(), scratch.spectrum.get(), scratch.level.get());
-  cplx* out = accumulator_.data() + q * B + start + s;
+  cplx* out = rows_.accumulator(0, q) + start + s;
   const double scale = 1.0 / (2.0 * s);
   for (int j = 0; j < s; ++j) out[j] += buffer[s + j] * scale;
 }
@@ -227,10 +229,15 @@ void BlockStripHistory::locate_design(std::size_t d, Scratch& scratch) const {
   const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
   std::span<const double> theta(theta_.data() + f0, count);
   nufft_->locate(theta, scratch.nufft);
+  // The frequencies come in pairs (+phi_m, -phi_m): the second phase of a
+  // pair is the first's conjugate, bit for bit (cos is even and sin odd, and
+  // (-phi) B/2 = -(phi B/2) exactly), so half the cosines and sines.
   const double half_block = 0.5 * static_cast<double>(block_);
-  for (std::size_t k = 0; k < count; ++k) {
-    scratch.phase_re[k] = std::cos(theta[k] * half_block);
-    scratch.phase_im[k] = std::sin(theta[k] * half_block);
+  for (std::size_t k = 0; k < count; k += 2) {
+    const double c = std::cos(theta[k] * half_block), s = std::sin(theta[k] * half_block);
+    scratch.phase_re[k] = scratch.phase_re[k + 1] = c;
+    scratch.phase_im[k] = s;
+    scratch.phase_im[k + 1] = -s;
   }
 }
 
@@ -246,7 +253,7 @@ void BlockStripHistory::advance_far_field(int q, Scratch& scratch) {
   const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
   if (count == 0) return;
   std::span<cplx> transformed(scratch.frequency.data(), count);
-  nufft_->forward_centred({input_.data() + q * B, B}, transformed, scratch.nufft);
+  nufft_->forward_centred({rows_.input(0, q), B}, transformed, scratch.nufft);
   cplx* state = state_.data() + first_state_[q];
   const double* half_weight = half_weight_.data() + f0;
   for (std::size_t k = 0; k < count; ++k) {
@@ -260,8 +267,22 @@ void BlockStripHistory::advance_far_field(int q, Scratch& scratch) {
     transformed[k] = cplx(half_weight[k] * (pr * nr - pi_ * ni), half_weight[k] * (pr * ni + pi_ * nr));
   }
   nufft_->adjoint_centred(transformed, scratch.series, scratch.nufft);
-  cplx* out = accumulator_.data() + q * B;
+  cplx* out = rows_.accumulator(0, q);
   for (std::size_t t = 0; t < B; ++t) out[t] += scratch.series[t];
+}
+
+void BlockStripHistory::add_direct_part(int q, int slot, cplx v) {
+  // y_k += O_j v, lag j = k - slot, for the later outputs k of the direct block.
+  const int D = direct_block_;
+  const double* kernel = lag_kernel_.data() + design_[q] * D;
+  double* out_re = rows_.outputs(q);
+  double* out_im = out_re + D;
+  const double vr = v.real(), vi = v.imag();
+#pragma omp simd
+  for (int k = slot + 1; k < D; ++k) {
+    out_re[k] += kernel[k - slot] * vr;
+    out_im[k] += kernel[k - slot] * vi;
+  }
 }
 
 void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
@@ -269,30 +290,29 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
   const int tau = position_;
   const bool block_done = tau + 1 == block_;
   const int p = block_done ? 0 : tau + 1;  // the output produced by this push
-  const std::size_t B = block_;
   const int threads = static_cast<int>(scratch_.size());
-  // Input tau of mode q, and the level convolutions whose inputs it completes.
+  const int D = direct_block_;
+  const int slot = p % D;  // p's place in its direct block
+  // Input tau of mode q: into its direct block; when that is complete, into
+  // the rows and the level convolutions whose inputs it completes, otherwise
+  // its direct part into the direct block's later outputs.
   auto take_input = [&](int q, Scratch& scratch) {
-    cplx* in = input_.data() + q * B;
-    in[tau] = slip_rate_spectrum[q];
-    running_sum_[q] += slip_rate_spectrum[q];
-    for (std::size_t l = 0; l < levels_.size(); ++l) {
-      const int s = levels_[l].size;
-      if ((tau + 1) % (2 * s) == s) convolve_level(q, l, tau + 1 - s, scratch);
+    const cplx v = slip_rate_spectrum[q];
+    rows_.set_input(q, tau, 0, v);
+    running_sum_[q] += v;
+    if (slot == 0) {
+      rows_.close(q, tau);
+      for_completed_levels(levels_, tau, [&](std::size_t l, int start) { convolve_level(q, l, start, scratch); });
+    } else {
+      add_direct_part(q, tau % D, v);
     }
   };
-  // Output p of mode q: what the levels and the far field accumulated, plus
-  // the direct sum over p's own direct block.
+  // Output p of mode q: at the start of a direct block (after the levels and
+  // the far field) the rows' part of its outputs, then the direct block's.
   auto give_output = [&](int q) {
-    const cplx* in = input_.data() + q * B;
-    cplx* acc = accumulator_.data() + q * B;
-    cplx y = acc[p];
-    acc[p] = 0.0;
-    const std::size_t d = design_[q];
-    const double* kernel = lag_kernel_.data() + d * direct_block_;
-    const int recent = p % direct_block_;  // inputs of p's direct block before p
-    for (int j = 1; j <= recent; ++j) y += kernel[j] * in[p - j];
-    history_[q] = c0_[d] * running_sum_[q] - dt_ * y;
+    if (slot == 0) rows_.open(q, p);
+    const double* out = rows_.outputs(q);
+    history_[q] = c0_[design_[q]] * running_sum_[q] - dt_ * cplx(out[slot], out[D + slot]);
   };
   // The block is complete: every mode's far field moves across it, design by
   // design, so the modes of one design (equal |k|) share one set of Gaussian
@@ -345,8 +365,8 @@ HistoryOperatorState BlockStripHistory::save_state() const {
   state.counters.emplace_back("position", position_);
   state.counters.emplace_back("block", block_);
   state.add("mode_state", state_);
-  state.add("input", input_);
-  state.add("accumulator", accumulator_);
+  state.add("input", rows_.saved_input(0, position_));
+  state.add("accumulator", rows_.accumulator_rows(0));
   state.add("running_sum", running_sum_);
   state.add("echo_line", echo_.slots());
   state.add("history", history_);
@@ -363,13 +383,16 @@ void BlockStripHistory::restore_state(const HistoryOperatorState& state) {
     throw std::invalid_argument("block history state: echo_cursor = " + std::to_string(cursor) +
                                 " or position = " + std::to_string(position) + " out of range");
   state.copy_to("mode_state", std::span<cplx>(state_));
-  state.copy_to("input", std::span<cplx>(input_));
-  state.copy_to("accumulator", std::span<cplx>(accumulator_));
+  state.copy_to("input", rows_.input_rows(0));
+  state.copy_to("accumulator", rows_.accumulator_rows(0));
   state.copy_to("running_sum", std::span<cplx>(running_sum_));
   state.copy_to("echo_line", echo_.slots());
   state.copy_to("history", std::span<cplx>(history_));
   echo_.set_cursor(static_cast<std::size_t>(cursor));
   position_ = static_cast<int>(position);
+  rows_.rebuild(position_, [this](std::size_t q, int slot, const std::array<cplx, 1>& v) {
+    add_direct_part(static_cast<int>(q), slot, v[0]);
+  });
 }
 
 }  // namespace slipstrip

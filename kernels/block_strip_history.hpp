@@ -37,6 +37,7 @@
 #include <span>
 #include <vector>
 
+#include "kernels/block_rows.hpp"
 #include "kernels/elastic_material.hpp"
 #include "kernels/fft.hpp"
 #include "kernels/history_convolution.hpp"
@@ -54,6 +55,18 @@ struct BlockHistoryDesign {
 // The block length B of BlockHistoryDesign::block = 0: the smallest power of
 // two >= `most_normal_modes` (of any Fourier mode) and >= 2 direct_block.
 int automatic_block_length(std::size_t most_normal_modes, int direct_block);
+
+// The B Simulation gives the operator of a body of two different ones (an
+// antiplane pair, kernels/two_body_history.hpp): automatic_block_length, but
+// at least kBodyBlockLength.  The far field's cost per step goes like the
+// frequencies over B and the FFT levels' like log B; at N = 2048 one body's
+// push took, CPU us at B = 256 / 512 / 1024 / 2048 (bench_kernels_history,
+// docs/performance.md): H = 0.05 m 123 / 99 / 94 / 73, H = 0.2 m 238 / 167 /
+// 101 / 128, and H = 0.1 m 98 at 512 against 79 at 1024 and 83 at 2048.  The
+// block arrays cost 32 bytes per Fourier mode and step of B (~32 KiB per
+// Fourier mode at 1024); where B is already longer it stays.
+inline constexpr int kBodyBlockLength = 1024;
+int body_block_length(std::size_t most_normal_modes, int direct_block);
 
 class BlockStripHistory final : public HistoryOperator {
  public:
@@ -83,6 +96,8 @@ class BlockStripHistory final : public HistoryOperator {
   void convolve_level(int q, std::size_t level, int start, Scratch& scratch);
   void locate_design(std::size_t design, Scratch& scratch) const;
   void advance_far_field(int q, Scratch& scratch);
+  // Input v at `slot` of its direct block into the direct block's later outputs.
+  void add_direct_part(int q, int slot, std::complex<double> v);
 
   double dt_, eta_, echo_weight_;  // echo_weight_ = mu / c_s
   int n_modes_, block_, direct_block_;
@@ -114,8 +129,9 @@ class BlockStripHistory final : public HistoryOperator {
   std::vector<Scratch> scratch_;  // one per OpenMP thread
 
   // State.
-  std::vector<std::complex<double>> input_;        // [q][B] inputs of the current block
-  std::vector<std::complex<double>> accumulator_;  // [q][B] outputs of the current block so far
+  // The block's inputs and outputs, and the current direct block of every
+  // mode, contiguous (kernels/block_rows.hpp); the saved state is the rows.
+  BlockRows<1> rows_;
   std::vector<std::complex<double>> running_sum_;  // per q
   std::vector<std::complex<double>> history_;
 };

@@ -155,10 +155,7 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
     }
   }
 
-  input_x_.assign(static_cast<std::size_t>(n_modes_) * B, 0.0);
-  input_y_ = accumulator_x_ = accumulator_y_ = input_x_;
-  direct_inputs_.assign(2 * static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
-  direct_outputs_.assign(4 * static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
+  rows_ = BlockRows<2>(static_cast<std::size_t>(n_modes_), block_, direct_block_);
   running_x_.assign(n_modes_, 0.0);
   running_y_ = history_x_ = history_y_ = running_x_;
 }
@@ -170,13 +167,11 @@ std::size_t FaceBlockHistory::memory_bytes() const {
                               half_block_phase_re_.size() + half_block_phase_im_.size() + c0_a_.size() +
                               c0_b_.size() + c0_d_.size() + lags_.size();
   const std::size_t complexes = spectrum_a_.size() + spectrum_b_.size() + spectrum_d_.size() + state_x_.size() +
-                                state_y_.size() + input_x_.size() + input_y_.size() + accumulator_x_.size() +
-                                accumulator_y_.size() + direct_inputs_.size() + direct_outputs_.size() +
-                                running_x_.size() + running_y_.size() +
+                                state_y_.size() + running_x_.size() + running_y_.size() +
                                 history_x_.size() + history_y_.size();
   const std::size_t scratch =
       scratch_.size() * sizeof(cplx) * (6 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency_x.size());
-  return sizeof(double) * doubles + sizeof(cplx) * complexes + scratch;
+  return sizeof(double) * doubles + sizeof(cplx) * complexes + rows_.memory_bytes() + scratch;
 }
 
 void FaceBlockHistory::convolve_level(int q, std::size_t l, int start, Scratch& scratch) {
@@ -184,11 +179,10 @@ void FaceBlockHistory::convolve_level(int q, std::size_t l, int start, Scratch& 
   // wrap-around in a circular convolution of length 2s), both components.
   const Level& level = levels_[l];
   const int s = level.size;
-  const std::size_t B = block_;
   auto* bx = reinterpret_cast<cplx*>(scratch.level_x.get());
   auto* by = reinterpret_cast<cplx*>(scratch.level_y.get());
-  const cplx* in_x = input_x_.data() + q * B + start;
-  const cplx* in_y = input_y_.data() + q * B + start;
+  const cplx* in_x = rows_.input(0, q) + start;
+  const cplx* in_y = rows_.input(1, q) + start;
   for (int j = 0; j < s; ++j) {
     bx[j] = in_x[j];
     by[j] = in_y[j];
@@ -223,8 +217,8 @@ void FaceBlockHistory::convolve_level(int q, std::size_t l, int start, Scratch& 
   }
   fftw_execute_dft(level.backward.get(), scratch.spectrum_x.get(), scratch.level_x.get());
   fftw_execute_dft(level.backward.get(), scratch.spectrum_y.get(), scratch.level_y.get());
-  cplx* out_x = accumulator_x_.data() + q * B + start + s;
-  cplx* out_y = accumulator_y_.data() + q * B + start + s;
+  cplx* out_x = rows_.accumulator(0, q) + start + s;
+  cplx* out_y = rows_.accumulator(1, q) + start + s;
   const double scale = 1.0 / (2.0 * s);
   for (int j = 0; j < s; ++j) {
     out_x[j] += bx[s + j] * scale;
@@ -242,8 +236,8 @@ void FaceBlockHistory::advance_far_field(int q, Scratch& scratch) {
   std::span<const double> theta(theta_.data() + f0, count);
   std::span<cplx> fx(scratch.frequency_x.data(), count), fy(scratch.frequency_y.data(), count);
   nufft_->locate(theta, scratch.nufft);
-  nufft_->forward_centred({input_x_.data() + q * B, B}, fx, scratch.nufft);
-  nufft_->forward_centred({input_y_.data() + q * B, B}, fy, scratch.nufft);
+  nufft_->forward_centred({rows_.input(0, q), B}, fx, scratch.nufft);
+  nufft_->forward_centred({rows_.input(1, q), B}, fy, scratch.nufft);
   cplx* sx = state_x_.data() + f0;
   cplx* sy = state_y_.data() + f0;
   const double *a = half_a_.data() + f0, *b = half_b_.data() + f0, *d = half_d_.data() + f0;
@@ -268,8 +262,8 @@ void FaceBlockHistory::advance_far_field(int q, Scratch& scratch) {
   }
   nufft_->adjoint_centred(fx, scratch.series_x, scratch.nufft);
   nufft_->adjoint_centred(fy, scratch.series_y, scratch.nufft);
-  cplx* out_x = accumulator_x_.data() + q * B;
-  cplx* out_y = accumulator_y_.data() + q * B;
+  cplx* out_x = rows_.accumulator(0, q);
+  cplx* out_y = rows_.accumulator(1, q);
   for (std::size_t t = 0; t < B; ++t) {
     out_x[t] += scratch.series_x[t];
     out_y[t] += scratch.series_y[t];
@@ -283,7 +277,7 @@ void FaceBlockHistory::add_direct_part(int q, int slot, cplx vx, cplx vy) {
   const double* a = lags_.data() + 3 * static_cast<std::size_t>(q) * D;
   const double* b = a + D;
   const double* d = b + D;
-  double* out_xr = direct_outputs_.data() + 4 * static_cast<std::size_t>(q) * D;
+  double* out_xr = rows_.outputs(q);
   double* out_xi = out_xr + D;
   double* out_yr = out_xi + D;
   double* out_yi = out_yr + D;
@@ -302,44 +296,19 @@ void FaceBlockHistory::push_mode(int q, int tau, bool block_done, cplx vx, cplx 
   const int p = block_done ? 0 : tau + 1;  // the output this push produces
   const int D = direct_block_;
   const int slot = p % D;  // p's place in its direct block
-  const std::size_t B = block_;
-  cplx* direct_in = direct_inputs_.data() + 2 * static_cast<std::size_t>(q) * D;
-  double* direct_out = direct_outputs_.data() + 4 * static_cast<std::size_t>(q) * D;
-  direct_in[2 * (tau % D)] = vx;
-  direct_in[2 * (tau % D) + 1] = vy;
+  rows_.set_input(q, tau, 0, vx);
+  rows_.set_input(q, tau, 1, vy);
   running_x_[q] += vx;
   running_y_[q] += vy;
   if (slot == 0) {
-    // tau completed a direct block of inputs, and its outputs are all used:
-    // the inputs into the rows (the FFT levels and the far field read them),
-    // the used outputs' rows zeroed (the far field adds into every row entry).
-    const std::size_t done = tau + 1 - D;
-    cplx* in_x = input_x_.data() + q * B + done;
-    cplx* in_y = input_y_.data() + q * B + done;
-    cplx* acc_x = accumulator_x_.data() + q * B + done;
-    cplx* acc_y = accumulator_y_.data() + q * B + done;
-    for (int j = 0; j < D; ++j) {
-      in_x[j] = direct_in[2 * j];
-      in_y[j] = direct_in[2 * j + 1];
-      acc_x[j] = acc_y[j] = 0.0;
-    }
-    for (std::size_t l = 0; l < levels_.size(); ++l) {
-      const int s = levels_[l].size;
-      if ((tau + 1) % (2 * s) == s) convolve_level(q, l, tau + 1 - s, scratch);
-    }
+    rows_.close(q, tau);
+    for_completed_levels(levels_, tau, [&](std::size_t l, int start) { convolve_level(q, l, start, scratch); });
     if (block_done) advance_far_field(q, scratch);
-    // Every contribution to outputs p..p+D-1 from earlier direct blocks is in now.
-    const cplx* next_x = accumulator_x_.data() + q * B + p;
-    const cplx* next_y = accumulator_y_.data() + q * B + p;
-    for (int j = 0; j < D; ++j) {
-      direct_out[j] = next_x[j].real();
-      direct_out[D + j] = next_x[j].imag();
-      direct_out[2 * D + j] = next_y[j].real();
-      direct_out[3 * D + j] = next_y[j].imag();
-    }
+    rows_.open(q, p);
   } else {
     add_direct_part(q, tau % D, vx, vy);
   }
+  const double* direct_out = rows_.outputs(q);
   const double yx_r = direct_out[slot], yx_i = direct_out[D + slot];
   const double yy_r = direct_out[2 * D + slot], yy_i = direct_out[3 * D + slot];
   // h = C0 R - dt y, C0 = [[c0_a, i c0_b], [-i c0_b, c0_d]].
@@ -375,18 +344,10 @@ void FaceBlockHistory::save_into(HistoryOperatorState& state, const std::string&
   state.counters.emplace_back(prefix + "block", block_);
   state.add(prefix + "state_x", state_x_);
   state.add(prefix + "state_y", state_y_);
-  // Inputs position - position % D .. position - 1 are still only in direct_inputs_.
-  std::vector<cplx> input_x = input_x_, input_y = input_y_;
-  const std::size_t B = block_, D = direct_block_, start = position_ - position_ % D;
-  for (std::size_t q = 0; q < static_cast<std::size_t>(n_modes_); ++q)
-    for (std::size_t t = start; t < static_cast<std::size_t>(position_); ++t) {
-      input_x[q * B + t] = direct_inputs_[2 * (q * D + t - start)];
-      input_y[q * B + t] = direct_inputs_[2 * (q * D + t - start) + 1];
-    }
-  state.add(prefix + "input_x", input_x);
-  state.add(prefix + "input_y", input_y);
-  state.add(prefix + "accumulator_x", accumulator_x_);
-  state.add(prefix + "accumulator_y", accumulator_y_);
+  state.add(prefix + "input_x", rows_.saved_input(0, position_));
+  state.add(prefix + "input_y", rows_.saved_input(1, position_));
+  state.add(prefix + "accumulator_x", rows_.accumulator_rows(0));
+  state.add(prefix + "accumulator_y", rows_.accumulator_rows(1));
   state.add(prefix + "running_x", running_x_);
   state.add(prefix + "running_y", running_y_);
   state.add(prefix + "history_x", history_x_);
@@ -404,40 +365,18 @@ void FaceBlockHistory::restore_from(const HistoryOperatorState& state, const std
                                 " out of range");
   state.copy_to(prefix + "state_x", std::span<cplx>(state_x_));
   state.copy_to(prefix + "state_y", std::span<cplx>(state_y_));
-  state.copy_to(prefix + "input_x", std::span<cplx>(input_x_));
-  state.copy_to(prefix + "input_y", std::span<cplx>(input_y_));
-  state.copy_to(prefix + "accumulator_x", std::span<cplx>(accumulator_x_));
-  state.copy_to(prefix + "accumulator_y", std::span<cplx>(accumulator_y_));
+  state.copy_to(prefix + "input_x", rows_.input_rows(0));
+  state.copy_to(prefix + "input_y", rows_.input_rows(1));
+  state.copy_to(prefix + "accumulator_x", rows_.accumulator_rows(0));
+  state.copy_to(prefix + "accumulator_y", rows_.accumulator_rows(1));
   state.copy_to(prefix + "running_x", std::span<cplx>(running_x_));
   state.copy_to(prefix + "running_y", std::span<cplx>(running_y_));
   state.copy_to(prefix + "history_x", std::span<cplx>(history_x_));
   state.copy_to(prefix + "history_y", std::span<cplx>(history_y_));
   position_ = static_cast<int>(position);
-  // The current direct block from the rows: the next push (tau = position)
-  // produces output p = position + 1 (mod B), whose direct block starts at
-  // p - p % D; its inputs so far and its outputs' far-field and level parts.
-  const std::size_t B = block_, D = direct_block_;
-  const std::size_t p = (position_ + 1) % B, start = p - p % D;
-  std::fill(direct_inputs_.begin(), direct_inputs_.end(), cplx(0.0));
-  std::fill(direct_outputs_.begin(), direct_outputs_.end(), 0.0);
-  if (p % D == 0) return;  // the next push starts a direct block (and fills both)
-  // The outputs as push_mode built them: the rows, then each input's direct
-  // part in the order the inputs came (inputs start .. position - 1).
-  for (std::size_t q = 0; q < static_cast<std::size_t>(n_modes_); ++q) {
-    double* out = direct_outputs_.data() + 4 * q * D;
-    for (std::size_t j = 0; j < D; ++j) {
-      out[j] = accumulator_x_[q * B + start + j].real();
-      out[D + j] = accumulator_x_[q * B + start + j].imag();
-      out[2 * D + j] = accumulator_y_[q * B + start + j].real();
-      out[3 * D + j] = accumulator_y_[q * B + start + j].imag();
-    }
-    for (std::size_t j = 0; start + j + 1 < p; ++j) {
-      direct_inputs_[2 * (q * D + j)] = input_x_[q * B + start + j];
-      direct_inputs_[2 * (q * D + j) + 1] = input_y_[q * B + start + j];
-      add_direct_part(static_cast<int>(q), static_cast<int>(j), input_x_[q * B + start + j],
-                      input_y_[q * B + start + j]);
-    }
-  }
+  rows_.rebuild(position_, [this](std::size_t q, int slot, const std::array<cplx, 2>& v) {
+    add_direct_part(static_cast<int>(q), slot, v[0], v[1]);
+  });
 }
 
 }  // namespace slipstrip

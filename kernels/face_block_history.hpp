@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/block_rows.hpp"
 #include "kernels/face_history.hpp"
 #include "kernels/fft.hpp"
 #include "kernels/nufft.hpp"
@@ -76,9 +77,7 @@ class FaceBlockHistory final : public FaceHistory {
             std::span<const std::complex<double>> velocity_y) override;
   std::span<const std::complex<double>> history_x() const override { return history_x_; }
   std::span<const std::complex<double>> history_y() const override { return history_y_; }
-  // The saved inputs are input_x_/_y_ with the current direct block's inputs
-  // so far (still in direct_inputs_) written in, so the state format is the
-  // one of the rows alone.
+  // The state is the rows alone (BlockRows::saved_input).
   void save_into(HistoryOperatorState& state, const std::string& prefix) const override;
   void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
   std::size_t memory_bytes() const override;
@@ -121,17 +120,11 @@ class FaceBlockHistory final : public FaceHistory {
 
   // State.
   std::vector<std::complex<double>> state_x_, state_y_;  // A_k of each input at the block start
-  std::vector<std::complex<double>> input_x_, input_y_;  // [q][B] inputs of the current block
-  std::vector<std::complex<double>> accumulator_x_, accumulator_y_;  // [q][B] outputs so far
-  // The current direct block of every mode, contiguous, so that the per-step
-  // loop over the modes streams through memory instead of reading four rows B
-  // apart per mode: its inputs so far ([q][j][x, y], copied into
-  // input_x_/_y_ when the direct block is complete) and its outputs
-  // ([q][x re, x im, y re, y im][j]): the far field's and the FFT levels'
-  // part copied from accumulator_x_/_y_ at its start, to which each input
-  // adds its direct part as it arrives (a vector loop over the later outputs).
-  std::vector<std::complex<double>> direct_inputs_;
-  std::vector<double> direct_outputs_;
+  // The block's inputs and outputs of both components (x: 0, y: 1), and the
+  // current direct block of every mode, contiguous (its outputs
+  // [q][x re, x im, y re, y im][j]).
+  BlockRows<2> rows_;
+  // Input (vx, vy) at `slot` of its direct block into the block's later outputs.
   void add_direct_part(int q, int slot, std::complex<double> vx, std::complex<double> vy);
   std::vector<std::complex<double>> running_x_, running_y_;
   std::vector<std::complex<double>> history_x_, history_y_;

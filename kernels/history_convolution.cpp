@@ -257,6 +257,10 @@ long long HistoryOperatorState::counter(const std::string& name) const {
                               "' is missing");
 }
 
+bool HistoryOperatorState::has(const std::string& name) const {
+  return std::any_of(arrays.begin(), arrays.end(), [&](const auto& a) { return a.first == name; });
+}
+
 void HistoryOperatorState::require_kind(const std::string& expected) const {
   if (kind != expected)
     throw std::invalid_argument("history operator state is of kind '" + kind + "', this run's operator is '" +

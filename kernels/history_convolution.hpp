@@ -111,6 +111,7 @@ struct HistoryOperatorState {
   void copy_to(const std::string& name, std::span<double> target) const;
   void copy_to(const std::string& name, std::span<std::complex<double>> target) const;
   long long counter(const std::string& name) const;
+  bool has(const std::string& name) const;  // an array of that name
   void require_kind(const std::string& expected) const;
   // An operator made of parts (two bodies, the in-plane and antiplane parts
   // of a 2D interface): each part's arrays and counters under `prefix`, and

@@ -16,10 +16,7 @@ namespace {
 // advanced them as real rotations (far_c_x_re, ...): such a part cannot be
 // continued by this version.
 std::string saved_face_algorithm(const HistoryOperatorState& state, const std::string& prefix) {
-  const auto has = [&](const char* name) {
-    return std::any_of(state.arrays.begin(), state.arrays.end(),
-                       [&](const auto& a) { return a.first == prefix + name; });
-  };
+  const auto has = [&](const char* name) { return state.has(prefix + name); };
   if (has("cx")) return "modal";
   if (has("state_x")) return "block";
   if (has("far_c_x_re")) return "half-space";

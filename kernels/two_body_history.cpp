@@ -1,5 +1,8 @@
 #include "kernels/two_body_history.hpp"
 
+#include "kernels/block_strip_history.hpp"
+#include "kernels/half_space_history.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -23,6 +26,16 @@ TwoBodyHistory::TwoBodyHistory(std::unique_ptr<HistoryOperator> top,
   input_bottom_.assign(bottom_ ? n : 0, 0.0);
   history_.assign(n, 0.0);
 }
+
+namespace {
+int operator_period(const HistoryOperator* op) {
+  if (const auto* block = dynamic_cast<const BlockStripHistory*>(op)) return block->block();
+  if (const auto* half_space = dynamic_cast<const HalfSpaceHistory*>(op)) return std::max(1, half_space->slow_block());
+  return 1;
+}
+}  // namespace
+
+int TwoBodyHistory::period() const { return std::max(operator_period(top_.get()), operator_period(bottom_.get())); }
 
 ModeOperatorStats TwoBodyHistory::stats() const {
   ModeOperatorStats s = top_->stats();
@@ -68,6 +81,33 @@ void TwoBodyHistory::push(std::span<const std::complex<double>> slip_rate_spectr
 namespace {
 constexpr const char* kKind = "two bodies";
 
+// Which operator wrote a body's part of a restart point, from an array only
+// that operator writes ("" when none is there: a missing array is then named
+// by the part's own restore).
+std::string saved_body_kind(const HistoryOperatorState& state, const std::string& prefix) {
+  const auto has = [&](const char* name) { return state.has(prefix + name); };
+  if (has("mode_state")) return "block strip";
+  if (has("ring")) return "half-space";
+  if (has("c_re")) return "modal strip";
+  return "";
+}
+
+// The part of body `which` restored into `body`, refused naming both
+// operators when another one wrote it (a restart point of a version, or a
+// time.history, that chose the other algorithm).
+void restore_body(const HistoryOperatorState& state, const std::string& prefix, HistoryOperator& body,
+                  const char* which) {
+  const std::string kind = body.save_state().kind;
+  const std::string saved = saved_body_kind(state, prefix);
+  if (!saved.empty() && saved != kind)
+    throw std::invalid_argument(std::string("history operator state 'two bodies': the ") + which +
+                                " body's part was written by the " + saved + " operator, this run builds the " +
+                                kind +
+                                " one (a restart point of another slipstrip version); resume it with the "
+                                "version that wrote it, or rerun from the start");
+  body.restore_state(state.part(prefix, kind));
+}
+
 }  // namespace
 
 HistoryOperatorState TwoBodyHistory::save_state() const {
@@ -85,9 +125,9 @@ void TwoBodyHistory::restore_state(const HistoryOperatorState& state) {
   if (state.counter("rigid_bottom") != (bottom_ ? 0 : 1))
     throw std::invalid_argument("history operator state: the restart point's bottom body is " +
                                 std::string(bottom_ ? "rigid" : "elastic") + ", this run's is not");
-  // The parts carry the kinds of this run's operators; each part checks its arrays.
-  top_->restore_state(state.part("top.", top_->save_state().kind));
-  if (bottom_) bottom_->restore_state(state.part("bottom.", bottom_->save_state().kind));
+  // Each part checks its arrays and counters (a block operator its B).
+  restore_body(state, "top.", *top_, "top");
+  if (bottom_) restore_body(state, "bottom.", *bottom_, "bottom");
   state.copy_to("history", std::span<std::complex<double>>(history_));
 }
 

@@ -54,6 +54,10 @@ class TwoBodyHistory final : public HistoryOperator {
   // +inf for a rigid bottom).
   double top_impedance() const { return eta_top_; }
   double bottom_impedance() const { return eta_bottom_; }
+  // The steps after which the bodies' per-step work repeats (their block
+  // operators' B, the half-space's slow block; 1 for modal operators), the
+  // larger of the two (both are powers of two).
+  int period() const;
 
  private:
   std::unique_ptr<HistoryOperator> top_, bottom_;

@@ -74,9 +74,8 @@ std::unique_ptr<FaceHistory> make_finite_body_history(const SimulationConfig& co
 // The operator of two identical copies of one body (material, height): the
 // whole history operator of a mirror pair, and each body's "pair-normalised"
 // operator otherwise (kernels/two_body_history.hpp; `body_of_two`).  A body of
-// two different ones takes face_block_length's B, as an in-plane body does:
-// twice the identical pair's while <= 1024 (N = 2048, H = 0.1 m, SH: 512
-// instead of 256; docs/performance.md).
+// two different ones takes body_block_length's B: at least 1024 (N = 2048,
+// H = 0.1 m, SH: 1024 instead of the identical pair's 256; docs/performance.md).
 std::unique_ptr<HistoryOperator> make_pair_history(const SimulationConfig& config,
                                                    const ElasticMaterial& material, double height,
                                                    double time_step, const CancelCheck& cancelled,
@@ -94,7 +93,7 @@ std::unique_ptr<HistoryOperator> make_pair_history(const SimulationConfig& confi
           ? compute_strip_kernels(material, height, g.length, nodes, time_step, cancelled)
           : load_or_compute_strip_kernels(config.output.kernel_cache, material, height, g.length,
                                           nodes, time_step, nullptr, cancelled);
-  const int block = body_of_two ? face_block_length(most_normal_modes(kernels), BlockHistoryDesign{}.direct_block) : 0;
+  const int block = body_of_two ? body_block_length(most_normal_modes(kernels), BlockHistoryDesign{}.direct_block) : 0;
   return make_strip_history(material, kernels, config.time.history, cancelled, 0, block);
 }
 // A half-space body's 2x2 operator exists only when the shortest wavelength's

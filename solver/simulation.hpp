@@ -63,7 +63,7 @@ void check_saved_state(std::span<const SavedField> fields, const SimulationState
 // modes per Fourier mode, for the automatic choice and the block length B:
 // kernels holding part of an operator's modes (one process of a split run)
 // then choose as the whole operator does.  `block` > 0: the block operator's B
-// (a body of a pair of different bodies, face_block_length); 0: the identical
+// (a body of a pair of different bodies, body_block_length); 0: the identical
 // pair's automatic_block_length.
 inline constexpr std::size_t kBlockHistoryThreshold = 128;
 std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& material,

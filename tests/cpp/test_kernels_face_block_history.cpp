@@ -124,6 +124,47 @@ TEST_CASE("block face history: save and restore continue bit for bit") {
   }
 }
 
+TEST_CASE("block face history: saved at every position of a direct block, it continues bit for bit") {
+  // B = 64, direct block 8: saved after each step from 100 to 129 (every
+  // position in a direct block, whose inputs so far and outputs a restore
+  // rebuilds from the rows, including the last, and the block's end at 127),
+  // then 70 steps on: the histories of the run that was never saved.
+  ElasticMaterial m;
+  const double length = 1.0, dt = 0.25 * (length / 16) / m.shear_wave_speed();
+  const slipstrip::FaceBlockDesign design{8, 64, 12};
+  const auto make = [&] { return slipstrip::FaceBlockHistory(m, 0.5, OuterFace::driven, length, 16, dt, design); };
+  slipstrip::FaceBlockHistory straight_run = make();
+  const int modes = straight_run.modes();
+  std::vector<std::vector<cd>> vx(200, std::vector<cd>(modes)), vy = vx, straight_x, straight_y;
+  for (int n = 0; n < 200; ++n)
+    for (int q = 0; q < modes; ++q) {
+      vx[n][q] = cd(std::sin(0.3 * n + q), q == 0 ? 0.0 : std::cos(0.7 * n - q));
+      vy[n][q] = cd(std::cos(0.11 * n * q), q == 0 ? 0.0 : std::sin(0.05 * n + 2 * q));
+    }
+  for (int n = 0; n < 200; ++n) {
+    straight_run.push(vx[n], vy[n]);
+    straight_x.emplace_back(straight_run.history_x().begin(), straight_run.history_x().end());
+    straight_y.emplace_back(straight_run.history_y().begin(), straight_run.history_y().end());
+  }
+  slipstrip::FaceBlockHistory saver = make();
+  for (int n = 0; n < 100; ++n) saver.push(vx[n], vy[n]);
+  for (int stop = 100; stop < 130; ++stop) {
+    slipstrip::HistoryOperatorState state;
+    saver.save_into(state, "top.");
+    slipstrip::FaceBlockHistory resumed = make();
+    resumed.restore_from(state, "top.");
+    int differing = 0;
+    for (int n = stop; n < stop + 70; ++n) {
+      resumed.push(vx[n], vy[n]);
+      for (int q = 0; q < modes; ++q)
+        differing += (resumed.history_x()[q] != straight_x[n][q]) + (resumed.history_y()[q] != straight_y[n][q]);
+    }
+    INFO("saved after " << stop << " steps (position " << stop % 64 << " of the block)");
+    CHECK(differing == 0);
+    saver.push(vx[stop], vy[stop]);
+  }
+}
+
 TEST_CASE("a pair restart point of another body algorithm is refused by name") {
   // A modal body's saved part restored into a block body (what resuming a
   // restart point of a version that chose the other algorithm would do), and

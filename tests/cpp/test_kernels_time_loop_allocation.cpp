@@ -1,8 +1,9 @@
 // The history operators' push() does not allocate (the time loop's contract,
 // kernels/history_convolution.hpp): every heap allocation of this program is
 // counted (allocation_counter.hpp) while the block operators of an identical
-// strip pair (BlockStripHistory) and of a pair of different bodies
-// (InplanePairHistory over two FaceBlockHistory) run whole blocks of steps.
+// strip pair (BlockStripHistory) and of pairs of different bodies
+// (TwoBodyHistory over two BlockStripHistory, InplanePairHistory over two
+// FaceBlockHistory) run whole blocks of steps.
 // The block length B = 2048 puts the FFT levels at up to 2048 points and the
 // NUFFT grid at 4096: the lengths at which FFTW's in-place complex plans take
 // a work buffer from the heap at every execute (FFTW 3.3.10, FFTW_ESTIMATE:
@@ -18,11 +19,13 @@
 #include <vector>
 
 #include "allocation_counter.hpp"
+#include "white_noise.hpp"
 #include "kernels/block_strip_history.hpp"
 #include "kernels/face_block_history.hpp"
 #include "kernels/fft.hpp"
 #include "kernels/history_convolution.hpp"
 #include "kernels/inplane_pair_history.hpp"
+#include "kernels/two_body_history.hpp"
 
 namespace {
 
@@ -38,14 +41,15 @@ constexpr int kSteps = 2 * kBlock + 3;
 
 // kSteps spectra of white noise (mode 0 real), made before counting.
 std::vector<std::vector<cplx>> white_noise(int modes, unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  std::vector<std::vector<cplx>> steps(kSteps, std::vector<cplx>(modes));
-  for (auto& v : steps) {
-    for (auto& x : v) x = cplx(normal(rng), normal(rng));
-    v[0] = v[0].real();
-  }
-  return steps;
+  return slipstrip_test::white_noise_spectra(modes, kSteps, seed);
+}
+
+// Allocations while `push` runs once per input.
+template <class Inputs, class Push>
+long allocations_in(const Inputs& inputs, Push&& push) {
+  const long before = allocations();
+  for (const auto& v : inputs) push(v);
+  return allocations() - before;
 }
 
 }  // namespace
@@ -74,10 +78,32 @@ TEST_CASE("identical strip pair: the block operator does not allocate in push (B
     with_threads(threads, [&] {
       slipstrip::BlockStripHistory history(material, kernels, {32, kBlock, 12});
       REQUIRE(history.block() == kBlock);
-      const auto input = white_noise(history.modes(), 11);
-      const long before = allocations();
-      for (const auto& v : input) history.push(v);
-      const long during = allocations() - before;
+      const long during = allocations_in(white_noise(history.modes(), 11), [&](const auto& v) { history.push(v); });
+      MESSAGE(threads << " thread(s): allocations in " << kSteps << " pushes: " << during);
+      CHECK(during == 0);
+    });
+  }
+}
+
+TEST_CASE("antiplane pair of different bodies: both block body operators do not allocate in push (B = 2048)") {
+  // TwoBodyHistory over two BlockStripHistory bodies (the bottom one 2x mu
+  // and rho), as Simulation builds an antiplane pair of different bodies.
+  ElasticMaterial top, bottom;
+  top.plane = bottom.plane = slipstrip::PlaneCondition::antiplane;
+  bottom.shear_modulus = 2.0 * top.shear_modulus;
+  bottom.density = 2.0 * top.density;
+  const double height = 0.05, length = 0.1;
+  const int nodes = 16;
+  const double dt = slipstrip::strip_time_step(top, height, length / nodes, 0.25);
+  for (int threads : {1, 2}) {
+    with_threads(threads, [&] {
+      const auto body = [&](const ElasticMaterial& m) {
+        return std::make_unique<slipstrip::BlockStripHistory>(
+            m, slipstrip::compute_strip_kernels(m, height, length, nodes, dt), slipstrip::BlockHistoryDesign{32, kBlock, 12});
+      };
+      slipstrip::TwoBodyHistory pair(body(top), body(bottom));
+      REQUIRE(pair.period() == kBlock);
+      const long during = allocations_in(white_noise(pair.modes(), 14), [&](const auto& v) { pair.push(v); });
       MESSAGE(threads << " thread(s): allocations in " << kSteps << " pushes: " << during);
       CHECK(during == 0);
     });

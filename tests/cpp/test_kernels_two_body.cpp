@@ -8,7 +8,10 @@
 //   * limits: bottom height -> inf = half-space bottom (before the echo),
 //     a very stiff bottom = rigid base;
 //   * free ringing of the combined discrete operator does not grow;
-//   * the common time step (exact echoes, reported height rounding, refusal).
+//   * the common time step (exact echoes, reported height rounding, refusal);
+//   * dissimilar bodies by the block algorithm at the block length Simulation
+//     gives them = by the modal one (the same discrete operator), a restart
+//     point continuing bit for bit, and one of the other algorithm refused.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -22,11 +25,13 @@
 #include <vector>
 
 #include "inverse_laplace.hpp"
+#include "kernels/block_strip_history.hpp"
 #include "kernels/antiplane_response.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/history_convolution.hpp"
 #include "kernels/two_body_history.hpp"
 #include "single_mode_drive.hpp"
+#include "white_noise.hpp"
 
 using namespace slipstrip;
 using cplx = std::complex<double>;
@@ -330,4 +335,132 @@ TEST_CASE("two bodies: common time step, exact echoes, reported rounding, refusa
     CHECK(what.find("bottom.height") != std::string::npos);
     CHECK(what.find("time.beta") != std::string::npos);
   }
+}
+
+namespace {
+
+// A pair of different finite bodies (the bottom one 2x mu and rho, taller, its
+// echo made whole by two_body_time_step), each body by the modal or the block
+// operator; `block` = 0: the B Simulation gives a body of two different ones
+// (body_block_length).
+struct DissimilarPair {
+  ElasticMaterial top = sh(9e9, 1200), bottom = sh(18e9, 2400);
+  double length = 0.8;
+  int nodes = 16;
+  TwoBodyTiming timing = two_body_time_step(top, 0.1, bottom, 0.25, length / nodes, 0.3);
+
+  std::unique_ptr<HistoryOperator> body(const ElasticMaterial& m, double height, bool block_algorithm,
+                                        BlockHistoryDesign design) const {
+    const auto kernels = compute_strip_kernels(m, height, length, nodes, timing.time_step);
+    if (!block_algorithm) return std::make_unique<StripHistory>(m, kernels);
+    if (design.block == 0) {
+      std::size_t most = 0;
+      for (std::size_t q = 0; q + 1 < kernels.first_oscillator.size(); ++q)
+        most = std::max(most, kernels.first_oscillator[q + 1] - kernels.first_oscillator[q]);
+      design.block = body_block_length(most, design.direct_block);
+    }
+    return std::make_unique<BlockStripHistory>(m, kernels, design);
+  }
+  TwoBodyHistory make(bool block_algorithm, BlockHistoryDesign design = {}) const {
+    return TwoBodyHistory(body(top, 0.1, block_algorithm, design),
+                          body(bottom, timing.bottom_height, block_algorithm, design));
+  }
+};
+
+}  // namespace
+
+TEST_CASE("dissimilar antiplane bodies: the block body operators = the modal ones, white input, many blocks") {
+  // The reference is the modal pair: both apply each body's same discrete
+  // operator (test_kernels_block_history.cpp for one operator), and
+  // TwoBodyHistory combines them identically.  Designs: the B Simulation
+  // gives these bodies (body_block_length: 1024 here, 6 blocks in the run)
+  // with the default direct block, and small blocks that put hundreds of
+  // far-field updates and every level boundary into the run; each at the
+  // NUFFT half width Simulation uses (12) and at 14.
+  //
+  // Tolerance.  One body's block and modal operators differ by the NUFFT's
+  // accuracy: measured here (these bodies, 6000 white-noise steps, B = 128 and
+  // 1024) ~5e-12 of the largest history value at half width 12 and ~1e-13 at
+  // 14.  In the pair each body's input is made from both bodies' histories
+  // (the face velocities), so a step's difference is fed back into both
+  // bodies, and the lossless pair carries it on: the differences add up over
+  // the steps, at most linearly.  Bound: twice the one-operator difference
+  // per step, 1e-11 (width 12) and 2e-13 (width 14) times the steps.
+  const DissimilarPair pair;
+  const int steps = 6000;
+  const auto input = slipstrip_test::white_noise_spectra(pair.nodes / 2 + 1, steps, 21);
+  for (const int width : {12, 14}) {
+    const double per_step = width == 12 ? 1e-11 : 2e-13;
+    for (const BlockHistoryDesign design : {BlockHistoryDesign{32, 0, width}, BlockHistoryDesign{8, 64, width},
+                                            BlockHistoryDesign{4, 16, width}}) {
+      TwoBodyHistory modal = pair.make(false), block = pair.make(true, design);
+      REQUIRE(block.period() >= 16);
+      double worst = 0.0, largest = 0.0;
+      for (int n = 0; n < steps; ++n) {
+        modal.push(input[n]);
+        block.push(input[n]);
+        for (int q = 0; q < modal.modes(); ++q) {
+          worst = std::max(worst, std::abs(block.history()[q] - modal.history()[q]));
+          largest = std::max(largest, std::abs(modal.history()[q]));
+        }
+        if ((n + 1) % 1500 == 0) {
+          MESSAGE("half width " << width << ", direct " << design.direct_block << ", B = " << block.period() << ", "
+                                << n + 1 << " steps: max |block - modal| / max |modal| = " << worst / largest);
+          CHECK(worst <= per_step * (n + 1) * largest);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("dissimilar antiplane bodies by the block algorithm: save and restore continue bit for bit") {
+  // Saved after every step from 100 to 129 (B = 64, direct block 8: every
+  // position in a direct block, whose inputs and outputs so far a restore
+  // rebuilds from the rows, and the block's end at 127), then 70 steps on:
+  // the same histories as the run that was never saved, bit for bit.
+  const DissimilarPair pair;
+  const BlockHistoryDesign design{8, 64, 12};
+  const int modes = pair.nodes / 2 + 1;
+  const auto input = slipstrip_test::white_noise_spectra(modes, 200, 22);
+  std::vector<std::vector<cplx>> straight;
+  {
+    TwoBodyHistory op = pair.make(true, design);
+    for (const auto& v : input) {
+      op.push(v);
+      straight.emplace_back(op.history().begin(), op.history().end());
+    }
+  }
+  TwoBodyHistory saver = pair.make(true, design);
+  for (int n = 0; n < 100; ++n) saver.push(input[n]);
+  for (int stop = 100; stop < 130; ++stop) {
+    TwoBodyHistory resumed = pair.make(true, design);
+    resumed.restore_state(saver.save_state());
+    int differing = 0;
+    for (int n = stop; n < stop + 70; ++n) {
+      resumed.push(input[n]);
+      for (int q = 0; q < modes; ++q) differing += resumed.history()[q] != straight[n][q];
+    }
+    INFO("saved after " << stop << " steps (position " << stop % 64 << " of the block)");
+    CHECK(differing == 0);
+    saver.push(input[stop]);
+  }
+}
+
+TEST_CASE("dissimilar antiplane bodies: a restart point of another body algorithm is refused by name") {
+  const DissimilarPair pair;
+  TwoBodyHistory modal = pair.make(false), block = pair.make(true);
+  const std::vector<cplx> slip_rate(modal.modes(), cplx(1e-3, 0.0));
+  modal.push(slip_rate);
+  block.push(slip_rate);
+  CHECK_THROWS_WITH_AS(block.restore_state(modal.save_state()),
+                       doctest::Contains("the top body's part was written by the modal strip operator, this run "
+                                         "builds the block strip one"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(modal.restore_state(block.save_state()),
+                       doctest::Contains("written by the block strip operator, this run builds the modal strip one"),
+                       std::invalid_argument);
+  // A block operator of another block length names both.
+  TwoBodyHistory shorter = pair.make(true, BlockHistoryDesign{8, 64, 12});
+  CHECK_THROWS_WITH_AS(shorter.restore_state(block.save_state()), doctest::Contains("this operator's is 64"),
+                       std::invalid_argument);
 }

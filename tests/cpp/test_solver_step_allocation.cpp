@@ -3,7 +3,7 @@
 // malloc and the aligned forms FFTW uses, from any library) while a Simulation
 // or a Simulation3d steps, for the identical in-plane strip pair (modal and
 // block history), the identical antiplane pair, the identical half-space pair,
-// a dissimilar in-plane pair (per-node normal stress, sigma_eff regularised
+// a dissimilar antiplane pair (block and modal bodies), a dissimilar in-plane pair (per-node normal stress, sigma_eff regularised
 // over a slip), the same pair through an open phase, and a 2D interface
 // (identical and dissimilar bodies).
 //
@@ -32,6 +32,7 @@
 #include "allocation_counter.hpp"
 #include "kernels/block_strip_history.hpp"
 #include "kernels/inplane_pair_history.hpp"
+#include "kernels/two_body_history.hpp"
 #include "solver/simulation.hpp"
 #include "solver/simulation_3d.hpp"
 #include "solver_test_configs.hpp"
@@ -166,6 +167,24 @@ TEST_CASE("dissimilar in-plane pair, regularised normal stress: a step does not 
     const auto sigma = sim.normal_stress();
     const auto [low, high] = std::minmax_element(sigma.begin(), sigma.end());
     REQUIRE(*high - *low > 1e-6 * c.loading.normal_stress);
+  });
+}
+
+TEST_CASE("dissimilar antiplane pair (one operator per body): a step does not allocate") {
+  with_one_and_two_threads([] {
+    for (const HistoryAlgorithm history : {HistoryAlgorithm::block, HistoryAlgorithm::modal}) {
+      SimulationConfig c = testing::with_dissimilar_bottom(strip_pair());
+      c.material.plane = PlaneCondition::antiplane;
+      c.time.history = history;
+      Simulation sim(c);
+      const auto* bodies = dynamic_cast<const TwoBodyHistory*>(&sim.history_operator());
+      REQUIRE(bodies != nullptr);
+      // block: each body at body_block_length's B (1024), the far field inside the window.
+      REQUIRE(bodies->period() == (history == HistoryAlgorithm::block ? kBodyBlockLength : 1));
+      check_no_allocation(sim, window(bodies->period()),
+                          std::string("dissimilar antiplane pair, ") +
+                              (history == HistoryAlgorithm::block ? "block" : "modal") + " bodies");
+    }
   });
 }
 
