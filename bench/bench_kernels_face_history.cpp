@@ -5,7 +5,11 @@
 // L = 4 m, beta = 0.25, Table S1 material, driven outer face; one JSON line.
 // Threads: OMP_NUM_THREADS.  Steps default to two blocks (the far-field update
 // at its average rate); MODAL_STEPS = 0 (default) skips the modal operator.
+// HEIGHT = inf: a half-space body (FaceHalfSpaceHistory) with its slow block
+// BLOCK (default the design's; 0 rotates every exponential every step);
+// DIRECT_BLOCK and MODAL_STEPS are then unused.
 #include <chrono>
+#include <cmath>
 #include <complex>
 #include <cstdio>
 #include <cstdlib>
@@ -14,6 +18,7 @@
 
 #include "bench/process_cpu_time.hpp"
 #include "kernels/face_block_history.hpp"
+#include "kernels/face_half_space.hpp"
 #include "kernels/face_history.hpp"
 #include "kernels/history_convolution.hpp"
 
@@ -48,6 +53,20 @@ int main(int argc, char** argv) {
   const double length = 4.0, dx = length / nodes;
   const double dt = strip_time_step(material, height, dx, 0.25);
   const auto t0 = std::chrono::steady_clock::now();
+  if (std::isinf(height)) {
+    HalfSpaceOperatorDesign half_space;
+    if (argc > 5) half_space.slow_block = std::atoi(argv[5]);
+    FaceHalfSpaceHistory op(material, length, nodes, dt, half_space);
+    const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (steps == 0) steps = 2 * op.period();
+    const double us = cpu_us_per_push(op, steps);
+    std::printf("{\"N\": %d, \"height\": null, \"exponentials\": %zu, \"slow_exponentials\": %zu, "
+                "\"slow_block\": %d, \"steps\": %d, \"cpu_us_per_push\": %.2f, \"operator_mib\": %.1f, "
+                "\"setup_s\": %.2f}\n",
+                nodes, op.discrete_modes(), op.slow_exponentials(), op.slow_block(), steps, us,
+                op.memory_bytes() / 1048576.0, setup);
+    return 0;
+  }
   FaceBlockHistory block(material, height, OuterFace::driven, length, nodes, dt, design);
   const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (steps == 0) steps = 2 * block.period();

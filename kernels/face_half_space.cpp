@@ -8,6 +8,7 @@
 
 #include "kernels/mode_parallel.hpp"
 #include "kernels/passivity.hpp"
+#include "kernels/slow_block.hpp"
 
 namespace slipstrip {
 namespace {
@@ -76,6 +77,7 @@ struct ModeDesign {
   std::array<double, 3> static_value{};          // units mu/c_s (h g(inf))
   std::array<std::vector<double>, 3> lag;         // units mu/c_s, j = 1..W
   std::vector<complex> pole;
+  std::vector<complex> rate;                      // pole = e^{rate h} (rate in units c_s |k|)
   std::array<std::vector<complex>, 3> weight;     // units mu/c_s
 };
 
@@ -97,24 +99,83 @@ std::vector<double> passivity_phases(double h, double r2) {
   return thetas;
 }
 
-std::array<complex, 3> symbol_of(const ModeDesign& m, double r2, double theta) {
-  const complex rotation = std::polar(1.0, -theta);
-  const complex static_sum = rotation / (1.0 - rotation);  // sum_{j>=1} e^{-i j theta}
-  std::array<complex, 3> near{}, far{};
-  complex power = 1.0;
+// The three entries' symbols Z_d(theta) (units mu/c_s) at every phase of
+// `thetas`, from the mode's coefficients: E' + static (sum_{j>=1} e^{-ij theta}
+// = rotation / (1 - rotation)) + stored lags + the exponentials' geometric
+// series.  The set-up evaluates this for every exponential at thousands of
+// phases per mode, so the loops run over the phases innermost (they vectorise)
+// and a / (1 - a) is written out, (Re a - |a|^2 + i Im a) / |1 - a|^2, instead
+// of the library's complex division with its overflow handling.
+std::vector<std::array<complex, 3>> symbols_of(const ModeDesign& m, double r2, std::span<const double> thetas) {
+  const std::size_t n = thetas.size();
+  std::vector<double> c(n), s(n);  // rotation e^{-i theta} = c - i s
+  for (std::size_t t = 0; t < n; ++t) {
+    c[t] = std::cos(thetas[t]);
+    s[t] = std::sin(thetas[t]);
+  }
+  // Stored lags: power = e^{-i j theta} by recursion, j = 1..W.
+  std::vector<double> power_re(n, 1.0), power_im(n, 0.0);
+  std::array<std::vector<double>, 3> near_re, near_im, far_re, far_im;
+  for (std::size_t i = 0; i < 3; ++i) {
+    near_re[i].assign(n, 0.0);
+    near_im[i].assign(n, 0.0);
+    far_re[i].assign(n, 0.0);
+    far_im[i].assign(n, 0.0);
+  }
   for (int j = 1; j <= m.window; ++j) {
-    power *= rotation;
-    for (std::size_t i = 0; i < 3; ++i) near[i] += m.lag[i][j - 1] * power;
+    for (std::size_t t = 0; t < n; ++t) {
+      const double re = power_re[t] * c[t] + power_im[t] * s[t];
+      power_im[t] = power_im[t] * c[t] - power_re[t] * s[t];
+      power_re[t] = re;
+    }
+    for (std::size_t i = 0; i < 3; ++i) {
+      const double lag = m.lag[i][j - 1];
+      double* nr = near_re[i].data();
+      double* ni = near_im[i].data();
+#pragma omp simd
+      for (std::size_t t = 0; t < n; ++t) {
+        nr[t] += lag * power_re[t];
+        ni[t] += lag * power_im[t];
+      }
+    }
   }
+  // Exponentials: w a / (1 - a) + conj(w) b / (1 - b), a = z e^{-i theta}, b = conj(z) e^{-i theta}.
   for (std::size_t k = 0; k < m.pole.size(); ++k) {
-    const complex a = m.pole[k] * rotation, b = std::conj(m.pole[k]) * rotation;
-    const complex ga = a / (1.0 - a), gb = b / (1.0 - b);
-    for (std::size_t i = 0; i < 3; ++i) far[i] += m.weight[i][k] * ga + std::conj(m.weight[i][k]) * gb;
+    const double zr = m.pole[k].real(), zi = m.pole[k].imag();
+    double wr[3], wi[3];
+    for (std::size_t i = 0; i < 3; ++i) {
+      wr[i] = m.weight[i][k].real();
+      wi[i] = m.weight[i][k].imag();
+    }
+    double *fr0 = far_re[0].data(), *fr1 = far_re[1].data(), *fr2 = far_re[2].data();
+    double *fi0 = far_im[0].data(), *fi1 = far_im[1].data(), *fi2 = far_im[2].data();
+    const double *ct = c.data(), *st = s.data();
+#pragma omp simd
+    for (std::size_t t = 0; t < n; ++t) {
+      const double ar = zr * ct[t] + zi * st[t], ai = zi * ct[t] - zr * st[t];
+      const double br = zr * ct[t] - zi * st[t], bi = -zi * ct[t] - zr * st[t];
+      const double sa = 1.0 / ((1.0 - ar) * (1.0 - ar) + ai * ai), sb = 1.0 / ((1.0 - br) * (1.0 - br) + bi * bi);
+      const double gar = (ar - (ar * ar + ai * ai)) * sa, gai = ai * sa;
+      const double gbr = (br - (br * br + bi * bi)) * sb, gbi = bi * sb;
+      // w ga + conj(w) gb.
+      const double sum_re = gar + gbr, dif_re = gar - gbr, sum_im = gai + gbi, dif_im = gai - gbi;
+      fr0[t] += wr[0] * sum_re - wi[0] * dif_im;
+      fi0[t] += wr[0] * sum_im + wi[0] * dif_re;
+      fr1[t] += wr[1] * sum_re - wi[1] * dif_im;
+      fi1[t] += wr[1] * sum_im + wi[1] * dif_re;
+      fr2[t] += wr[2] * sum_re - wi[2] * dif_im;
+      fi2[t] += wr[2] * sum_im + wi[2] * dif_re;
+    }
   }
-  std::array<complex, 3> z{};
-  for (FaceEntry e : kFaceEntries) {
-    const std::size_t i = index_of(e);
-    z[i] = instantaneous_of(r2, e) + m.static_value[i] * static_sum + near[i] + power * far[i];
+  std::vector<std::array<complex, 3>> z(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    const complex rotation(c[t], -s[t]), power(power_re[t], power_im[t]);
+    const complex static_sum = rotation / (1.0 - rotation);
+    for (FaceEntry e : kFaceEntries) {
+      const std::size_t i = index_of(e);
+      z[t][i] = instantaneous_of(r2, e) + m.static_value[i] * static_sum + complex(near_re[i][t], near_im[i][t]) +
+                power * complex(far_re[i][t], far_im[i][t]);
+    }
   }
   return z;
 }
@@ -133,18 +194,20 @@ std::array<complex, 3> symbol_of(const ModeDesign& m, double r2, double theta) {
 std::vector<double> passivity_correction(const ModeDesign& m, double r2, int lags, double margin) {
   const std::vector<double> thetas = passivity_phases(m.h, r2);
   std::vector<std::array<double, 3>> base;  // Re Z_A, Re Z_B, Re Z_D uncorrected
-  for (double theta : thetas) {
-    const auto z = symbol_of(m, r2, theta);
-    base.push_back({z[0].real(), z[1].real(), z[2].real()});
-  }
+  for (const auto& z : symbols_of(m, r2, thetas)) base.push_back({z[0].real(), z[1].real(), z[2].real()});
   const int n = 3 * lags;
+  // cos(j theta) of every grid phase, computed once for all rounds and entries.
+  std::vector<double> cosine(thetas.size() * lags);
+  for (std::size_t t = 0; t < thetas.size(); ++t)
+    for (int j = 1; j <= lags; ++j) cosine[t * lags + j - 1] = std::cos(j * thetas[t]);
   std::vector<double> rows, rhs, x(n, 0.0);
   for (int round = 0; round < kCorrectionRounds; ++round) {
     bool added = false;
     for (std::size_t t = 0; t < thetas.size(); ++t) {
       std::array<double, 3> re = base[t];
+      const double* cos_t = cosine.data() + t * lags;
       for (int e = 0; e < 3; ++e)
-        for (int j = 1; j <= lags; ++j) re[e] += x[e * lags + j - 1] * std::cos(j * thetas[t]);
+        for (int j = 1; j <= lags; ++j) re[e] += x[e * lags + j - 1] * cos_t[j - 1];
       // Smallest eigenvalue of [[a, b], [b, d]] and its eigenvector (cos phi, sin phi).
       const double a = re[0], b = re[1], d = re[2];
       const double lowest = 0.5 * (a + d) - std::hypot(0.5 * (a - d), b);
@@ -153,7 +216,7 @@ std::vector<double> passivity_correction(const ModeDesign& m, double r2, int lag
       const double c = std::cos(phi), sn = std::sin(phi);
       const double weights[3] = {c * c, 2.0 * c * sn, sn * sn};
       for (int e = 0; e < 3; ++e)
-        for (int j = 1; j <= lags; ++j) rows.push_back(weights[e] * std::cos(j * thetas[t]));
+        for (int j = 1; j <= lags; ++j) rows.push_back(weights[e] * cos_t[j - 1]);
       rhs.push_back(margin * (1.0 + kMarginSlack) -
                     (weights[0] * base[t][0] + weights[1] * base[t][1] + weights[2] * base[t][2]));
       added = true;
@@ -205,6 +268,7 @@ ModeDesign design_mode(double r2, double h, int window, const EntrySums& sums) {
     }
     if (largest < kNegligibleAmplitude) continue;
     m.pole.push_back(std::exp(sums.far[0].rate[k] * h));
+    m.rate.push_back(sums.far[0].rate[k]);
     for (std::size_t i = 0; i < 3; ++i) m.weight[i].push_back(w[i]);
   }
   return m;
@@ -295,6 +359,7 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
     throw std::invalid_argument("FaceHalfSpaceHistory: the in-plane 2x2 operator needs an in-plane material");
   if (!(time_step > 0.0) || nodes < 2 || !(length > 0.0))
     throw std::invalid_argument("FaceHalfSpaceHistory: need time_step > 0, nodes >= 2, length > 0");
+  check_half_space_design(design);
   const double mu = material.shear_modulus, cs = material.shear_wave_speed();
   const double r2 = 1.0 / material.wave_speed_ratio_squared();
   const double unit = mu / cs;
@@ -344,6 +409,7 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
   first_lag_.assign(n_modes + 1, 0);
   first_pole_.assign(n_modes + 1, 0);
   correction_.assign(static_cast<std::size_t>(n_modes) * lags_, {});
+  std::vector<complex> rates;  // of pole_, in its order
   for (int q = 1; q < n_modes; ++q) {
     ModeDesign& m = designs[q];
     const std::vector<double>& e = corrections[q];
@@ -357,6 +423,7 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
     for (int j = 1; j <= m.window; ++j) lag_weight_.push_back({unit * m.lag[0][j - 1], unit * m.lag[1][j - 1],
                                                                unit * m.lag[2][j - 1]});
     for (std::size_t k = 0; k < m.pole.size(); ++k) {
+      rates.push_back(m.rate[k]);
       pole_.push_back(m.pole[k]);
       pole_weight_.push_back({unit * m.weight[0][k], unit * m.weight[1][k], unit * m.weight[2][k]});
     }
@@ -368,15 +435,64 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
   ring_y_ = ring_x_;
   running_x_.assign(n_modes, 0.0);
   running_y_ = history_x_ = history_y_ = running_x_;
-  for (std::size_t k = 0; k < pole_.size(); ++k) {
-    pole_re_.push_back(pole_[k].real());
-    pole_im_.push_back(pole_[k].imag());
-    for (std::size_t e = 0; e < 3; ++e) {
-      weight_cos_[e].push_back(2.0 * pole_weight_[k][e].real());
-      weight_sin_[e].push_back(-2.0 * pole_weight_[k][e].imag());
+  build_exponentials(rates, design, std::sqrt(1.0 / r2));
+}
+
+void FaceHalfSpaceHistory::build_exponentials(std::span<const complex> rates, const HalfSpaceOperatorDesign& design,
+                                              double b_pressure) {
+  // Fast exponentials rotate every step; slow ones (decay over a block below
+  // the Taylor radius) are advanced once per block (docs/theory.md §8.7, as
+  // HalfSpaceHistory).  pole_ and pole_weight_ keep every exponential in the
+  // design's order (mode_kernel, symbol).
+  const std::size_t n_modes = h_.size();
+  block_ = design.slow_block;
+  terms_ = block_ > 0 ? design.taylor_terms : 0;
+  block_centre_ = 0.5 * (block_ + 1);
+  const double slow_limit = slow_decay_limit(block_, design.slow_taylor_radius);
+  first_fast_.assign(n_modes + 1, 0);
+  first_slow_.assign(n_modes + 1, 0);
+  slow_shear_end_.assign(n_modes, 0);
+  slow_lag_weight_.assign(n_modes * 3 * static_cast<std::size_t>(block_), 0.0);
+  for (std::size_t q = 1; q < n_modes; ++q) {
+    const double h = h_[q];
+    slow_shear_end_[q] = first_slow_[q];
+    for (std::size_t k = first_pole_[q]; k < first_pole_[q + 1]; ++k) {
+      const std::array<complex, 3>& w = pole_weight_[k];
+      const complex rate = rates[k];
+      if (-rate.real() * h > slow_limit) {
+        pole_re_.push_back(pole_[k].real());
+        pole_im_.push_back(pole_[k].imag());
+        for (std::size_t e = 0; e < 3; ++e) {
+          weight_cos_[e].push_back(2.0 * w[e].real());
+          weight_sin_[e].push_back(-2.0 * w[e].imag());
+        }
+        continue;
+      }
+      slow_decay_.push_back(-rate.real() * h);
+      slow_centre_factor_.push_back(std::exp(rate.real() * h * block_centre_));
+      slow_block_pole_.push_back(std::exp(rate * (h * block_)));
+      slow_weight_.push_back(w);
+      // In-block lags of each entry: 2 Re w z^{i+1}, i = 0..B-1 (the exact
+      // powers), stored reversed: lag i at [e][B - 1 - i].
+      double* lag = slow_lag_weight_.data() + q * 3 * block_;
+      for (int i = 0; i < block_; ++i) {
+        const complex power = std::exp(rate * (h * (i + 1)));
+        for (std::size_t e = 0; e < 3; ++e) lag[e * block_ + (block_ - 1 - i)] += 2.0 * (w[e] * power).real();
+      }
+      // Shear-branch rates have imaginary part exactly 1 and come first.
+      if (rate.imag() == 1.0) slow_shear_end_[q] = slow_decay_.size();
     }
+    first_fast_[q + 1] = pole_re_.size();
+    first_slow_[q + 1] = slow_decay_.size();
   }
-  for (auto& state : far_) state.assign(pole_.size(), 0.0);
+  first_fast_[1] = first_fast_[0] = 0;
+  first_slow_[1] = first_slow_[0] = 0;
+  for (auto& state : far_) state.assign(pole_re_.size(), 0.0);
+  rotation_ = slow_block_rotations(h_, b_pressure, block_);
+  for (auto& state : slow_state_) state.assign(slow_decay_.size(), 0.0);
+  block_input_x_.assign(n_modes * static_cast<std::size_t>(block_), 0.0);
+  block_input_y_ = block_input_x_;
+  block_moment_.assign(n_modes * kSlowPolynomials * static_cast<std::size_t>(terms_), 0.0);
 }
 
 void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<const complex> velocity_y) {
@@ -405,10 +521,10 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
       from_y[1] += w[1] * ring_y_[at];
       from_y[2] += w[2] * ring_y_[at];
     }
-    // Lags W + i: kernel 2 Re(w z^i) = wc Re z^i + ws Im z^i, states
+    // Lags W + i of the fast exponentials: kernel 2 Re(w z^i) = wc Re z^i + ws Im z^i, states
     // C = sum_i Re(z^i) v_{n+1-W-i}, S = sum_i Im(z^i) v_{n+1-W-i}:
     // [C; S] <- [[Re z, -Im z], [Im z, Re z]] [C + v_{n-W}; S], per input component.
-    const std::size_t k0 = first_pole_[q], count = first_pole_[q + 1] - k0;
+    const std::size_t k0 = first_fast_[q], count = first_fast_[q + 1] - k0;
     const double *zr = pole_re_.data() + k0, *zi = pole_im_.data() + k0;
     const double *wc0 = weight_cos_[0].data() + k0, *ws0 = weight_sin_[0].data() + k0;
     const double *wc1 = weight_cos_[1].data() + k0, *ws1 = weight_sin_[1].data() + k0;
@@ -451,8 +567,72 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
     // [[K^0, -i K^1], [i K^1, K^2]] (k > 0).
     history_x_[q] = from_x[0] - i * from_y[1];
     history_y_[q] = i * from_x[1] + from_y[2];
+    if (block_ > 0) {
+      // The slow exponentials: the block-start states' polynomials on the four
+      // real output channels (Re, Im of history x, then of y), plus the slow
+      // kernel's lags applied to this block's own inputs, each entry to its
+      // input as in the matrix above.
+      const int t = static_cast<int>(step_ % block_);
+      complex* in_x = block_input_x_.data() + q * block_;
+      complex* in_y = block_input_y_.data() + q * block_;
+      in_x[t] = old_x;
+      in_y[t] = old_y;
+      const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
+      double out[4];
+      slow_block_output<4>(block_moment_.data() + q * kSlowPolynomials * terms_, terms_, (t + 1) - block_centre_,
+                           rotation_[at], rotation_[at + 1], out);
+      // Lag t - j of entry e sits at [e][B - 1 - t + j] (stored reversed, so
+      // that this loop reads forward); the eight sums vectorise together.
+      const double* lag = slow_lag_weight_.data() + q * 3 * block_ + (block_ - 1 - t);
+      const double *lag0 = lag, *lag1 = lag + block_, *lag2 = lag + 2 * block_;
+      double x0r = 0.0, x0i = 0.0, x1r = 0.0, x1i = 0.0, y1r = 0.0, y1i = 0.0, y2r = 0.0, y2i = 0.0;
+#pragma omp simd reduction(+ : x0r, x0i, x1r, x1i, y1r, y1i, y2r, y2i)
+      for (int j = 0; j <= t; ++j) {
+        const double xr = in_x[j].real(), xi = in_x[j].imag(), yr = in_y[j].real(), yi = in_y[j].imag();
+        x0r += lag0[j] * xr;
+        x0i += lag0[j] * xi;
+        x1r += lag1[j] * xr;
+        x1i += lag1[j] * xi;
+        y1r += lag1[j] * yr;
+        y1i += lag1[j] * yi;
+        y2r += lag2[j] * yr;
+        y2i += lag2[j] * yi;
+      }
+      // [[K^0, -i K^1], [i K^1, K^2]] as above.
+      history_x_[q] += complex(out[0] + x0r + y1i, out[1] + x0i - y1r);
+      history_y_[q] += complex(out[2] - x1i + y2r, out[3] + x1r + y2i);
+      if (t == block_ - 1) push_slow_block_end(q);
+    }
   }
   ++step_;
+}
+
+void FaceHalfSpaceHistory::push_slow_block_end(std::size_t q) {
+  // The block's input moments of x and y, each slow state advanced over the
+  // block, and the next block's polynomials: channel o of branch b at
+  // block_moment_[((q * 2 + b) * 4 + o) * terms].
+  const std::size_t n_modes = history_x_.size();
+  std::array<complex, 4 * kMaxTaylorTerms> mu_x{}, mu_y{};
+  slow_input_moments(block_input_x_.data() + q * block_, rotation_.data(), n_modes, q, block_, block_centre_, terms_,
+                     mu_x.data());
+  slow_input_moments(block_input_y_.data() + q * block_, rotation_.data(), n_modes, q, block_, block_centre_, terms_,
+                     mu_y.data());
+  complex* moment = block_moment_.data() + q * kSlowPolynomials * terms_;
+  std::fill(moment, moment + kSlowPolynomials * terms_, complex(0.0));
+  std::array<double, kMaxTaylorTerms> factor{};
+  auto& [x_re, x_im, y_re, y_im] = slow_state_;
+  for (std::size_t m = first_slow_[q]; m < first_slow_[q + 1]; ++m) {
+    const int branch = m < slow_shear_end_[q] ? 0 : 1;
+    slow_taylor_factors(slow_centre_factor_[m], slow_decay_[m], terms_, factor.data());
+    advance_slow_state(factor.data(), mu_x.data(), branch, terms_, slow_block_pole_[m], x_re[m], x_im[m]);
+    advance_slow_state(factor.data(), mu_y.data(), branch, terms_, slow_block_pole_[m], y_re[m], y_im[m]);
+    const std::array<complex, 3>& w = slow_weight_[m];
+    complex* of_branch = moment + branch * 4 * terms_;
+    add_slow_moment(factor.data(), w[0] * x_re[m] + w[1] * y_im[m], terms_, of_branch);
+    add_slow_moment(factor.data(), w[0] * x_im[m] - w[1] * y_re[m], terms_, of_branch + terms_);
+    add_slow_moment(factor.data(), w[2] * y_re[m] - w[1] * x_im[m], terms_, of_branch + 2 * terms_);
+    add_slow_moment(factor.data(), w[1] * x_re[m] + w[2] * y_im[m], terms_, of_branch + 3 * terms_);
+  }
 }
 
 FaceHalfSpaceModeKernel FaceHalfSpaceHistory::mode_kernel(int q) const {
@@ -482,7 +662,7 @@ FaceMatrix FaceHalfSpaceHistory::symbol(int q, double theta) const {
     for (double w : k.lag_weight[i]) m.lag[i].push_back(w / impedance_x_);
     for (complex w : k.pole_weight[i]) m.weight[i].push_back(w / impedance_x_);
   }
-  const auto z = symbol_of(m, r2, theta);
+  const auto z = symbols_of(m, r2, std::span<const double>(&theta, 1)).front();
   const complex i(0.0, 1.0);
   FaceMatrix out;
   out.xx = impedance_x_ * z[0];
@@ -493,28 +673,57 @@ FaceMatrix FaceHalfSpaceHistory::symbol(int q, double theta) const {
 }
 
 namespace {
-// The far-field states (far_), in their order.
+// The far-field states (far_, the fast exponentials) and the slow states
+// (slow_state_), in their order.
 constexpr const char* kFarStateNames[8] = {"far_c_x_re", "far_c_x_im", "far_s_x_re", "far_s_x_im",
                                            "far_c_y_re", "far_c_y_im", "far_s_y_re", "far_s_y_im"};
+constexpr const char* kSlowStateNames[4] = {"slow_x_re", "slow_x_im", "slow_y_re", "slow_y_im"};
+// Format 2: fast and slow exponentials in their own arrays (docs/theory.md
+// §8.7); the every-step operator's restart points have no format counter.
+constexpr long long kFaceStateFormat = 2;
 }  // namespace
 
 void FaceHalfSpaceHistory::save_into(HistoryOperatorState& state, const std::string& prefix) const {
+  state.counters.emplace_back(prefix + "format", kFaceStateFormat);
+  state.counters.emplace_back(prefix + "slow_block", block_);
   state.add(prefix + "ring_x", ring_x_);
   state.add(prefix + "ring_y", ring_y_);
   state.add(prefix + "running_x", running_x_);
   state.add(prefix + "running_y", running_y_);
   for (std::size_t i = 0; i < far_.size(); ++i) state.add(prefix + kFarStateNames[i], far_[i]);
+  for (std::size_t i = 0; i < slow_state_.size(); ++i) state.add(prefix + kSlowStateNames[i], slow_state_[i]);
+  state.add(prefix + "block_input_x", block_input_x_);
+  state.add(prefix + "block_input_y", block_input_y_);
+  state.add(prefix + "block_moment", block_moment_);
   state.add(prefix + "history_x", history_x_);
   state.add(prefix + "history_y", history_y_);
   state.counters.emplace_back(prefix + "step", step_);
 }
 
 void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const std::string& prefix) {
+  const bool has_format = std::any_of(state.counters.begin(), state.counters.end(),
+                                      [&](const auto& c) { return c.first == prefix + "format"; });
+  if (!has_format || state.counter(prefix + "format") != kFaceStateFormat)
+    throw std::invalid_argument(
+        "history operator state: this half-space body's restart point was written by a slipstrip older than the "
+        "blocked half-space body operator (docs/theory.md §8.7; its state lacks format " +
+        std::to_string(kFaceStateFormat) +
+        ") and cannot be resumed by this version; rerun the case from the start, or resume it with the version "
+        "that wrote it");
+  if (state.counter(prefix + "slow_block") != block_)
+    throw std::invalid_argument("history operator state: the half-space body's restart point has slow block " +
+                                std::to_string(state.counter(prefix + "slow_block")) + ", this operator " +
+                                std::to_string(block_) + "; it cannot be resumed with another block length");
   state.copy_to(prefix + "ring_x", std::span<complex>(ring_x_));
   state.copy_to(prefix + "ring_y", std::span<complex>(ring_y_));
   state.copy_to(prefix + "running_x", std::span<complex>(running_x_));
   state.copy_to(prefix + "running_y", std::span<complex>(running_y_));
   for (std::size_t i = 0; i < far_.size(); ++i) state.copy_to(prefix + kFarStateNames[i], std::span<double>(far_[i]));
+  for (std::size_t i = 0; i < slow_state_.size(); ++i)
+    state.copy_to(prefix + kSlowStateNames[i], std::span<complex>(slow_state_[i]));
+  state.copy_to(prefix + "block_input_x", std::span<complex>(block_input_x_));
+  state.copy_to(prefix + "block_input_y", std::span<complex>(block_input_y_));
+  state.copy_to(prefix + "block_moment", std::span<complex>(block_moment_));
   state.copy_to(prefix + "history_x", std::span<complex>(history_x_));
   state.copy_to(prefix + "history_y", std::span<complex>(history_y_));
   step_ = state.counter(prefix + "step");
@@ -527,7 +736,12 @@ std::size_t FaceHalfSpaceHistory::memory_bytes() const {
          sizeof(pole_weight_[0]) * pole_weight_.size() + sizeof(lag_weight_[0]) * lag_weight_.size() +
          sizeof(static_weight_[0]) * static_weight_.size() + sizeof(correction_[0]) * correction_.size() +
          sizeof(double) * (wavenumber_.size() + h_.size()) +
-         sizeof(std::size_t) * (first_lag_.size() + first_pole_.size());
+         sizeof(std::size_t) * (first_lag_.size() + first_pole_.size() + first_fast_.size() + first_slow_.size() +
+                                slow_shear_end_.size()) +
+         sizeof(double) * (slow_decay_.size() + slow_centre_factor_.size() + slow_lag_weight_.size()) +
+         sizeof(complex) * (slow_block_pole_.size() + rotation_.size() + 4 * slow_state_[0].size() +
+                            block_input_x_.size() + block_input_y_.size() + block_moment_.size()) +
+         sizeof(slow_weight_[0]) * slow_weight_.size();
 }
 
 }  // namespace slipstrip

@@ -24,6 +24,7 @@
 // (the coupling starts with a step: its transform falls like 1/p, the diagonal
 // ones like 1/p^2).  The traction on the body through its face is
 //     t(t) = E v(t) + mu k int_0^t g(c_s k t') v(t - t') dt'    (2x2 g).
+#include <algorithm>
 #include <array>
 #include <complex>
 #include <cstddef>
@@ -127,6 +128,12 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   std::size_t memory_bytes() const override;
   std::size_t discrete_modes() const override { return pole_.size(); }
   const char* algorithm() const override { return "half-space"; }
+  // Exponentials advanced once per block (0 when design.slow_block = 0), and
+  // the block length B.
+  std::size_t slow_exponentials() const { return slow_decay_.size(); }
+  int slow_block() const { return block_; }
+  // The per-step work repeats every block (the slow exponentials' block end).
+  int period() const override { return std::max(block_, 1); }
 
   // The coefficients of mode q >= 1, and its symbol Z_d(e^{i theta}) (Pa s/m,
   // E included; the static running sum contributes its finite part for
@@ -157,6 +164,32 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   // S = sum_i Im(z^i) v of the delayed inputs, real and imaginary parts.
   std::array<std::vector<double>, 8> far_;  // C_re, C_im, S_re, S_im of x, then of y
   std::vector<std::complex<double>> history_x_, history_y_;
+
+  // The fast exponentials of mode q are [first_fast_[q], first_fast_[q+1]) of
+  // pole_re_ ... far_; the slow ones (docs/theory.md §8.7, kernels/slow_block.hpp)
+  // [first_slow_[q], first_slow_[q+1]) of slow_decay_ ..., shear branch first
+  // (up to slow_shear_end_[q]).  Set up from the exponentials' rates (units c_s |k|,
+  // in pole_'s order) by build_exponentials.
+  void build_exponentials(std::span<const std::complex<double>> rates, const HalfSpaceOperatorDesign& design,
+                          double b_pressure);
+  void push_slow_block_end(std::size_t q);
+  // Output channels of the slow polynomials: Re, Im of history x, then of y;
+  // per mode 2 branches x 4 channels.
+  static constexpr std::size_t kSlowPolynomials = 8;
+  int block_ = 0, terms_ = 0;
+  double block_centre_ = 0.0;  // t_c = (B + 1) / 2
+  std::vector<std::size_t> first_fast_, first_slow_, slow_shear_end_;
+  std::vector<double> slow_decay_;                          // lambda = x h
+  std::vector<double> slow_centre_factor_;                  // e^{-lambda t_c}
+  std::vector<std::complex<double>> slow_block_pole_;       // z^B
+  std::vector<std::array<std::complex<double>, 3>> slow_weight_;  // w per entry (Pa s/m)
+  // Per mode and entry, B: 2 Re sum_slow w z^{i+1} at [B - 1 - i], i = 0..B-1.
+  std::vector<double> slow_lag_weight_;
+  std::vector<std::complex<double>> rotation_;  // slow_block_rotations
+  // Slow state: Y at the block start fed with Re x, Im x, Re y, Im y.
+  std::array<std::vector<std::complex<double>>, 4> slow_state_;
+  std::vector<std::complex<double>> block_input_x_, block_input_y_;  // per mode, B: this block's delayed inputs
+  std::vector<std::complex<double>> block_moment_;  // per mode, kSlowPolynomials * terms
 };
 
 }  // namespace slipstrip

@@ -38,6 +38,8 @@ double slow_taylor_error_bound(const HalfSpaceOperatorDesign& design) {
   return bound;
 }
 
+double slow_decay_limit(int block, double radius) { return block > 0 ? 2.0 * radius / (block - 1) : -1.0; }
+
 void check_half_space_design(const HalfSpaceOperatorDesign& design) {
   if (design.slow_block == 0) return;
   if (design.slow_block < 2 || design.taylor_terms < 1 || design.taylor_terms > kMaxTaylorTerms ||
@@ -106,7 +108,7 @@ std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& mat
   const ExponentialSum far =
       half_space_exponential_sum(shape, design.near_field_tau, design.horizon_tau, kFarNodesPerPanel);
   // Slow when lambda (B - 1) / 2 <= radius, lambda = x h (x = -Re rate).
-  const double slow_lambda_max = block > 0 ? 2.0 * design.slow_taylor_radius / (block - 1) : -1.0;
+  const double slow_lambda_max = slow_decay_limit(block, design.slow_taylor_radius);
 
   std::vector<HalfSpaceModeTerms> terms(n_modes);
   const std::string failure = for_each_mode_in_parallel(

@@ -59,6 +59,10 @@ inline constexpr double kMaxSlowTaylorError = 1e-14;
 // (above); the constructor refuses designs above kMaxSlowTaylorError.
 double slow_taylor_error_bound(const HalfSpaceOperatorDesign& design);
 
+// The largest decay per step lambda of a slow exponential in blocks of
+// `block` steps: lambda (block - 1) / 2 <= radius; -1 (none) for block = 0.
+double slow_decay_limit(int block, double radius);
+
 // Throws std::invalid_argument (naming the limit) for a design whose slow
 // block, Taylor terms or Taylor radius cannot be used.
 void check_half_space_design(const HalfSpaceOperatorDesign& design);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "kernels/half_space_kernel.hpp"
+#include "kernels/slow_block.hpp"
 #include "simd/instruction_set.hpp"
 #include "simd/parallel_for.hpp"
 
@@ -132,16 +133,9 @@ void HalfSpaceHistory::build_slow_tables(const std::vector<HalfSpaceModeTerms>& 
     }
     first_slow_.push_back(slow_decay_.size());
   }
-  rotation_.assign(static_cast<std::size_t>(block_) * n_modes * 2, 0.0);
   // c_d / c_s: the P branch's frequency (antiplane: no P poles, the table's
   // second column multiplies zero moments).
-  const double b_pressure = std::sqrt(1.0 / shape.speed_ratio_squared);
-  for (int t = 1; t <= block_; ++t)
-    for (int q = 0; q < n_modes; ++q) {
-      const std::size_t at = (static_cast<std::size_t>(t - 1) * n_modes + q) * 2;
-      rotation_[at] = std::polar(1.0, h_[q] * t);
-      rotation_[at + 1] = std::polar(1.0, b_pressure * h_[q] * t);
-    }
+  rotation_ = slow_block_rotations(h_, std::sqrt(1.0 / shape.speed_ratio_squared), block_);
 }
 
 ModeOperatorStats HalfSpaceHistory::stats() const {
@@ -256,24 +250,11 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
     const std::complex<double>* moment = block_moment_.data() + static_cast<std::size_t>(q) * 4 * terms_;
     // Polynomial beta = 2 b + c: branch b (shear, P), component c (Re, Im of
     // the slip rate, kept apart so that a real kernel maps real to real exactly).
-    std::complex<double> branch[4];
-    for (int beta = 0; beta < 4; ++beta) {
-      const std::complex<double>* c = moment + beta * terms_;
-      std::complex<double> acc = c[terms_ - 1];
-      for (int p = terms_ - 2; p >= 0; --p) acc = acc * x + c[p];
-      branch[beta] = acc;
-    }
     const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
-    const std::complex<double> rho_s = rotation_[at], rho_p = rotation_[at + 1];
-    slow = std::complex<double>(2.0 * (rho_s * branch[0] + rho_p * branch[2]).real(),
-                                2.0 * (rho_s * branch[1] + rho_p * branch[3]).real());
-    const double* lag = slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_;
-    double in_r = 0.0, in_i = 0.0;
-    for (int j = 0; j <= t; ++j) {  // input j of this block sits at lag t - j
-      in_r += lag[t - j] * input[j].real();
-      in_i += lag[t - j] * input[j].imag();
-    }
-    slow += std::complex<double>(in_r, in_i);
+    double out[2];
+    slow_block_output<2>(moment, terms_, x, rotation_[at], rotation_[at + 1], out);
+    slow = std::complex<double>(out[0], out[1]) +
+           slow_in_block_sum(slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_, input, t);
     if (t == block_ - 1) push_slow_block_end(q);
   }
   running_sum_[q] += v;
@@ -304,40 +285,22 @@ SLIPSTRIP_TARGET_AVX512 void HalfSpaceHistory::advance_modes_avx512(int q_begin,
   // and the next block's polynomial coefficients
   //   M_{beta,p} = sum_m w e^{-lambda t_c} (-lambda)^p / p! Y_c;
   // the kernel's contribution is then 2 Re sum_b rho_b^{t'} sum_p (t' - t_c)^p M_{beta,p}.
-  const int n_modes = static_cast<int>(history_.size());
+  const std::size_t n_modes = history_.size();
   const std::complex<double>* input = block_input_.data() + static_cast<std::size_t>(q) * block_;
   std::array<std::complex<double>, 4 * kMaxTaylorTerms> mu{};
-  for (int j = 1; j <= block_; ++j) {
-    const double x = j - block_centre_;
-    const std::complex<double> u = input[block_ - j];
-    const std::size_t at = (static_cast<std::size_t>(j - 1) * n_modes + q) * 2;
-    const std::complex<double> in[4] = {rotation_[at] * u.real(), rotation_[at] * u.imag(),
-                                        rotation_[at + 1] * u.real(), rotation_[at + 1] * u.imag()};
-    double power = 1.0;
-    for (int p = 0; p < terms_; ++p, power *= x)
-      for (int beta = 0; beta < 4; ++beta) mu[beta * terms_ + p] += power * in[beta];
-  }
+  slow_input_moments(input, rotation_.data(), n_modes, static_cast<std::size_t>(q), block_, block_centre_, terms_,
+                     mu.data());
   std::complex<double>* moment = block_moment_.data() + static_cast<std::size_t>(q) * 4 * terms_;
   std::fill(moment, moment + 4 * terms_, std::complex<double>(0.0));
   std::array<double, kMaxTaylorTerms> factor{};
   for (std::size_t m = first_slow_[q]; m < first_slow_[q + 1]; ++m) {
-    const int beta_re = m < slow_shear_end_[q] ? 0 : 2;  // polynomial of the Re component
-    factor[0] = slow_centre_factor_[m];
-    for (int p = 1; p < terms_; ++p) factor[p] = factor[p - 1] * (-slow_decay_[m] / p);
-    std::complex<double> feed_re = 0.0, feed_im = 0.0;
-    for (int p = 0; p < terms_; ++p) {
-      feed_re += factor[p] * mu[beta_re * terms_ + p];
-      feed_im += factor[p] * mu[(beta_re + 1) * terms_ + p];
-    }
-    const std::complex<double> y_re = slow_block_pole_[m] * slow_state_re_[m] + feed_re;
-    const std::complex<double> y_im = slow_block_pole_[m] * slow_state_im_[m] + feed_im;
-    slow_state_re_[m] = y_re;
-    slow_state_im_[m] = y_im;
-    const std::complex<double> wy_re = slow_weight_[m] * y_re, wy_im = slow_weight_[m] * y_im;
-    for (int p = 0; p < terms_; ++p) {
-      moment[beta_re * terms_ + p] += factor[p] * wy_re;
-      moment[(beta_re + 1) * terms_ + p] += factor[p] * wy_im;
-    }
+    const int branch = m < slow_shear_end_[q] ? 0 : 1;
+    slow_taylor_factors(slow_centre_factor_[m], slow_decay_[m], terms_, factor.data());
+    advance_slow_state(factor.data(), mu.data(), branch, terms_, slow_block_pole_[m], slow_state_re_[m],
+                       slow_state_im_[m]);
+    // Output channels Re, Im: polynomial beta = 2 b + c.
+    add_slow_moment(factor.data(), slow_weight_[m] * slow_state_re_[m], terms_, moment + (2 * branch) * terms_);
+    add_slow_moment(factor.data(), slow_weight_[m] * slow_state_im_[m], terms_, moment + (2 * branch + 1) * terms_);
   }
 }
 

@@ -3,9 +3,10 @@
 // malloc and the aligned forms FFTW uses, from any library) while a Simulation
 // or a Simulation3d steps, for the identical in-plane strip pair (modal and
 // block history), the identical antiplane pair, the identical half-space pair,
-// a dissimilar antiplane pair (block and modal bodies), a dissimilar in-plane pair (per-node normal stress, sigma_eff regularised
-// over a slip), the same pair through an open phase, and a 2D interface
-// (identical and dissimilar bodies).
+// a dissimilar antiplane pair (block and modal bodies), a dissimilar in-plane
+// pair (per-node normal stress, sigma_eff regularised over a slip), a
+// dissimilar half-space pair, the same strip pair through an open phase, and a
+// 2D interface (identical and dissimilar bodies).
 //
 // Warm-up: the counted steps start after a few steps, so that what a solver
 // does once on its first steps (the t = 0 half-weight sample, the first
@@ -185,6 +186,23 @@ TEST_CASE("dissimilar antiplane pair (one operator per body): a step does not al
                           std::string("dissimilar antiplane pair, ") +
                               (history == HistoryAlgorithm::block ? "block" : "modal") + " bodies");
     }
+  });
+}
+
+TEST_CASE("dissimilar half-space pair: a step does not allocate") {
+  // Two half-spaces of different materials (FaceHalfSpaceHistory each, its
+  // slow exponentials advanced once per block): the window spans more than
+  // two blocks, so every block end runs inside it.
+  with_one_and_two_threads([] {
+    SimulationConfig c = dissimilar_pair();
+    c.geometry.height = std::numeric_limits<double>::infinity();
+    c.bottom.height = std::numeric_limits<double>::infinity();
+    Simulation sim(c);
+    REQUIRE(sim.variable_normal_stress());
+    const auto* pair = dynamic_cast<const InplanePairHistory*>(&sim.history_operator());
+    REQUIRE(pair != nullptr);
+    REQUIRE(pair->period() > 1);
+    check_no_allocation(sim, window(pair->period()), "dissimilar half-space pair");
   });
 }
 
