@@ -43,6 +43,17 @@ SlipSamplingInfo plane_info(std::size_t nx, std::size_t nz) {
   return info;
 }
 
+// A line of `nodes` nodes with plane_info's spacing and scales.
+SlipSamplingInfo line_info(std::size_t nodes) {
+  SlipSamplingInfo line;
+  line.delta_th = 1e-8;
+  line.dx = 0.01;
+  line.v0 = 2e-3;
+  line.mu = 9e9;
+  for (std::size_t i = 0; i < nodes; ++i) line.x.push_back(static_cast<double>(i) * line.dx);
+  return line;
+}
+
 // A rectangular patch [x0, x0 + wx) x [z0, z0 + wz) (periodic) nucleating at
 // its corner (x0, z0) at t0: node at Chebyshev distance r from it crosses
 // `levels` levels at t0 + (r + k) kStep.  Returns the patch's duration.
@@ -116,12 +127,7 @@ TEST_CASE("2D interface: a line's record repeated along z gives the line's catal
   // A line of 32 nodes with crack-like events of one connected cluster each
   // (two wrapping across x = L), separated in time.
   const std::size_t nx = 32, nz = 4;
-  SlipSamplingInfo line;
-  line.delta_th = 1e-8;
-  line.dx = 0.01;
-  line.v0 = 2e-3;
-  line.mu = 9e9;
-  for (std::size_t i = 0; i < nx; ++i) line.x.push_back(static_cast<double>(i) * line.dx);
+  const SlipSamplingInfo line = line_info(nx);
   History r(nx);
   const struct {
     std::size_t x0, width;
@@ -319,12 +325,7 @@ TEST_CASE("A line: min_slip_rate_v0 = the record without the slow nodal slips, b
   // 32 nodes: nodes 0..7 creep at v0 (staggered), a fast 10-node event
   // (nodes 14..23, 3 levels, kStep apart) at 1, 2, 3 and 4 ms.
   const std::size_t n = 32;
-  SlipSamplingInfo line;
-  line.delta_th = 1e-8;
-  line.dx = 0.01;
-  line.v0 = 2e-3;
-  line.mu = 9e9;
-  for (std::size_t i = 0; i < n; ++i) line.x.push_back(static_cast<double>(i) * line.dx);
+  const SlipSamplingInfo line = line_info(n);
   const auto record = [&](bool creep, int first_level, std::size_t& nl) {
     std::vector<std::vector<double>> columns(n);
     const double period = line.delta_th / line.v0;
