@@ -125,10 +125,12 @@ def test_interrupted_twice_and_resumed_equals_uninterrupted(cli, tmp_path, case)
 
 
 def test_sigkill_after_periodic_restart_points_resumes_identically(cli, tmp_path):
-    # Restart points every 16 steps (checkpoint_interval ~0) and frequent
-    # flushes: when SIGKILL lands, the file holds records written after the
-    # last restart point, which the resume cuts away and writes again.
-    args = RECORDS + ["--set", "time.duration_transits=30", "--set", "output.snapshot_interval=2e-4",
+    # Restart points every 0.05 s of wall time and frequent flushes: when
+    # SIGKILL lands, the file holds records written after the last restart
+    # point, which the resume cuts away and writes again.  500 transits last
+    # ~0.8 s on a quiet core, so the kill (0.05-0.3 s after the first restart
+    # point) lands mid-run; 30 transits (0.03 s) ended before any restart point.
+    args = RECORDS + ["--set", "time.duration_transits=500", "--set", "output.snapshot_interval=2e-4",
                       "--set", "output.checkpoint_interval=0.05", "--set", "output.flush_interval=0.01"]
     reference = _reference(cli, tmp_path, args)
     out = tmp_path / "resumed.h5"
@@ -143,7 +145,7 @@ def test_sigkill_after_periodic_restart_points_resumes_identically(cli, tmp_path
 
 
 def test_sigterm_writes_a_restart_point_and_the_resume_completes_identically(cli, tmp_path):
-    args = RECORDS + ["--set", "time.duration_transits=30", "--set", "output.snapshot_interval=2e-4"]
+    args = RECORDS + ["--set", "time.duration_transits=500", "--set", "output.snapshot_interval=2e-4"]
     reference = _reference(cli, tmp_path, args)
     out = tmp_path / "resumed.h5"
     stop_mid_run(cli, TINY_3D, args, out, out.exists, signal.SIGTERM, SEED + 3)

@@ -147,11 +147,19 @@ def stop_twice_and_resume(cli, config, args, out, first, second, after_first_sto
     assert not restart.exists()
 
 
-def wait_for(predicate, timeout, what):
+def wait_for(predicate, timeout, what, proc=None):
+    """Polls predicate() until it holds; fails after `timeout` s, or as soon
+    as `proc` (if given) has exited without it holding: a run that ends
+    before its first restart point is reported at once, with its stderr."""
     end = time.monotonic() + timeout
     while time.monotonic() < end:
         if predicate():
             return
+        if proc is not None and proc.poll() is not None:
+            _, err = proc.communicate()
+            if proc.returncode == 0:
+                pytest.skip(f"the run completed before {what} (machine too fast)")
+            pytest.fail(f"the run exited with {proc.returncode} before {what}: {err}")
         time.sleep(0.01)
     pytest.fail(f"timed out waiting for {what}")
 
@@ -162,7 +170,7 @@ def stop_mid_run(cli, config, args, out, started, sig, seed):
     SIGKILL).  Skips the test if the run completed before the signal."""
     proc = subprocess.Popen([str(cli), "run", str(config), *args, "--out", str(out), "--quiet"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    wait_for(started, 60, "the run to start")
+    wait_for(started, 60, "the run to start", proc)
     time.sleep(random.Random(seed).uniform(0.05, 0.3))
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=60)
