@@ -281,7 +281,7 @@ def _run_parameters(path) -> dict:
     slope = fr["a"] - fr["f0"] * fr["b"]  # d f_ss / d ln v of the paper law for v >> v*
     return {"file": str(path), "status": status, "length": float(g["length"]), "height": H,
             "nodes": int(g["nodes"]), "f0": fr["f0"], "a": fr["a"], "b": fr["b"],
-            "rate_weakening": -slope}
+            "rate_weakening": -slope, "noise_seed": int(config["initial"]["noise_seed"])}
 
 
 def classify_directory(paths) -> list[dict]:
@@ -308,43 +308,90 @@ def classify_directory(paths) -> list[dict]:
     return rows
 
 
+DEFAULT_NOISE_SEED = 1   # the seed of every map run before seeds were varied (configs/reference.toml)
+MAX_SEED_COMBINATIONS = 100_000
+
+
+def noise_seed(row: dict) -> int:
+    """The run's `initial.noise_seed`; rows of maps written before the column
+    existed come from runs that all used the default seed."""
+    seed = row.get("noise_seed", DEFAULT_NOISE_SEED)
+    return int(seed) if isinstance(seed, (int, float)) and math.isfinite(seed) else DEFAULT_NOISE_SEED
+
+
+def _last_upward_crossing(fractions: list[float], threshold: float):
+    """Index i and weight w of the last upward crossing of `threshold` between
+    fractions[i] and fractions[i + 1] (fractions ordered by growing H), or None."""
+    crossing = None
+    for i, (lo, hi) in enumerate(zip(fractions, fractions[1:])):
+        if lo < threshold <= hi:
+            crossing = (i, (threshold - lo) / (hi - lo))
+    return crossing
+
+
+def _log_interpolate(h_lo: float, h_hi: float, w: float) -> float:
+    return math.exp((1 - w) * math.log(h_lo) + w * math.log(h_hi))
+
+
 def transition_heights(rows: list[dict], threshold: float = SPANNING_COHERENT) -> list[dict]:
     """Where complexity gives way to coarsening as H grows, per (friction, L):
     the last upward crossing of `threshold` by the fraction of slip carried by
     system-spanning ruptures (last third of each run), H* interpolated linearly
-    in log H between the two bracketing runs.  The same observable and threshold
-    as the `complex` / `spanning_ruptures` boundary of the classifier, but read
-    as a continuous order parameter, so H* is located between grid points.
+    in log H between the two bracketing heights.  The same observable and
+    threshold as the `complex` / `spanning_ruptures` boundary of the classifier,
+    but read as a continuous order parameter, so H* is located between grid points.
+
+    Seed ensembles: runs that differ only in `initial.noise_seed` are members of
+    one grid point.  H* comes from the members' mean fraction at each height; its
+    spread from every way of picking one member per height (each a possible map
+    had only one seed been run): `height_range` is the smallest and largest H*
+    over those picks, `picks_without_crossing` how many picks have no crossing.
+    With one run per height the range is H* itself.  Near H* the state depends
+    on the initial noise, so the range, not the bracket, is H*'s error bar.
 
     Each result carries H*/L and H*/Lc(H*) (Lc interpolated the same way) with
     their brackets: a transition that scales with L has the same H*/L for every
     L; one that scales with Lc(H) has the same H*/Lc(H*)."""
+    import itertools
     out = []
     groups = {}
     for r in rows:
         f = r.get("spanning_slip_fraction", math.nan)
         if math.isfinite(r["height"]) and math.isfinite(f) and r.get("state") != "unreadable":
-            groups.setdefault((round(r["rate_weakening"], 6), r["length"]), []).append(r)
-    for (slope, L), mine in sorted(groups.items()):
-        mine.sort(key=lambda r: r["height"])
-        crossing = None
-        for lo, hi in zip(mine, mine[1:]):
-            if lo["spanning_slip_fraction"] < threshold <= hi["spanning_slip_fraction"]:
-                crossing = (lo, hi)
+            by_height = groups.setdefault((round(r["rate_weakening"], 6), r["length"]), {})
+            by_height.setdefault(r["height"], []).append(r)
+    for (slope, L), by_height in sorted(groups.items()):
+        heights = sorted(by_height)
+        members = [sorted(by_height[h], key=noise_seed) for h in heights]
+        means = [float(np.mean([m["spanning_slip_fraction"] for m in ms])) for ms in members]
+        crossing = _last_upward_crossing(means, threshold)
         if crossing is None:
             continue
-        lo, hi = crossing
-        w = (threshold - lo["spanning_slip_fraction"]) / (hi["spanning_slip_fraction"] - lo["spanning_slip_fraction"])
-        h_star = math.exp((1 - w) * math.log(lo["height"]) + w * math.log(hi["height"]))
-        lc_lo, lc_hi = lo.get("critical_length", math.nan), hi.get("critical_length", math.nan)
+        i, w = crossing
+        h_star = _log_interpolate(heights[i], heights[i + 1], w)
+        lc_lo, lc_hi = (float(np.mean([m.get("critical_length", math.nan) for m in members[j]])) for j in (i, i + 1))
         lc_star = (1 - w) * lc_lo + w * lc_hi
+        n_picks = math.prod(len(ms) for ms in members)
+        if n_picks > MAX_SEED_COMBINATIONS:
+            raise ValueError(f"{n_picks} seed combinations at |df_ss/d ln v| = {slope}, L = {L} m: "
+                             f"more than {MAX_SEED_COMBINATIONS} (too many seeds at too many heights)")
+        picked, missing = [], 0
+        for pick in itertools.product(*[[m["spanning_slip_fraction"] for m in ms] for ms in members]):
+            c = _last_upward_crossing(list(pick), threshold)
+            if c is None:
+                missing += 1
+            else:
+                picked.append(_log_interpolate(heights[c[0]], heights[c[0] + 1], c[1]))
         out.append({"rate_weakening": slope, "length": L, "height": h_star,
-                    "height_bracket": (lo["height"], hi["height"]),
+                    "height_bracket": (heights[i], heights[i + 1]),
+                    "height_range": (min(picked), max(picked)),
+                    "seeds_at_bracket": (len(members[i]), len(members[i + 1])),
+                    "seed_picks": n_picks, "picks_without_crossing": missing,
                     "height_over_length": h_star / L,
-                    "height_over_length_bracket": (lo["height"] / L, hi["height"] / L),
+                    "height_over_length_bracket": (heights[i] / L, heights[i + 1] / L),
                     "critical_length": lc_star,
                     "height_over_critical_length": h_star / lc_star,
-                    "height_over_critical_length_bracket": (lo["height"] / lc_lo, hi["height"] / lc_hi)})
+                    "height_over_critical_length_bracket": (heights[i] / lc_lo, heights[i + 1] / lc_hi)})
     return out
 
 
@@ -353,11 +400,16 @@ def transition_heights_markdown(stars: list[dict]) -> str:
     after the state grid, so the doc's numbers are regenerated with the map)."""
     if not stars:
         return "No upward crossing of the spanning-slip threshold in any (friction, L) group.\n"
-    lines = ["| \\|df_ss/d ln v\\| | L | H\\* (bracket) | H\\*/L (bracket) | Lc(H\\*) | H\\*/Lc(H\\*) (bracket) |",
-             "|---|---|---|---|---|---|"]
+    lines = ["| \\|df_ss/d ln v\\| | L | H\\* (bracket) | H\\* over seeds | seeds at the bracket | H\\*/L (bracket) | "
+             "Lc(H\\*) | H\\*/Lc(H\\*) (bracket) |",
+             "|---|---|---|---|---|---|---|---|"]
     for t in sorted(stars, key=lambda t: (-t["rate_weakening"], t["length"])):
         (h0, h1), (r0, r1) = t["height_bracket"], t["height_over_critical_length_bracket"]
+        (s0, s1), (n0, n1) = t["height_range"], t["seeds_at_bracket"]
+        spread = f"{s0:.2g}–{s1:.2g} m" + (f" ({t['picks_without_crossing']} of {t['seed_picks']} picks: no crossing)"
+                                           if t["picks_without_crossing"] else "")
         lines.append(f"| {t['rate_weakening']:.4f} | {t['length']:g} m | {t['height']:.2g} m ({h0:g}–{h1:g}) | "
+                     f"{spread} | {n0}, {n1} | "
                      f"{t['height_over_length']:.2g} ({h0 / t['length']:.3g}–{h1 / t['length']:.3g}) | "
                      f"{t['critical_length']:.2g} m | {t['height_over_critical_length']:.2g} ({r0:.2g}–{r1:.2g}) |")
     return "\n".join(lines) + "\n"
@@ -367,7 +419,8 @@ def plot_collapse(rows: list[dict], out_png, threshold: float = SPANNING_COHEREN
     """The continuous order parameter (fraction of slip in system-spanning
     ruptures, last third of each run) against H/L and against H/Lc(H), one line
     per interface length L, one panel row per friction point with at least two
-    L.  The abscissa on which the lines of different L fall on each other is the
+    L; at a height run with several noise seeds, their mean with the smallest
+    and largest member as an error bar.  The abscissa on which the lines of different L fall on each other is the
     one the transition scales with."""
     import matplotlib
     matplotlib.use("Agg")
@@ -382,10 +435,19 @@ def plot_collapse(rows: list[dict], out_png, threshold: float = SPANNING_COHEREN
     for (ax_l, ax_c), slope in zip(axes, slopes):
         mine = [r for r in usable if round(r["rate_weakening"], 6) == slope]
         for L in sorted({r["length"] for r in mine}):
-            line = sorted((r for r in mine if r["length"] == L), key=lambda r: r["height"])
-            f = [r["spanning_slip_fraction"] for r in line]
-            ax_l.plot([r["height"] / L for r in line], f, "o-", label=f"L = {L:g} m")
-            ax_c.plot([r["height"] / r["critical_length"] for r in line], f, "o-", label=f"L = {L:g} m")
+            # Seed ensembles: the members' mean, and their smallest and largest
+            # fraction as an error bar (none where one seed ran).
+            by_height = {}
+            for r in mine:
+                if r["length"] == L:
+                    by_height.setdefault(r["height"], []).append(r)
+            hs = sorted(by_height)
+            f = np.array([[np.mean(v), np.min(v), np.max(v)] for v in
+                          ([r["spanning_slip_fraction"] for r in by_height[h]] for h in hs)])
+            lc = np.array([np.mean([r["critical_length"] for r in by_height[h]]) for h in hs])
+            err = [f[:, 0] - f[:, 1], f[:, 2] - f[:, 0]]
+            ax_l.errorbar(np.array(hs) / L, f[:, 0], yerr=err, fmt="o-", capsize=3, label=f"L = {L:g} m")
+            ax_c.errorbar(np.array(hs) / lc, f[:, 0], yerr=err, fmt="o-", capsize=3, label=f"L = {L:g} m")
         for ax, xl in ((ax_l, "H / L"), (ax_c, "H / Lc(H)")):
             ax.axhline(threshold, color="0.5", ls=":", lw=0.8)
             ax.set(xscale="log", xlabel=xl, ylabel="slip fraction in spanning ruptures", ylim=(-0.02, 1.02),
@@ -514,7 +576,8 @@ def state_grid_markdown(rows: list[dict]) -> str:
     def h_key(h):
         return (math.isinf(h), h)
     lines = ["States: " + ", ".join(f"{v} = `{k}`" for k, v in STATE_SYMBOLS.items()) +
-             "; lower case = not converged (the last two thirds disagree); in brackets Lc(H)/H "
+             "; lower case = not converged (the last two thirds disagree); several letters: one per noise "
+             "seed (`initial.noise_seed`, in increasing order); in brackets Lc(H)/H "
              "(linear stability of steady sliding with the run's own config).", ""]
     for L in sorted({r["length"] for r in rows}):
         mine = [r for r in rows if r["length"] == L]
@@ -526,16 +589,18 @@ def state_grid_markdown(rows: list[dict]) -> str:
         for fr in frictions:
             cells = []
             for h in heights:
-                match = [r for r in mine if r["height"] == h and round(r["rate_weakening"], 6) == fr]
+                match = sorted((r for r in mine if r["height"] == h and round(r["rate_weakening"], 6) == fr),
+                               key=noise_seed)
                 if not match:
                     cells.append("")
                     continue
-                r = match[0]
-                letter = STATE_SYMBOLS.get(r["state"], "?")
-                letter = letter if r["converged"] else letter.lower()
-                lc = r.get("critical_length", math.nan)
+                letters = []
+                for r in match:
+                    letter = STATE_SYMBOLS.get(r["state"], "?")
+                    letters.append(letter if r["converged"] else letter.lower())
+                lc = match[0].get("critical_length", math.nan)
                 ratio = f" ({lc / h:.2g})" if math.isfinite(h) and math.isfinite(lc) else ""
-                cells.append(letter + ratio)
+                cells.append(" ".join(letters) + ratio)
             lines.append(f"| {fr:.4f} | " + " | ".join(cells) + " |")
         lines.append("")
     return "\n".join(lines)
@@ -562,16 +627,17 @@ def read_map_csv(path) -> list[dict]:
         for raw in csv.DictReader(f):
             row = {k: _parse_csv_value(v) for k, v in raw.items() if v != ""}
             row["file"] = raw["file"]
-            if "nodes" in row:
-                row["nodes"] = int(row["nodes"])
+            for key in ("nodes", "noise_seed"):
+                if key in row:
+                    row[key] = int(row[key])
             rows.append(row)
     return rows
 
 
 def _map_cell(row: dict) -> tuple:
-    """What makes two rows the same point of the map: friction, L, H and mesh."""
+    """What makes two rows the same run of the map: friction, L, H, mesh and noise seed."""
     return (round(row["f0"], 9), round(row["a"], 9), round(row["b"], 9), row["length"], row["height"],
-            int(row["nodes"]))
+            int(row["nodes"]), noise_seed(row))
 
 
 def main(argv: list[str]) -> int:
@@ -586,7 +652,8 @@ def main(argv: list[str]) -> int:
     p.add_argument("paths", nargs="*", help="run files or directories holding them")
     p.add_argument("--previous", action="append", default=[],
                    help="an earlier map (CSV written by --csv) whose rows join the runs classified now; a run "
-                        "classified now replaces an earlier row of the same friction, L, H and N (repeatable)")
+                        "classified now replaces an earlier row of the same friction, L, H, N and noise seed "
+                        "(repeatable)")
     p.add_argument("--csv", help="write one row per run")
     p.add_argument("--plot", help="write the state map (PNG)")
     p.add_argument("--table", help="write the map as Markdown tables (one per L)")
@@ -662,7 +729,7 @@ def main(argv: list[str]) -> int:
         if r["state"] == "unreadable":
             print(f"{Path(r['file']).name:40s} not classified: {r['error']}", file=sys.stderr)
             continue
-        print(f"{Path(r['file']).name:40s} H/L = {r['height'] / r['length']:<8.4g} "
+        print(f"{Path(r['file']).name:40s} seed {noise_seed(r):<3d} H/L = {r['height'] / r['length']:<8.4g} "
               f"|df/dlnv| = {r['rate_weakening']:.4f}  Lc(H) = {r['critical_length']:<7.3g} {r['state']:18s} "
               f"{'converged' if r['converged'] else 'NOT converged'}  agreement {r['agreement']:.2f}")
     if previous:
@@ -694,7 +761,8 @@ def main(argv: list[str]) -> int:
         plot_collapse(rows, args.collapse)
     for t in stars:
         print(f"|df/dlnv| = {t['rate_weakening']:.4f}  L = {t['length']:g} m: H* = {t['height']:.3g} m "
-              f"(between {t['height_bracket'][0]:g} and {t['height_bracket'][1]:g}); "
+              f"(between {t['height_bracket'][0]:g} and {t['height_bracket'][1]:g}; over seeds "
+              f"{t['height_range'][0]:.3g}-{t['height_range'][1]:.3g}); "
               f"H*/L = {t['height_over_length']:.3g} ({t['height_over_length_bracket'][0]:.3g}-"
               f"{t['height_over_length_bracket'][1]:.3g}); H*/Lc(H*) = {t['height_over_critical_length']:.3g} "
               f"({t['height_over_critical_length_bracket'][0]:.3g}-{t['height_over_critical_length_bracket'][1]:.3g})")
@@ -703,9 +771,12 @@ def main(argv: list[str]) -> int:
             w = csv.writer(f)
             w.writerow(["rate_weakening", "length", "height_star", "height_low", "height_high", "height_star_over_length",
                         "critical_length_at_height_star", "height_star_over_critical_length",
-                        "height_over_critical_length_low", "height_over_critical_length_high"])
+                        "height_over_critical_length_low", "height_over_critical_length_high",
+                        "height_star_min_over_seeds", "height_star_max_over_seeds", "seeds_at_height_low",
+                        "seeds_at_height_high", "seed_picks", "seed_picks_without_crossing"])
             for t in stars:
                 w.writerow([t["rate_weakening"], t["length"], t["height"], *t["height_bracket"], t["height_over_length"],
                             t["critical_length"], t["height_over_critical_length"],
-                            *t["height_over_critical_length_bracket"]])
+                            *t["height_over_critical_length_bracket"], *t["height_range"], *t["seeds_at_bracket"],
+                            t["seed_picks"], t["picks_without_crossing"]])
     return 0

@@ -356,3 +356,52 @@ def test_transition_heights_markdown_lists_every_crossing():
     table = transition.transition_heights_markdown(transition.transition_heights(rows))
     body = [line for line in table.splitlines() if line.startswith("| 0.0160")]
     assert len(body) == 2 and "| 1 m |" in body[0] and "| 2 m |" in body[1]
+
+
+def _ensemble_rows(fractions_by_height, length=1.0, slope=0.016, lc=0.45):
+    """Rows of one (friction, L) group: at each height one row per seed (1, 7, 8, ...)."""
+    return [{"rate_weakening": slope, "length": length, "height": h, "state": "complex", "converged": True,
+             "spanning_slip_fraction": f, "critical_length": lc, "noise_seed": seed}
+            for h, fractions in fractions_by_height.items() for seed, f in zip((1, 7, 8), fractions)]
+
+
+def test_transition_height_of_a_seed_ensemble_and_its_spread_over_seed_picks():
+    # Three seeds at the two bracketing heights, one elsewhere.  Means: 0.2, 0.6, 0.9, 1.0, so the
+    # mean crosses 0.8 between 0.1 and 0.2 at w = (0.8 - 0.6) / (0.9 - 0.6) = 2/3.
+    rows = _ensemble_rows({0.05: [0.2], 0.1: [0.5, 0.6, 0.7], 0.2: [0.85, 0.9, 0.95], 0.5: [1.0]})
+    (t,) = transition.transition_heights(rows, threshold=0.8)
+    expected = math.exp(math.log(0.1) / 3 + 2 * math.log(0.2) / 3)
+    assert t["height"] == pytest.approx(expected, rel=1e-12)
+    assert t["height_bracket"] == (0.1, 0.2) and t["seeds_at_bracket"] == (3, 3)
+    # Every pick of one member per height crosses between 0.1 and 0.2; the lowest H* comes
+    # from the highest fractions (0.7 -> 0.95: w = 0.4), the highest from the lowest
+    # (0.5 -> 0.85: w = 6/7).
+    lo = math.exp(0.6 * math.log(0.1) + 0.4 * math.log(0.2))
+    hi = math.exp(math.log(0.1) / 7 + 6 * math.log(0.2) / 7)
+    assert t["height_range"] == (pytest.approx(lo, rel=1e-12), pytest.approx(hi, rel=1e-12))
+    assert t["seed_picks"] == 9 and t["picks_without_crossing"] == 0
+    # With one seed per height the spread is H* itself.
+    (single,) = transition.transition_heights(_ensemble_rows({0.1: [0.6], 0.2: [0.9]}), threshold=0.8)
+    assert single["height_range"] == (pytest.approx(single["height"]), pytest.approx(single["height"]))
+
+
+def test_seed_picks_without_a_crossing_are_counted():
+    # Seed 8 at H = 0.2 stays below the threshold: the 3 picks (of 3 x 3) that use it never
+    # rise through 0.8; the means (0.6, 0.83) still cross.
+    rows = _ensemble_rows({0.1: [0.5, 0.6, 0.7], 0.2: [0.85, 0.9, 0.75]})
+    (t,) = transition.transition_heights(rows, threshold=0.8)
+    assert t["seed_picks"] == 9 and t["picks_without_crossing"] == 3
+    assert "3 of 9 picks: no crossing" in transition.transition_heights_markdown([t])
+
+
+def test_map_table_shows_every_seed_and_runs_differing_by_seed_are_different_cells():
+    rows = _ensemble_rows({0.1: [0.5, 0.6, 0.7]})
+    rows[1]["state"], rows[2]["converged"] = "spanning_ruptures", False
+    for r in rows:
+        r.update(nodes=400)
+    table = transition.state_grid_markdown(rows)
+    assert "| 0.0160 | C R c (4.5) |" in table
+    base = {"f0": 0.28, "a": 0.005, "b": 0.075, "length": 1.0, "height": 0.1, "nodes": 400}
+    # A map written before seeds were varied has no seed column: its runs used seed 1.
+    assert transition._map_cell(base) == transition._map_cell({**base, "noise_seed": 1.0})
+    assert transition._map_cell(base) != transition._map_cell({**base, "noise_seed": 7})
