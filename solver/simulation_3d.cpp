@@ -374,7 +374,23 @@ void Simulation3d::step() {
     load_x_[i] = drive_[i] - load_x_[i];
     load_z_[i] = -load_z_[i];
   }
-  std::copy(speed_.begin(), speed_.end(), previous_speed_.begin());
+  // The step's slip rate at t_n, as the friction step sees it: the slip-rate
+  // vector at t_n projected on the new load direction, signed.  The scheme
+  // averages it with the new speed, so where the slip rate reverses within a
+  // step the state and sigma_eff advance with |v_n + v_{n+1}|/2, as the 1D
+  // solver's signed slip rate does (an average of the magnitudes would carry a
+  // node that stops and turns back at full speed through the step).  For a
+  // direction that turns smoothly the projection differs from |v_n| at second
+  // order in the turn per step, within the scheme's local error.  A node
+  // without load keeps its speed: it has no new direction.  The unit vector is
+  // formed as directions() forms it, so that a load along x projects exactly
+  // (v * 1, not v * tau / tau) and a field independent of z keeps the 1D
+  // arithmetic.
+  for (std::size_t i = 0; i < n; ++i) {
+    const double m = std::sqrt(load_x_[i] * load_x_[i] + load_z_[i] * load_z_[i]);
+    previous_speed_[i] =
+        m > 0.0 ? slip_rate_x_[i] * (load_x_[i] / m) + slip_rate_z_[i] * (load_z_[i] / m) : speed_[i];
+  }
   std::copy(state_.begin(), state_.end(), previous_state_.begin());
   std::copy(slip_rate_x_.begin(), slip_rate_x_.end(), previous_rate_x_.begin());
   std::copy(slip_rate_z_.begin(), slip_rate_z_.end(), previous_rate_z_.begin());
