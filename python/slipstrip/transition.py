@@ -281,7 +281,8 @@ def _run_parameters(path) -> dict:
     slope = fr["a"] - fr["f0"] * fr["b"]  # d f_ss / d ln v of the paper law for v >> v*
     return {"file": str(path), "status": status, "length": float(g["length"]), "height": H,
             "nodes": int(g["nodes"]), "f0": fr["f0"], "a": fr["a"], "b": fr["b"],
-            "rate_weakening": -slope, "noise_seed": int(config["initial"]["noise_seed"])}
+            "rate_weakening": -slope, "noise_seed": int(config["initial"]["noise_seed"]),
+            "duration": float(config["time"]["duration"])}
 
 
 def classify_directory(paths) -> list[dict]:
@@ -640,6 +641,22 @@ def _map_cell(row: dict) -> tuple:
             int(row["nodes"]), noise_seed(row))
 
 
+def longest_run_per_cell(rows: list[dict]) -> list[dict]:
+    """One row per run of the map (`_map_cell`): where a run was extended (the
+    same config and seed run again for longer, which repeats the shorter run
+    and continues it), the longest one, judged on its own last third; the
+    shorter ones are dropped (the order of the rest is kept)."""
+    best = {}
+    for i, r in enumerate(rows):
+        if "f0" not in r or r.get("state") == "unreadable":
+            continue
+        cell = _map_cell(r)
+        if cell not in best or r.get("duration", 0.0) > rows[best[cell]].get("duration", 0.0):
+            best[cell] = i
+    keep = set(best.values())
+    return [r for i, r in enumerate(rows) if i in keep or "f0" not in r or r.get("state") == "unreadable"]
+
+
 def main(argv: list[str]) -> int:
     import argparse
     import csv
@@ -714,7 +731,7 @@ def main(argv: list[str]) -> int:
             else:
                 print(f"{path.name:40s} skipped: status {status} (--include-unfinished to classify it)")
         files = finished
-    rows = classify_directory(files)
+    rows = longest_run_per_cell(classify_directory(files))
     add_critical_lengths(rows)
     fresh = {_map_cell(r) for r in rows if "f0" in r}
     previous = []

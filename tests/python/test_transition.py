@@ -405,3 +405,15 @@ def test_map_table_shows_every_seed_and_runs_differing_by_seed_are_different_cel
     # A map written before seeds were varied has no seed column: its runs used seed 1.
     assert transition._map_cell(base) == transition._map_cell({**base, "noise_seed": 1.0})
     assert transition._map_cell(base) != transition._map_cell({**base, "noise_seed": 7})
+
+
+def test_an_extended_run_replaces_the_shorter_run_of_the_same_cell():
+    base = {"f0": 0.28, "a": 0.005, "b": 0.075, "length": 1.0, "height": 0.2, "nodes": 400, "state": "complex",
+            "converged": False}
+    rows = [{**base, "noise_seed": 7, "duration": 0.18, "file": "short.h5"},
+            {**base, "noise_seed": 8, "duration": 0.18, "file": "other_seed.h5"},
+            {**base, "noise_seed": 7, "duration": 0.54, "file": "extended.h5", "state": "spanning_ruptures",
+             "converged": True},
+            {"file": "broken.h5", "state": "unreadable"}]
+    kept = [r["file"] for r in transition.longest_run_per_cell(rows)]
+    assert kept == ["other_seed.h5", "extended.h5", "broken.h5"]
