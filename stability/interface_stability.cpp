@@ -96,12 +96,25 @@ LinearisedInterfaceFriction linearise_interface_friction(const PairSliding& p) {
 complex pair_characteristic_function(const PairSliding& p, const LinearisedInterfaceFriction& lin,
                                      double k, complex z) {
   const SlipResponse K = interface_slip_response(p.top, p.bottom, k, z);
-  const complex state_memory = z - lin.state_rate_dstate;
-  complex F = K.shear + z * (lin.strength_dv + lin.strength_dstate * lin.state_rate_dv / state_memory);
-  if (K.normal != 0.0)
-    F += (lin.friction_coefficient - lin.linker_dieterich * z / state_memory) * K.normal /
-         (1.0 + z * lin.normal_relaxation_time);
+  complex F = K.shear + rate_and_state_response(lin, z);
+  if (K.normal != 0.0) F += normal_stress_response(lin, z, K.normal);
   return F;
+}
+
+complex rate_and_state_response(const LinearisedInterfaceFriction& lin, complex z) {
+  const complex state_memory = z - lin.state_rate_dstate;
+  return z * (lin.strength_dv + lin.strength_dstate * lin.state_rate_dv / state_memory);
+}
+
+complex normal_stress_response(const LinearisedInterfaceFriction& lin, complex z, complex normal_stress) {
+  const complex state_memory = z - lin.state_rate_dstate;
+  return (lin.friction_coefficient - lin.linker_dieterich * z / state_memory) * normal_stress /
+         (1.0 + z * lin.normal_relaxation_time);
+}
+
+std::vector<complex> pair_zeros_in(const AnalyticFunction& g, const PairSearchBox& box) {
+  const Rectangle r{box.min_re, box.max_re, -box.max_im, box.max_im};
+  return sorted_zeros_graded(g, r, graded_inner(box));
 }
 
 PairSearchBox pair_search_box(const PairSliding& p, const LinearisedInterfaceFriction& lin, double k) {
@@ -129,9 +142,7 @@ std::vector<complex> pair_characteristic_roots(const PairSliding& p, const Linea
   // g_phi and -1/T on the negative real axis, none inside the box.  The box is
   // tiled so that the contours resolve both the rate-and-state cluster near the
   // origin and the wave scale (graded_inner).
-  const AnalyticFunction g = [&](complex z) { return pair_characteristic_function(p, lin, k, z); };
-  const Rectangle r{box.min_re, box.max_re, -box.max_im, box.max_im};
-  return sorted_zeros_graded(g, r, graded_inner(box));
+  return pair_zeros_in([&](complex z) { return pair_characteristic_function(p, lin, k, z); }, box);
 }
 
 std::vector<complex> pair_unstable_roots(const PairSliding& p, double wavelength) {

@@ -24,6 +24,7 @@
 
 #include "friction/friction_law.hpp"
 #include "kernels/face_response.hpp"
+#include "stability/root_search.hpp"
 
 namespace slipstrip {
 
@@ -70,10 +71,28 @@ std::complex<double> pair_characteristic_function(const PairSliding& sliding,
                                                   const LinearisedInterfaceFriction& friction,
                                                   double wavenumber, std::complex<double> growth);
 
+// The friction's two terms of F, shared with the oblique modes of a pair
+// (stability/oblique_stability.hpp):
+//   rate_and_state_response = Lambda [tau_v + tau_phi g_v / (Lambda - g_phi)],
+// the strength's response to a slip perturbation of unit amplitude, and
+//   normal_stress_response  = [f0 - a_LD Lambda / (Lambda - g_phi)] sigma^ / (1 + Lambda T),
+// its response to a perturbation sigma^ [Pa] of the compressive normal stress
+// through sigma_eff (and the Linker-Dieterich state response) [Pa].
+std::complex<double> rate_and_state_response(const LinearisedInterfaceFriction& friction,
+                                             std::complex<double> growth);
+std::complex<double> normal_stress_response(const LinearisedInterfaceFriction& friction,
+                                            std::complex<double> growth, std::complex<double> normal_stress);
+
 // Rectangle min_re <= Re Lambda <= max_re, |Im Lambda| <= max_im [1/s].
 struct PairSearchBox {
   double min_re, max_re, max_im;
 };
+
+// The zeros of a pair's dispersion function g in the box, sorted by decreasing
+// Re Lambda: the graded search of pair_characteristic_roots (its reasons there),
+// for any g whose poles are those of the pair's responses and friction (none
+// with Re Lambda > 0).
+std::vector<std::complex<double>> pair_zeros_in(const AnalyticFunction& g, const PairSearchBox& box);
 
 // A box for the unstable roots at wavenumber k: the rate-and-state bound of
 // unstable_search_box (which is a proof for identical bodies only) united with the

@@ -50,13 +50,7 @@ struct Characteristic {
   // Pole frequencies omega_p of S(k, s; H) on the imaginary axis (finite H only).
   std::vector<double> pole_frequencies;
 
-  complex response(complex z) const {
-    if (!sliding.two_bodies) return strip_response(sliding.material, sliding.strip_height, wavenumber, z);
-    const complex top = 2.0 * strip_response(sliding.material, sliding.strip_height, wavenumber, z);
-    if (sliding.bottom_rigid) return top;
-    const complex bottom = 2.0 * strip_response(sliding.bottom_material, sliding.bottom_height, wavenumber, z);
-    return top * bottom / (top + bottom);
-  }
+  complex response(complex z) const { return slip_response(sliding, wavenumber, z); }
 
   // F itself (has the poles of S and the pole at g_phi).
   complex raw(complex z) const {
@@ -180,6 +174,16 @@ LinearisedFriction linearise_friction(const SteadySliding& sliding) {
   return LinearisedFriction{phi0, frictional_strength_dv(f, s0, v0, phi0),
                             frictional_strength_dstate(f, s0, v0, phi0),
                             state_rate_dv(f, v0, phi0), state_rate_dstate(f, v0, phi0)};
+}
+
+complex slip_response(const SteadySliding& sliding, double wavenumber, complex growth) {
+  const double k = wavenumber;
+  const complex z = growth;
+  if (!sliding.two_bodies) return strip_response(sliding.material, sliding.strip_height, k, z);
+  const complex top = 2.0 * strip_response(sliding.material, sliding.strip_height, k, z);
+  if (sliding.bottom_rigid) return top;
+  const complex bottom = 2.0 * strip_response(sliding.bottom_material, sliding.bottom_height, k, z);
+  return top * bottom / (top + bottom);
 }
 
 complex characteristic_function(const SteadySliding& sliding, double wavenumber, complex growth) {

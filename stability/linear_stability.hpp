@@ -47,6 +47,10 @@ struct LinearisedFriction {
 };
 LinearisedFriction linearise_friction(const SteadySliding& sliding);
 
+// S(k, Lambda) of the sliding pair, tau^ = -S slip^ [Pa/m]: the strip's own
+// response for identical bodies, else the series combination above.
+complex slip_response(const SteadySliding& sliding, double wavenumber, complex growth);
+
 // F(Lambda) for wavenumber k [1/m].
 complex characteristic_function(const SteadySliding& sliding, double wavenumber, complex growth);
 

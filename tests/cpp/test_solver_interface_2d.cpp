@@ -21,6 +21,7 @@
 #include "stability/oblique_stability.hpp"
 #include "stability/steady_sliding.hpp"
 #include "field_test_helpers.hpp"
+#include "oblique_mode.hpp"
 #include "solver_test_configs.hpp"
 
 using namespace slipstrip;
@@ -243,32 +244,14 @@ TEST_CASE("oblique mode: growth rate from the simulation = linear stability of t
   CHECK(std::abs(flat.front() - *flat_2d) <= 1e-8 * std::abs(*flat_2d));  // Newton-polished roots
 
   // Simulation: phi = phi_ss (1 + eps cos(kx x + kz z)).
-  const int nx = 8, nz = 8;
-  const double v0 = c.loading.driving_velocity, phi_ss = steady_state(c.friction, v0), eps = 1e-6;
-  std::vector<double> phi(nx * nz);
-  for (int iz = 0; iz < nz; ++iz)
-    for (int ix = 0; ix < nx; ++ix) phi[iz * nx + ix] = phi_ss * (1 + eps * std::cos(2 * pi * (ix + iz) / 8.0));
-  Simulation3d sim(c, phi);
+  const double eps = 1e-6;
+  Simulation3d sim(c, testing::oblique_mode_state(c, eps));
   const double dt = sim.time_step();
-  RealFft2d fft(nx, nz);
-  std::vector<double> field(nx * nz);
-  std::vector<std::complex<double>> spectrum(fft.modes());
-  const std::size_t mode = 1 * (nx / 2 + 1) + 1;
-  std::vector<double> vx_mode, vz_mode;
   const auto steps = static_cast<long long>(25.0 / theory.real() / dt);
-  for (long long n = 0; n < steps; ++n) {
-    double largest = 0.0;
-    for (std::size_t i = 0; i < field.size(); ++i) {
-      field[i] = sim.slip_rate_x()[i] - v0;
-      largest = std::max(largest, std::abs(field[i]) / v0);
-    }
-    if (largest > 1e-2) break;  // the linear regime ends
-    fft.forward(field, spectrum);
-    vx_mode.push_back(2.0 / field.size() * spectrum[mode].real() / v0);
-    fft.forward(sim.slip_rate_z(), spectrum);
-    vz_mode.push_back(2.0 / field.size() * spectrum[mode].real() / v0);
-    sim.step();
-  }
+  const testing::ObliqueModeRecord record = testing::record_oblique_mode(sim, c, steps);
+  std::vector<double> vx_mode, vz_mode;  // standing modes (identical bodies): the real parts
+  for (const auto& a : record.x) vx_mode.push_back(a.real());
+  for (const auto& a : record.z) vz_mode.push_back(a.real());
   const std::size_t first = vx_mode.size() / 2, last = vx_mode.size();
   const std::size_t d = std::max<std::size_t>(1, (last - first) / 200);
   const std::complex<double> measured = dominant_rate(vx_mode, dt, first, last, d);
