@@ -436,6 +436,15 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
   running_x_.assign(n_modes, 0.0);
   running_y_ = history_x_ = history_y_ = running_x_;
   build_exponentials(rates, design, std::sqrt(1.0 / r2));
+  // The far field's batch: at most kFarBatch steps, at most the shortest
+  // window (its inputs, delayed by W, must be in the ring when it starts), and
+  // a divisor of the slow block (no batch straddles a block end).
+  std::size_t shortest = kFarBatch;
+  for (int q = 1; q < n_modes; ++q) shortest = std::min(shortest, first_lag_[q + 1] - first_lag_[q]);
+  batch_ = static_cast<int>(std::max<std::size_t>(shortest, 1));
+  while (block_ > 0 && block_ % batch_ != 0) --batch_;
+  far_batch_x_.assign(static_cast<std::size_t>(n_modes) * batch_, 0.0);
+  far_batch_y_ = far_batch_x_;
 }
 
 void FaceHalfSpaceHistory::build_exponentials(std::span<const complex> rates, const HalfSpaceOperatorDesign& design,
@@ -490,21 +499,26 @@ void FaceHalfSpaceHistory::build_exponentials(std::span<const complex> rates, co
   for (auto& state : far_) state.assign(pole_re_.size(), 0.0);
   rotation_ = slow_block_rotations(h_, b_pressure, block_);
   for (auto& state : slow_state_) state.assign(slow_decay_.size(), 0.0);
-  block_input_x_.assign(n_modes * static_cast<std::size_t>(block_), 0.0);
-  block_input_y_ = block_input_x_;
+  for (auto& input : block_input_) input.assign(n_modes * static_cast<std::size_t>(block_), 0.0);
+  std::size_t most_slow = 0;
+  for (std::size_t q = 1; q < n_modes; ++q) most_slow = std::max(most_slow, first_slow_[q + 1] - first_slow_[q]);
+  for (auto& scratch : slow_scratch_) scratch.assign(most_slow, 0.0);
   block_moment_.assign(n_modes * kSlowPolynomials * static_cast<std::size_t>(terms_), 0.0);
 }
 
 void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<const complex> velocity_y) {
   const complex i(0.0, 1.0);
   const std::size_t n_modes = history_x_.size();
+  const int position = static_cast<int>(step_ % batch_);
+  const bool batch_start = position == 0;
   // q = 0: a half-space's uniform mode is pure radiation damping (no history).
   for (std::size_t q = 1; q < n_modes; ++q) {
+    // Before this step's input replaces v_{n-W} in the ring.
+    if (batch_start) advance_far(q, step_, 0, batch_);
     const complex vx = velocity_x[q], vy = velocity_y[q];
     const std::size_t lag0 = first_lag_[q], window = first_lag_[q + 1] - lag0;
     // The slot of v_{n-W} (the oldest stored input), which v_n replaces.
     const std::size_t slot = static_cast<std::size_t>(step_ % static_cast<long long>(window));
-    const complex old_x = ring_x_[lag0 + slot], old_y = ring_y_[lag0 + slot];
     ring_x_[lag0 + slot] = vx;
     ring_y_[lag0 + slot] = vy;
     running_x_[q] += vx;
@@ -521,18 +535,36 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
       from_y[1] += w[1] * ring_y_[at];
       from_y[2] += w[2] * ring_y_[at];
     }
+    // [[K^0, -i K^1], [i K^1, K^2]] (k > 0), plus the lags beyond W from the batch.
+    const std::size_t at = q * batch_ + position;
+    history_x_[q] = from_x[0] - i * from_y[1] + far_batch_x_[at];
+    history_y_[q] = i * from_x[1] + from_y[2] + far_batch_y_[at];
+  }
+  ++step_;
+}
+
+void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int first, int last) {
+  const complex i(0.0, 1.0);
+  const std::size_t n_modes = history_x_.size();
+  const std::size_t ring0 = first_lag_[q], window = first_lag_[q + 1] - ring0;
+  const std::size_t k0 = first_fast_[q], count = first_fast_[q + 1] - k0;
+  const double *zr = pole_re_.data() + k0, *zi = pole_im_.data() + k0;
+  const double *wc0 = weight_cos_[0].data() + k0, *ws0 = weight_sin_[0].data() + k0;
+  const double *wc1 = weight_cos_[1].data() + k0, *ws1 = weight_sin_[1].data() + k0;
+  const double *wc2 = weight_cos_[2].data() + k0, *ws2 = weight_sin_[2].data() + k0;
+  double *cxr = far_[0].data() + k0, *cxi = far_[1].data() + k0, *sxr = far_[2].data() + k0,
+         *sxi = far_[3].data() + k0;
+  double *cyr = far_[4].data() + k0, *cyi = far_[5].data() + k0, *syr = far_[6].data() + k0,
+         *syi = far_[7].data() + k0;
+  for (int d = first; d < last; ++d) {
+    const long long n = batch_step + d;
+    // v_{n-W}, still in the ring (the batch is at most W steps long).
+    const std::size_t slot = ring0 + static_cast<std::size_t>(n % static_cast<long long>(window));
+    const complex old_x = ring_x_[slot], old_y = ring_y_[slot];
     // Lags W + i of the fast exponentials: kernel 2 Re(w z^i) = wc Re z^i + ws Im z^i, states
     // C = sum_i Re(z^i) v_{n+1-W-i}, S = sum_i Im(z^i) v_{n+1-W-i}:
     // [C; S] <- [[Re z, -Im z], [Im z, Re z]] [C + v_{n-W}; S], per input component.
-    const std::size_t k0 = first_fast_[q], count = first_fast_[q + 1] - k0;
-    const double *zr = pole_re_.data() + k0, *zi = pole_im_.data() + k0;
-    const double *wc0 = weight_cos_[0].data() + k0, *ws0 = weight_sin_[0].data() + k0;
-    const double *wc1 = weight_cos_[1].data() + k0, *ws1 = weight_sin_[1].data() + k0;
-    const double *wc2 = weight_cos_[2].data() + k0, *ws2 = weight_sin_[2].data() + k0;
-    double *cxr = far_[0].data() + k0, *cxi = far_[1].data() + k0, *sxr = far_[2].data() + k0,
-           *sxi = far_[3].data() + k0;
-    double *cyr = far_[4].data() + k0, *cyi = far_[5].data() + k0, *syr = far_[6].data() + k0,
-           *syi = far_[7].data() + k0;
+    // After the batch's first step the mode's rows are in the cache.
     const double uxr = old_x.real(), uxi = old_x.imag(), uyr = old_y.real(), uyi = old_y.imag();
     double x0r = 0.0, x0i = 0.0, x1r = 0.0, x1i = 0.0, y1r = 0.0, y1i = 0.0, y2r = 0.0, y2i = 0.0;
 #pragma omp simd reduction(+ : x0r, x0i, x1r, x1i, y1r, y1i, y2r, y2i)
@@ -560,23 +592,22 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
       y2r += wc2[k] * ncyr + ws2[k] * nsyr;
       y2i += wc2[k] * ncyi + ws2[k] * nsyi;
     }
-    from_x[0] += complex(x0r, x0i);
-    from_x[1] += complex(x1r, x1i);
-    from_y[1] += complex(y1r, y1i);
-    from_y[2] += complex(y2r, y2i);
     // [[K^0, -i K^1], [i K^1, K^2]] (k > 0).
-    history_x_[q] = from_x[0] - i * from_y[1];
-    history_y_[q] = i * from_x[1] + from_y[2];
+    complex far_x = complex(x0r, x0i) - i * complex(y1r, y1i);
+    complex far_y = i * complex(x1r, x1i) + complex(y2r, y2i);
     if (block_ > 0) {
       // The slow exponentials: the block-start states' polynomials on the four
       // real output channels (Re, Im of history x, then of y), plus the slow
       // kernel's lags applied to this block's own inputs, each entry to its
       // input as in the matrix above.
-      const int t = static_cast<int>(step_ % block_);
-      complex* in_x = block_input_x_.data() + q * block_;
-      complex* in_y = block_input_y_.data() + q * block_;
-      in_x[t] = old_x;
-      in_y[t] = old_y;
+      const int t = static_cast<int>(n % block_);
+      const std::size_t row = q * block_;
+      double *in_xr = block_input_[0].data() + row, *in_xi = block_input_[1].data() + row;
+      double *in_yr = block_input_[2].data() + row, *in_yi = block_input_[3].data() + row;
+      in_xr[t] = uxr;
+      in_xi[t] = uxi;
+      in_yr[t] = uyr;
+      in_yi[t] = uyi;
       const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
       double out[4];
       slow_block_output<4>(block_moment_.data() + q * kSlowPolynomials * terms_, terms_, (t + 1) - block_centre_,
@@ -588,7 +619,7 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
       double x0r = 0.0, x0i = 0.0, x1r = 0.0, x1i = 0.0, y1r = 0.0, y1i = 0.0, y2r = 0.0, y2i = 0.0;
 #pragma omp simd reduction(+ : x0r, x0i, x1r, x1i, y1r, y1i, y2r, y2i)
       for (int j = 0; j <= t; ++j) {
-        const double xr = in_x[j].real(), xi = in_x[j].imag(), yr = in_y[j].real(), yi = in_y[j].imag();
+        const double xr = in_xr[j], xi = in_xi[j], yr = in_yr[j], yi = in_yi[j];
         x0r += lag0[j] * xr;
         x0i += lag0[j] * xi;
         x1r += lag1[j] * xr;
@@ -599,39 +630,111 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
         y2i += lag2[j] * yi;
       }
       // [[K^0, -i K^1], [i K^1, K^2]] as above.
-      history_x_[q] += complex(out[0] + x0r + y1i, out[1] + x0i - y1r);
-      history_y_[q] += complex(out[2] - x1i + y2r, out[3] + x1r + y2i);
+      far_x += complex(out[0] + x0r + y1i, out[1] + x0i - y1r);
+      far_y += complex(out[2] - x1i + y2r, out[3] + x1r + y2i);
       if (t == block_ - 1) push_slow_block_end(q);
     }
+    far_batch_x_[q * batch_ + d] = far_x;
+    far_batch_y_[q * batch_ + d] = far_y;
   }
-  ++step_;
 }
 
 void FaceHalfSpaceHistory::push_slow_block_end(std::size_t q) {
   // The block's input moments of x and y, each slow state advanced over the
   // block, and the next block's polynomials: channel o of branch b at
-  // block_moment_[((q * 2 + b) * 4 + o) * terms].
+  // block_moment_[((q * 2 + b) * 4 + o) * terms].  The same
+  // arithmetic as slow_taylor_factors, advance_slow_state and add_slow_moment
+  // (kernels/slow_block.hpp), arranged as loops over the exponentials (they
+  // vectorise; per exponential, the loops over the terms do not).
   const std::size_t n_modes = history_x_.size();
   std::array<complex, 4 * kMaxTaylorTerms> mu_x{}, mu_y{};
-  slow_input_moments(block_input_x_.data() + q * block_, rotation_.data(), n_modes, q, block_, block_centre_, terms_,
-                     mu_x.data());
-  slow_input_moments(block_input_y_.data() + q * block_, rotation_.data(), n_modes, q, block_, block_centre_, terms_,
-                     mu_y.data());
+  const std::size_t row = q * block_;
+  slow_input_moments(block_input_[0].data() + row, block_input_[1].data() + row, 1, rotation_.data(), n_modes, q,
+                     block_, block_centre_, terms_, mu_x.data());
+  slow_input_moments(block_input_[2].data() + row, block_input_[3].data() + row, 1, rotation_.data(), n_modes, q,
+                     block_, block_centre_, terms_, mu_y.data());
   complex* moment = block_moment_.data() + q * kSlowPolynomials * terms_;
   std::fill(moment, moment + kSlowPolynomials * terms_, complex(0.0));
-  std::array<double, kMaxTaylorTerms> factor{};
-  auto& [x_re, x_im, y_re, y_im] = slow_state_;
-  for (std::size_t m = first_slow_[q]; m < first_slow_[q + 1]; ++m) {
-    const int branch = m < slow_shear_end_[q] ? 0 : 1;
-    slow_taylor_factors(slow_centre_factor_[m], slow_decay_[m], terms_, factor.data());
-    advance_slow_state(factor.data(), mu_x.data(), branch, terms_, slow_block_pole_[m], x_re[m], x_im[m]);
-    advance_slow_state(factor.data(), mu_y.data(), branch, terms_, slow_block_pole_[m], y_re[m], y_im[m]);
-    const std::array<complex, 3>& w = slow_weight_[m];
-    complex* of_branch = moment + branch * 4 * terms_;
-    add_slow_moment(factor.data(), w[0] * x_re[m] + w[1] * y_im[m], terms_, of_branch);
-    add_slow_moment(factor.data(), w[0] * x_im[m] - w[1] * y_re[m], terms_, of_branch + terms_);
-    add_slow_moment(factor.data(), w[2] * y_re[m] - w[1] * x_im[m], terms_, of_branch + 2 * terms_);
-    add_slow_moment(factor.data(), w[1] * x_re[m] + w[2] * y_im[m], terms_, of_branch + 3 * terms_);
+  const int terms = terms_;
+  for (int branch = 0; branch < 2; ++branch) {
+    const std::size_t m0 = branch == 0 ? first_slow_[q] : slow_shear_end_[q];
+    const std::size_t count = (branch == 0 ? slow_shear_end_[q] : first_slow_[q + 1]) - m0;
+    if (count == 0) continue;
+    // This branch's moments of Re x, Im x, Re y, Im y (each complex), term p.
+    const complex* mu[4] = {mu_x.data() + 2 * branch * terms, mu_x.data() + (2 * branch + 1) * terms,
+                            mu_y.data() + 2 * branch * terms, mu_y.data() + (2 * branch + 1) * terms};
+    // Work arrays: the Taylor factor of term p, and per exponential eight
+    // doubles, first the feeds (Re, Im of the four channels' sums), then the
+    // weighted states.
+    double* factor = slow_scratch_[0].data();
+    double* part[8];
+    for (int c = 0; c < 8; ++c) part[c] = slow_scratch_[1 + c].data();
+    const double* decay = slow_decay_.data() + m0;
+    const double* centre_factor = slow_centre_factor_.data() + m0;
+    const double* block_pole = reinterpret_cast<const double*>(slow_block_pole_.data() + m0);
+    const double* w = reinterpret_cast<const double*>(slow_weight_.data() + m0);  // 6 per exponential
+    double* state[4];
+    for (int c = 0; c < 4; ++c) state[c] = reinterpret_cast<double*>(slow_state_[c].data() + m0);
+    // Feeds sum_p factor[p] mu_c[p], factor[p] = e^{-lambda t_c} (-lambda)^p / p!.
+    for (int p = 0; p < terms; ++p) {
+      double mu_p[8];
+      for (int c = 0; c < 4; ++c) {
+        mu_p[2 * c] = mu[c][p].real();
+        mu_p[2 * c + 1] = mu[c][p].imag();
+      }
+      if (p == 0) {
+#pragma omp simd
+        for (std::size_t k = 0; k < count; ++k) {
+          factor[k] = centre_factor[k];
+          for (int c = 0; c < 8; ++c) part[c][k] = 0.0 + factor[k] * mu_p[c];
+        }
+        continue;
+      }
+#pragma omp simd
+      for (std::size_t k = 0; k < count; ++k) {
+        factor[k] *= -decay[k] / p;
+        for (int c = 0; c < 8; ++c) part[c][k] += factor[k] * mu_p[c];
+      }
+    }
+    // Y_c <- z^B Y_c + feed_c, and the four output channels' weighted states,
+    // as the matrix in push().
+#pragma omp simd
+    for (std::size_t k = 0; k < count; ++k) {
+      const double zr = block_pole[2 * k], zi = block_pole[2 * k + 1];
+      double y[8];
+      for (int c = 0; c < 4; ++c) {
+        const double sr = state[c][2 * k], si = state[c][2 * k + 1];
+        y[2 * c] = (zr * sr - zi * si) + part[2 * c][k];
+        y[2 * c + 1] = (zr * si + zi * sr) + part[2 * c + 1][k];
+        state[c][2 * k] = y[2 * c];
+        state[c][2 * k + 1] = y[2 * c + 1];
+      }
+      // The products written out in real arithmetic (std::complex's stay scalar):
+      // w0 Y_{Re x} + w1 Y_{Im y}, w0 Y_{Im x} - w1 Y_{Re y}, w2 Y_{Re y} - w1 Y_{Im x},
+      // w1 Y_{Re x} + w2 Y_{Im y}.
+      const double w0r = w[6 * k], w0i = w[6 * k + 1], w1r = w[6 * k + 2], w1i = w[6 * k + 3];
+      const double w2r = w[6 * k + 4], w2i = w[6 * k + 5];
+      part[0][k] = (w0r * y[0] - w0i * y[1]) + (w1r * y[6] - w1i * y[7]);
+      part[1][k] = (w0r * y[1] + w0i * y[0]) + (w1r * y[7] + w1i * y[6]);
+      part[2][k] = (w0r * y[2] - w0i * y[3]) - (w1r * y[4] - w1i * y[5]);
+      part[3][k] = (w0r * y[3] + w0i * y[2]) - (w1r * y[5] + w1i * y[4]);
+      part[4][k] = (w2r * y[4] - w2i * y[5]) - (w1r * y[2] - w1i * y[3]);
+      part[5][k] = (w2r * y[5] + w2i * y[4]) - (w1r * y[3] + w1i * y[2]);
+      part[6][k] = (w1r * y[0] - w1i * y[1]) + (w2r * y[6] - w2i * y[7]);
+      part[7][k] = (w1r * y[1] + w1i * y[0]) + (w2r * y[7] + w2i * y[6]);
+      factor[k] = centre_factor[k];
+    }
+    // Term p of polynomial (b, o): the branch's exponentials' factor[p] times their weighted states.
+    for (int p = 0; p < terms; ++p) {
+      if (p > 0)
+#pragma omp simd
+        for (std::size_t k = 0; k < count; ++k) factor[k] *= -decay[k] / p;
+      double sum[8] = {};
+#pragma omp simd reduction(+ : sum[:8])
+      for (std::size_t k = 0; k < count; ++k)
+        for (int c = 0; c < 8; ++c) sum[c] += factor[k] * part[c][k];
+      for (int o = 0; o < 4; ++o) moment[(branch * 4 + o) * terms + p] += complex(sum[2 * o], sum[2 * o + 1]);
+    }
   }
 }
 
@@ -680,20 +783,32 @@ constexpr const char* kFarStateNames[8] = {"far_c_x_re", "far_c_x_im", "far_s_x_
 constexpr const char* kSlowStateNames[4] = {"slow_x_re", "slow_x_im", "slow_y_re", "slow_y_im"};
 // Format 2: fast and slow exponentials in their own arrays (docs/theory.md
 // §8.7); the every-step operator's restart points have no format counter.
-constexpr long long kFaceStateFormat = 2;
+constexpr long long kFaceStateFormatPerStep = 2;
+// Format 3: the far field advanced a batch of steps at a time (far_batch).
+constexpr long long kFaceStateFormat = 3;
 }  // namespace
 
 void FaceHalfSpaceHistory::save_into(HistoryOperatorState& state, const std::string& prefix) const {
   state.counters.emplace_back(prefix + "format", kFaceStateFormat);
   state.counters.emplace_back(prefix + "slow_block", block_);
+  // The far field is advanced to the end of the current batch (its states,
+  // the block's inputs and polynomials), its outputs for the batch's steps
+  // kept in far_batch.
+  state.counters.emplace_back(prefix + "far_batch", batch_);
+  state.add(prefix + "far_batch_x", far_batch_x_);
+  state.add(prefix + "far_batch_y", far_batch_y_);
   state.add(prefix + "ring_x", ring_x_);
   state.add(prefix + "ring_y", ring_y_);
   state.add(prefix + "running_x", running_x_);
   state.add(prefix + "running_y", running_y_);
   for (std::size_t i = 0; i < far_.size(); ++i) state.add(prefix + kFarStateNames[i], far_[i]);
   for (std::size_t i = 0; i < slow_state_.size(); ++i) state.add(prefix + kSlowStateNames[i], slow_state_[i]);
-  state.add(prefix + "block_input_x", block_input_x_);
-  state.add(prefix + "block_input_y", block_input_y_);
+  // The block's inputs as complex arrays (format 2's layout).
+  for (int c = 0; c < 2; ++c) {
+    std::vector<complex> input(block_input_[0].size());
+    for (std::size_t s = 0; s < input.size(); ++s) input[s] = {block_input_[2 * c][s], block_input_[2 * c + 1][s]};
+    state.add(prefix + (c == 0 ? "block_input_x" : "block_input_y"), input);
+  }
   state.add(prefix + "block_moment", block_moment_);
   state.add(prefix + "history_x", history_x_);
   state.add(prefix + "history_y", history_y_);
@@ -703,11 +818,12 @@ void FaceHalfSpaceHistory::save_into(HistoryOperatorState& state, const std::str
 void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const std::string& prefix) {
   const bool has_format = std::any_of(state.counters.begin(), state.counters.end(),
                                       [&](const auto& c) { return c.first == prefix + "format"; });
-  if (!has_format || state.counter(prefix + "format") != kFaceStateFormat)
+  const long long format = has_format ? state.counter(prefix + "format") : 0;
+  if (format != kFaceStateFormat && format != kFaceStateFormatPerStep)
     throw std::invalid_argument(
         "history operator state: this half-space body's restart point was written by a slipstrip older than the "
-        "blocked half-space body operator (docs/theory.md §8.7; its state lacks format " +
-        std::to_string(kFaceStateFormat) +
+        "blocked half-space body operator (docs/theory.md §8.7; its state has neither format " +
+        std::to_string(kFaceStateFormatPerStep) + " nor " + std::to_string(kFaceStateFormat) +
         ") and cannot be resumed by this version; rerun the case from the start, or resume it with the version "
         "that wrote it");
   if (state.counter(prefix + "slow_block") != block_)
@@ -721,12 +837,32 @@ void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const
   for (std::size_t i = 0; i < far_.size(); ++i) state.copy_to(prefix + kFarStateNames[i], std::span<double>(far_[i]));
   for (std::size_t i = 0; i < slow_state_.size(); ++i)
     state.copy_to(prefix + kSlowStateNames[i], std::span<complex>(slow_state_[i]));
-  state.copy_to(prefix + "block_input_x", std::span<complex>(block_input_x_));
-  state.copy_to(prefix + "block_input_y", std::span<complex>(block_input_y_));
+  for (int c = 0; c < 2; ++c) {
+    std::vector<complex> input(block_input_[0].size());
+    state.copy_to(prefix + (c == 0 ? "block_input_x" : "block_input_y"), std::span<complex>(input));
+    for (std::size_t s = 0; s < input.size(); ++s) {
+      block_input_[2 * c][s] = input[s].real();
+      block_input_[2 * c + 1][s] = input[s].imag();
+    }
+  }
   state.copy_to(prefix + "block_moment", std::span<complex>(block_moment_));
   state.copy_to(prefix + "history_x", std::span<complex>(history_x_));
   state.copy_to(prefix + "history_y", std::span<complex>(history_y_));
   step_ = state.counter(prefix + "step");
+  if (format == kFaceStateFormat) {
+    if (state.counter(prefix + "far_batch") != batch_)
+      throw std::invalid_argument("history operator state: the half-space body's restart point has far-field batch " +
+                                  std::to_string(state.counter(prefix + "far_batch")) + ", this operator " +
+                                  std::to_string(batch_) + "; it cannot be resumed with another batch");
+    state.copy_to(prefix + "far_batch_x", std::span<complex>(far_batch_x_));
+    state.copy_to(prefix + "far_batch_y", std::span<complex>(far_batch_y_));
+    return;
+  }
+  // Format 2 holds the far field at this step: advanced here over the rest of
+  // the current batch, as push() would have at the batch's start.
+  const int position = static_cast<int>(step_ % batch_);
+  if (position != 0)
+    for (std::size_t q = 1; q < history_x_.size(); ++q) advance_far(q, step_ - position, position, batch_);
 }
 
 std::size_t FaceHalfSpaceHistory::memory_bytes() const {
@@ -740,7 +876,9 @@ std::size_t FaceHalfSpaceHistory::memory_bytes() const {
                                 slow_shear_end_.size()) +
          sizeof(double) * (slow_decay_.size() + slow_centre_factor_.size() + slow_lag_weight_.size()) +
          sizeof(complex) * (slow_block_pole_.size() + rotation_.size() + 4 * slow_state_[0].size() +
-                            block_input_x_.size() + block_input_y_.size() + block_moment_.size()) +
+                            block_moment_.size()) +
+         sizeof(double) * 4 * block_input_[0].size() +
+         sizeof(complex) * (far_batch_x_.size() + far_batch_y_.size()) +
          sizeof(slow_weight_[0]) * slow_weight_.size();
 }
 

@@ -82,8 +82,12 @@ struct FaceHalfSpaceModeKernel {
 // which keeps the rule second order for smooth inputs (the change is
 // (dt/2) mu k g_B(0) (v_n - v_{n-1}) = O(dt^2)) and keeps the operator strictly
 // causal with the diagonal instantaneous impedance E the interface needs.  Lags
-// beyond W (c_s k W dt >= near_field_tau) use the exponential sum, rotated every
-// step; the static part is a running sum (exact static stiffness).  The first
+// beyond W (c_s k W dt >= near_field_tau) use the exponential sum, fed with the
+// input delayed by W steps: known W steps ahead, so the exponentials (and the
+// slow ones' block outputs) are advanced for a batch of up to 8 steps at once
+// (W >= corrected_lags = 8 by default), each mode's rows read from memory once
+// per batch (docs/inplane_bodies.md §6); the static part is a running sum
+// (exact static stiffness).  The first
 // `corrected_lags` weights of each entry get the smallest correction (Euclidean
 // norm) that makes the operator passive as a matrix: the Hermitian part of its
 // symbol Z_d(theta) = E + sum_j K_j e^{-i j theta} positive semidefinite on a
@@ -133,7 +137,9 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   std::size_t slow_exponentials() const { return slow_decay_.size(); }
   int slow_block() const { return block_; }
   // The per-step work repeats every block (the slow exponentials' block end).
-  int period() const override { return std::max(block_, 1); }
+  int period() const override { return block_ > 0 ? block_ : batch_; }
+  // Steps of the far field (exponentials, slow block outputs) computed together.
+  int far_batch() const { return batch_; }
 
   // The coefficients of mode q >= 1, and its symbol Z_d(e^{i theta}) (Pa s/m,
   // E included; the static running sum contributes its finite part for
@@ -173,6 +179,15 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   void build_exponentials(std::span<const std::complex<double>> rates, const HalfSpaceOperatorDesign& design,
                           double b_pressure);
   void push_slow_block_end(std::size_t q);
+  // The far field's part of mode q's history (every exponential, the slow
+  // block's outputs and in-block sums, block ends) at steps batch_step + d,
+  // d in [first, last), into far_batch_x_/y_: its inputs v_{n-W} are in the
+  // ring batch_ steps ahead, so the mode's rows are read from memory once per
+  // batch instead of once per step.
+  void advance_far(std::size_t q, long long batch_step, int first, int last);
+  static constexpr int kFarBatch = 8;
+  int batch_ = 1;
+  std::vector<std::complex<double>> far_batch_x_, far_batch_y_;  // per mode, batch_ steps
   // Output channels of the slow polynomials: Re, Im of history x, then of y;
   // per mode 2 branches x 4 channels.
   static constexpr std::size_t kSlowPolynomials = 8;
@@ -188,8 +203,13 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   std::vector<std::complex<double>> rotation_;  // slow_block_rotations
   // Slow state: Y at the block start fed with Re x, Im x, Re y, Im y.
   std::array<std::vector<std::complex<double>>, 4> slow_state_;
-  std::vector<std::complex<double>> block_input_x_, block_input_y_;  // per mode, B: this block's delayed inputs
+  // This block's delayed inputs, per mode B values of Re x, Im x, Re y, Im y
+  // (separate arrays: the in-block sums read them as vectors).
+  std::array<std::vector<double>, 4> block_input_;
   std::vector<std::complex<double>> block_moment_;  // per mode, kSlowPolynomials * terms
+  // Block end's work arrays, per slow exponential of one mode: the Taylor
+  // factor of the current term and the four weighted states (Re, Im).
+  std::array<std::vector<double>, 9> slow_scratch_;
 };
 
 }  // namespace slipstrip

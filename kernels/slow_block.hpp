@@ -27,20 +27,31 @@ namespace slipstrip {
 std::vector<std::complex<double>> slow_block_rotations(std::span<const double> h, double b_pressure, int block);
 
 // Moments mu[(2 b + c) * terms + p] of one complex block input (c = 0: its Re
-// part, 1: its Im part), input[s] = the block's input at position s.
-[[gnu::always_inline]] inline void slow_input_moments(const std::complex<double>* input, const std::complex<double>* rotation,
+// part, 1: its Im part), the block's input at position s being
+// (input_re[s * stride], input_im[s * stride]): a complex array (stride 2 over
+// its doubles) or separate arrays of the real and imaginary parts (stride 1).
+[[gnu::always_inline]] inline void slow_input_moments(const double* input_re, const double* input_im,
+                                                      std::size_t stride, const std::complex<double>* rotation,
                                                       std::size_t modes, std::size_t q, int block, double centre,
                                                       int terms, std::complex<double>* mu) {
   for (int j = 1; j <= block; ++j) {
     const double x = j - centre;
-    const std::complex<double> u = input[block - j];
+    const std::size_t s = static_cast<std::size_t>(block - j) * stride;
+    const double u_re = input_re[s], u_im = input_im[s];
     const std::size_t at = ((static_cast<std::size_t>(j) - 1) * modes + q) * 2;
-    const std::complex<double> in[4] = {rotation[at] * u.real(), rotation[at] * u.imag(),
-                                        rotation[at + 1] * u.real(), rotation[at + 1] * u.imag()};
+    const std::complex<double> in[4] = {rotation[at] * u_re, rotation[at] * u_im, rotation[at + 1] * u_re,
+                                        rotation[at + 1] * u_im};
     double power = 1.0;
     for (int p = 0; p < terms; ++p, power *= x)
       for (int beta = 0; beta < 4; ++beta) mu[beta * terms + p] += power * in[beta];
   }
+}
+
+[[gnu::always_inline]] inline void slow_input_moments(const std::complex<double>* input, const std::complex<double>* rotation,
+                                                      std::size_t modes, std::size_t q, int block, double centre,
+                                                      int terms, std::complex<double>* mu) {
+  const double* parts = reinterpret_cast<const double*>(input);
+  slow_input_moments(parts, parts + 1, 2, rotation, modes, q, block, centre, terms, mu);
 }
 
 // factor[p] = e^{-lambda t_c} (-lambda)^p / p!, p < terms.
