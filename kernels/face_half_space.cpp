@@ -436,10 +436,11 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
   running_x_.assign(n_modes, 0.0);
   running_y_ = history_x_ = history_y_ = running_x_;
   build_exponentials(rates, design, std::sqrt(1.0 / r2));
-  // The far field's batch: at most kFarBatch steps, at most the shortest
-  // window (its inputs, delayed by W, must be in the ring when it starts), and
-  // a divisor of the slow block (no batch straddles a block end).
-  std::size_t shortest = kFarBatch;
+  // The far field's batch: at most design.far_batch steps, at most the
+  // shortest window (its inputs, delayed by W, must be in the ring when it
+  // starts), and a divisor of the slow block (no batch straddles a block end).
+  if (design.far_batch < 1) throw std::invalid_argument("FaceHalfSpaceHistory: need design.far_batch >= 1");
+  std::size_t shortest = static_cast<std::size_t>(design.far_batch);
   for (int q = 1; q < n_modes; ++q) shortest = std::min(shortest, first_lag_[q + 1] - first_lag_[q]);
   batch_ = static_cast<int>(std::max<std::size_t>(shortest, 1));
   while (block_ > 0 && block_ % batch_ != 0) --batch_;

@@ -84,8 +84,8 @@ struct FaceHalfSpaceModeKernel {
 // causal with the diagonal instantaneous impedance E the interface needs.  Lags
 // beyond W (c_s k W dt >= near_field_tau) use the exponential sum, fed with the
 // input delayed by W steps: known W steps ahead, so the exponentials (and the
-// slow ones' block outputs) are advanced for a batch of up to 8 steps at once
-// (W >= corrected_lags = 8 by default), each mode's rows read from memory once
+// slow ones' block outputs) are advanced for a batch of up to design.far_batch
+// = 8 steps at once (W >= corrected_lags = 8 by default), each mode's rows read from memory once
 // per batch (docs/inplane_bodies.md §6); the static part is a running sum
 // (exact static stiffness).  The first
 // `corrected_lags` weights of each entry get the smallest correction (Euclidean
@@ -185,7 +185,6 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   // ring batch_ steps ahead, so the mode's rows are read from memory once per
   // batch instead of once per step.
   void advance_far(std::size_t q, long long batch_step, int first, int last);
-  static constexpr int kFarBatch = 8;
   int batch_ = 1;
   std::vector<std::complex<double>> far_batch_x_, far_batch_y_;  // per mode, batch_ steps
   // Output channels of the slow polynomials: Re, Im of history x, then of y;
