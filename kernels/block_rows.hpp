@@ -12,7 +12,9 @@
 // the direct block is complete (close), and its outputs ([q][c][re, im][j]):
 // the levels' and the far field's part copied from the rows when it starts
 // (open), to which each arriving input adds its direct part (the operator's
-// vector loop over the later outputs of the direct block).  So a step streams
+// vector loop over the later outputs of the direct block; FaceBlockHistory
+// instead sums an output's direct part from the inputs when it is due, and
+// its outputs keep the rows' part alone).  So a step streams
 // through memory instead of reading 2C rows B apart per mode (one page each at
 // B = 1024), and the rows are touched once per direct block.
 #include <algorithm>
@@ -47,8 +49,15 @@ class BlockRows {
 
   // Input `tau` (of the block) of mode q, component c, into its direct block.
   void set_input(std::size_t q, int tau, int c, cplx v) {
-    direct_inputs_[(q * direct_ + static_cast<std::size_t>(tau) % direct_) * C + c] = v;
+    set_direct_input(q, static_cast<std::size_t>(tau) % direct_, c, v);
   }
+  // The same at the input's place in its direct block, slot = tau % direct_block,
+  // for a caller that computes it once per step rather than once per mode.
+  void set_direct_input(std::size_t q, std::size_t slot, int c, cplx v) {
+    direct_inputs_[(q * direct_ + slot) * C + c] = v;
+  }
+  // Mode q's direct block inputs so far, [j][c] (C direct_block values).
+  const cplx* direct_inputs(std::size_t q) const { return direct_inputs_.data() + q * direct_ * C; }
   // Mode q's direct block outputs, [c][re, im][j] (2 C direct_block values).
   double* outputs(std::size_t q) { return direct_outputs_.data() + 2 * C * q * direct_; }
   const double* outputs(std::size_t q) const { return direct_outputs_.data() + 2 * C * q * direct_; }

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -35,9 +36,7 @@ inline void multiply_add(double kr, double ki, double xr, double xi, double& out
 struct FaceBlockHistory::Scratch {
   FftwBuffer<fftw_complex> level_x, level_y;        // 2s <= B inputs, then outputs, each
   FftwBuffer<fftw_complex> spectrum_x, spectrum_y;  // their spectra (out-of-place transforms)
-  GaussianNufft::Scratch nufft;
-  std::vector<cplx> frequency_x, frequency_y;  // one value per theta_k of a mode
-  std::vector<cplx> series_x, series_y;        // B outputs
+  GaussianNufft::PassScratch far;                   // the far field's NUFFT grids, both components
 };
 
 FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, OuterFace face, double length,
@@ -109,8 +108,7 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
   for (int t = 0; t < threads; ++t)
     scratch_.push_back({make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
                         make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
-                        nufft_->make_scratch(2 * most), std::vector<cplx>(2 * most), std::vector<cplx>(2 * most),
-                        std::vector<cplx>(B), std::vector<cplx>(B)});
+                        nufft_->make_pass_scratch(2)});
 
   std::size_t spectrum_size = 0;
   for (int s = direct_block_; s < block_; s *= 2) {
@@ -126,6 +124,8 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
   // [0, K_1..K_{2s-1}].
   lags_.assign(3 * static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
   auto& work = scratch_[0];
+  GaussianNufft::Scratch lag_nufft = nufft_->make_scratch(2 * most);
+  std::vector<cplx> half_weights(2 * most), lag_series(B);
   auto* buffer = reinterpret_cast<cplx*>(work.level_x.get());
   const auto* transformed = reinterpret_cast<const cplx*>(work.spectrum_x.get());
   const struct {
@@ -137,17 +137,16 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
     throw_if_cancelled(cancelled, "the block face history operator");
     const std::size_t f0 = first_frequency_[q], f1 = first_frequency_[q + 1];
     for (const auto& kernel : kernels) {
-      for (std::size_t k = f0; k < f1; ++k) work.frequency_x[k - f0] = (*kernel.half)[k];
-      std::fill(work.series_x.begin(), work.series_x.end(), cplx(0.0));
+      for (std::size_t k = f0; k < f1; ++k) half_weights[k - f0] = (*kernel.half)[k];
+      std::fill(lag_series.begin(), lag_series.end(), cplx(0.0));
       if (f1 > f0)
-        nufft_->adjoint({theta_.data() + f0, f1 - f0}, {work.frequency_x.data(), f1 - f0}, work.series_x,
-                        work.nufft);
+        nufft_->adjoint({theta_.data() + f0, f1 - f0}, {half_weights.data(), f1 - f0}, lag_series, lag_nufft);
       for (int j = 1; j < direct_block_; ++j)
-        lags_[(3 * static_cast<std::size_t>(q) + kernel.lag) * direct_block_ + j] = work.series_x[j].real();
+        lags_[(3 * static_cast<std::size_t>(q) + kernel.lag) * direct_block_ + j] = lag_series[j].real();
       for (const auto& level : levels_) {
         const int s = level.size;
         buffer[0] = 0.0;
-        for (int j = 1; j < 2 * s; ++j) buffer[j] = work.series_x[j].real();
+        for (int j = 1; j < 2 * s; ++j) buffer[j] = lag_series[j].real();
         fftw_execute_dft(level.forward.get(), work.level_x.get(), work.spectrum_x.get());
         std::copy(transformed, transformed + s + 1,
                   kernel.spectrum->begin() + level.first_spectrum + q * (s + 1));
@@ -169,8 +168,10 @@ std::size_t FaceBlockHistory::memory_bytes() const {
   const std::size_t complexes = spectrum_a_.size() + spectrum_b_.size() + spectrum_d_.size() + state_x_.size() +
                                 state_y_.size() + running_x_.size() + running_y_.size() +
                                 history_x_.size() + history_y_.size();
-  const std::size_t scratch =
-      scratch_.size() * sizeof(cplx) * (6 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency_x.size());
+  // Per thread: the levels' 4 buffers of B points, the far field's time grid
+  // of 2B and its 4 grids of 2B + 2w points.
+  const std::size_t grid = 2 * static_cast<std::size_t>(block_) + 2 * GaussianNufft::max_half_width;
+  const std::size_t scratch = scratch_.size() * sizeof(cplx) * (6 * static_cast<std::size_t>(block_) + 4 * grid);
   return sizeof(double) * doubles + sizeof(cplx) * complexes + rows_.memory_bytes() + scratch;
 }
 
@@ -229,20 +230,17 @@ void FaceBlockHistory::convolve_level(int q, std::size_t l, int start, Scratch& 
 void FaceBlockHistory::advance_far_field(int q, Scratch& scratch) {
   // As BlockStripHistory::advance_far_field, per input component:
   //   A <- p^2 A + p F,  F = forward_centred(v),  p = e^{i theta B/2},
-  // then per output component the coefficients (W/2) A p and their adjoint.
-  const std::size_t B = block_;
+  // then per output component the coefficients (W/2) A p and their adjoint,
+  // added into the block's outputs -- frequency by frequency in one pass
+  // (GaussianNufft::forward_map_adjoint), both components through each
+  // frequency's Gaussian weights at once.
   const std::size_t f0 = first_frequency_[q], count = first_frequency_[q + 1] - f0;
   if (count == 0) return;
-  std::span<const double> theta(theta_.data() + f0, count);
-  std::span<cplx> fx(scratch.frequency_x.data(), count), fy(scratch.frequency_y.data(), count);
-  nufft_->locate(theta, scratch.nufft);
-  nufft_->forward_centred({rows_.input(0, q), B}, fx, scratch.nufft);
-  nufft_->forward_centred({rows_.input(1, q), B}, fy, scratch.nufft);
   cplx* sx = state_x_.data() + f0;
   cplx* sy = state_y_.data() + f0;
   const double *a = half_a_.data() + f0, *b = half_b_.data() + f0, *d = half_d_.data() + f0;
   const double *phase_re = half_block_phase_re_.data() + f0, *phase_im = half_block_phase_im_.data() + f0;
-  for (std::size_t k = 0; k < count; ++k) {
+  const auto far = [&](std::size_t k, std::array<cplx, 2>& value) {
     const double pr = phase_re[k], pi_ = phase_im[k];
     // p A + F, then times p, for each component; and (A p).
     const auto advance = [&](cplx& state, cplx f, double& out_r, double& out_i) {
@@ -254,63 +252,58 @@ void FaceBlockHistory::advance_far_field(int q, Scratch& scratch) {
       out_i = pr * ni + pi_ * nr;
     };
     double xr, xi, yr, yi;
-    advance(sx[k], fx[k], xr, xi);
-    advance(sy[k], fy[k], yr, yi);
+    advance(sx[k], value[0], xr, xi);
+    advance(sy[k], value[1], yr, yi);
     // [[a, i b], [-i b, d]] (A_x p, A_y p)
-    fx[k] = cplx(a[k] * xr - b[k] * yi, a[k] * xi + b[k] * yr);
-    fy[k] = cplx(b[k] * xi + d[k] * yr, -b[k] * xr + d[k] * yi);
-  }
-  nufft_->adjoint_centred(fx, scratch.series_x, scratch.nufft);
-  nufft_->adjoint_centred(fy, scratch.series_y, scratch.nufft);
-  cplx* out_x = rows_.accumulator(0, q);
-  cplx* out_y = rows_.accumulator(1, q);
-  for (std::size_t t = 0; t < B; ++t) {
-    out_x[t] += scratch.series_x[t];
-    out_y[t] += scratch.series_y[t];
-  }
+    value[0] = cplx(a[k] * xr - b[k] * yi, a[k] * xi + b[k] * yr);
+    value[1] = cplx(b[k] * xi + d[k] * yr, -b[k] * xr + d[k] * yi);
+  };
+  nufft_->forward_map_adjoint<2>({theta_.data() + f0, count}, {rows_.input(0, q), rows_.input(1, q)},
+                                 {rows_.accumulator(0, q), rows_.accumulator(1, q)}, scratch.far, far);
 }
 
-void FaceBlockHistory::add_direct_part(int q, int slot, cplx vx, cplx vy) {
-  // Input (vx, vy) at `slot` of its direct block into the later outputs k of
-  // that block, lag j = k - slot: y_x += A_j v_x + i B_j v_y, y_y += -i B_j v_x + D_j v_y.
+std::array<double, 4> FaceBlockHistory::direct_part(int q, int slot) const {
+  // Output `slot` of mode q's direct block from that block's inputs i < slot,
+  // lag j = slot - i: y_x = sum A_j v_x + i B_j v_y, y_y = sum -i B_j v_x + D_j v_y.
+  // Gathered when the output is due rather than scattered into every later
+  // output when an input arrives: a step then reads the inputs so far instead
+  // of reading and writing the direct block's later outputs (memory traffic,
+  // 2 C direct_block values per mode and step).  Summed in vector lanes.
   const int D = direct_block_;
   const double* a = lags_.data() + 3 * static_cast<std::size_t>(q) * D;
   const double* b = a + D;
   const double* d = b + D;
-  double* out_xr = rows_.outputs(q);
-  double* out_xi = out_xr + D;
-  double* out_yr = out_xi + D;
-  double* out_yi = out_yr + D;
-  const double xr = vx.real(), xi = vx.imag(), vr = vy.real(), vi = vy.imag();
-#pragma omp simd
-  for (int k = slot + 1; k < D; ++k) {
-    const int j = k - slot;
-    out_xr[k] += a[j] * xr - b[j] * vi;
-    out_xi[k] += a[j] * xi + b[j] * vr;
-    out_yr[k] += b[j] * xi + d[j] * vr;
-    out_yi[k] += -b[j] * xr + d[j] * vi;
+  const double* in = reinterpret_cast<const double*>(rows_.direct_inputs(q));  // [i][x re, x im, y re, y im]
+  double xr = 0.0, xi = 0.0, yr = 0.0, yi = 0.0;
+#pragma omp simd reduction(+ : xr, xi, yr, yi)
+  for (int i = 0; i < slot; ++i) {
+    const int j = slot - i;
+    const double ur = in[4 * i], ui = in[4 * i + 1], vr = in[4 * i + 2], vi = in[4 * i + 3];
+    xr += a[j] * ur - b[j] * vi;
+    xi += a[j] * ui + b[j] * vr;
+    yr += b[j] * ui + d[j] * vr;
+    yi += -b[j] * ur + d[j] * vi;
   }
+  return {xr, xi, yr, yi};
 }
 
-void FaceBlockHistory::push_mode(int q, int tau, bool block_done, cplx vx, cplx vy, Scratch& scratch) {
-  const int p = block_done ? 0 : tau + 1;  // the output this push produces
-  const int D = direct_block_;
-  const int slot = p % D;  // p's place in its direct block
-  rows_.set_input(q, tau, 0, vx);
-  rows_.set_input(q, tau, 1, vy);
+void FaceBlockHistory::push_mode(int q, const Step& step, cplx vx, cplx vy, Scratch& scratch) {
+  const int tau = step.input, p = step.output, slot = step.output_slot, D = direct_block_;
+  rows_.set_direct_input(q, step.input_slot, 0, vx);
+  rows_.set_direct_input(q, step.input_slot, 1, vy);
   running_x_[q] += vx;
   running_y_[q] += vy;
   if (slot == 0) {
     rows_.close(q, tau);
     for_completed_levels(levels_, tau, [&](std::size_t l, int start) { convolve_level(q, l, start, scratch); });
-    if (block_done) advance_far_field(q, scratch);
+    if (step.block_done) advance_far_field(q, scratch);
     rows_.open(q, p);
-  } else {
-    add_direct_part(q, tau % D, vx, vy);
   }
-  const double* direct_out = rows_.outputs(q);
-  const double yx_r = direct_out[slot], yx_i = direct_out[D + slot];
-  const double yy_r = direct_out[2 * D + slot], yy_i = direct_out[3 * D + slot];
+  // The levels' and the far field's part of the output, then the direct block's.
+  const double* rows_part = rows_.outputs(q);
+  const std::array<double, 4> direct = direct_part(q, slot);
+  const double yx_r = rows_part[slot] + direct[0], yx_i = rows_part[D + slot] + direct[1];
+  const double yy_r = rows_part[2 * D + slot] + direct[2], yy_i = rows_part[3 * D + slot] + direct[3];
   // h = C0 R - dt y, C0 = [[c0_a, i c0_b], [-i c0_b, c0_d]].
   const double rx_r = running_x_[q].real(), rx_i = running_x_[q].imag();
   const double ry_r = running_y_[q].real(), ry_i = running_y_[q].imag();
@@ -323,20 +316,24 @@ void FaceBlockHistory::push_mode(int q, int tau, bool block_done, cplx vx, cplx 
 void FaceBlockHistory::push(std::span<const cplx> velocity_x, std::span<const cplx> velocity_y) {
   const int tau = position_;
   const bool block_done = tau + 1 == block_;
+  const int p = block_done ? 0 : tau + 1;  // the output this push produces
+  // The places in their direct blocks once per step: an integer division per
+  // mode was a measurable part of the mode loop.
+  const Step step{tau, p, tau % direct_block_, p % direct_block_, block_done};
   const int threads = static_cast<int>(scratch_.size());
   if (threads == 1) {
     // No parallel region for one thread: libgomp takes a team of one from the
     // heap (and frees it) at every region, and push() must not allocate.
-    for (int q = 0; q < n_modes_; ++q) push_mode(q, tau, block_done, velocity_x[q], velocity_y[q], scratch_[0]);
+    for (int q = 0; q < n_modes_; ++q) push_mode(q, step, velocity_x[q], velocity_y[q], scratch_[0]);
   } else {
 #pragma omp parallel num_threads(threads)
     {
       Scratch& scratch = scratch_[omp_get_thread_num()];
 #pragma omp for schedule(static)
-      for (int q = 0; q < n_modes_; ++q) push_mode(q, tau, block_done, velocity_x[q], velocity_y[q], scratch);
+      for (int q = 0; q < n_modes_; ++q) push_mode(q, step, velocity_x[q], velocity_y[q], scratch);
     }
   }
-  position_ = block_done ? 0 : tau + 1;
+  position_ = p;
 }
 
 void FaceBlockHistory::save_into(HistoryOperatorState& state, const std::string& prefix) const {
@@ -374,9 +371,9 @@ void FaceBlockHistory::restore_from(const HistoryOperatorState& state, const std
   state.copy_to(prefix + "history_x", std::span<cplx>(history_x_));
   state.copy_to(prefix + "history_y", std::span<cplx>(history_y_));
   position_ = static_cast<int>(position);
-  rows_.rebuild(position_, [this](std::size_t q, int slot, const std::array<cplx, 2>& v) {
-    add_direct_part(static_cast<int>(q), slot, v[0], v[1]);
-  });
+  // The direct block's outputs hold the rows' part alone (direct_part sums
+  // its inputs when an output is due): nothing to add per input.
+  rows_.rebuild(position_, [](std::size_t, int, const std::array<cplx, 2>&) {});
 }
 
 }  // namespace slipstrip

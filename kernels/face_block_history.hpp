@@ -22,6 +22,7 @@
 // history value; tests/cpp/test_kernels_face_block_history.cpp), so every
 // verification of the modal face operator (statics, passivity, the
 // prescribed-displacement histories) holds for it.
+#include <array>
 #include <complex>
 #include <cstddef>
 #include <memory>
@@ -89,9 +90,14 @@ class FaceBlockHistory final : public FaceHistory {
   struct Scratch;
   void convolve_level(int q, std::size_t level, int start, Scratch& scratch);
   void advance_far_field(int q, Scratch& scratch);
+  // One push: input `input` (tau) of the block, output `output`, and their
+  // places in their direct blocks.
+  struct Step {
+    int input, output, input_slot, output_slot;
+    bool block_done;
+  };
   // Input tau (v_x, v_y) of mode q and its output for the next step.
-  void push_mode(int q, int tau, bool block_done, std::complex<double> vx, std::complex<double> vy,
-                 Scratch& scratch);
+  void push_mode(int q, const Step& step, std::complex<double> vx, std::complex<double> vy, Scratch& scratch);
 
   double dt_, impedance_x_, impedance_y_;
   int n_modes_, block_, direct_block_;
@@ -121,11 +127,13 @@ class FaceBlockHistory final : public FaceHistory {
   // State.
   std::vector<std::complex<double>> state_x_, state_y_;  // A_k of each input at the block start
   // The block's inputs and outputs of both components (x: 0, y: 1), and the
-  // current direct block of every mode, contiguous (its outputs
-  // [q][x re, x im, y re, y im][j]).
+  // current direct block of every mode, contiguous (its inputs [q][j][x, y];
+  // its outputs [q][x re, x im, y re, y im][j], the levels' and the far
+  // field's part alone).
   BlockRows<2> rows_;
-  // Input (vx, vy) at `slot` of its direct block into the block's later outputs.
-  void add_direct_part(int q, int slot, std::complex<double> vx, std::complex<double> vy);
+  // Output `slot` of mode q's current direct block from that block's inputs
+  // so far: (x re, x im, y re, y im).
+  std::array<double, 4> direct_part(int q, int slot) const;
   std::vector<std::complex<double>> running_x_, running_y_;
   std::vector<std::complex<double>> history_x_, history_y_;
 };

@@ -1,5 +1,6 @@
 #include "kernels/nufft.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -9,17 +10,6 @@ namespace slipstrip {
 namespace {
 constexpr double pi = std::numbers::pi;
 using cplx = std::complex<double>;
-
-// Grid coordinate of a frequency: theta = (base + frac) dx, base integer.
-struct GridPosition {
-  long base;
-  double offset;  // theta - base dx, in [0, dx)
-};
-GridPosition locate_on_grid(double theta, double dx) {
-  const double u = theta / dx;
-  const double base = std::floor(u);
-  return {static_cast<long>(base), theta - base * dx};
-}
 }  // namespace
 
 GaussianNufft::GaussianNufft(int samples, int half_width)
@@ -55,40 +45,58 @@ GaussianNufft::Scratch GaussianNufft::make_scratch(std::size_t frequencies) cons
           std::vector<long>(frequencies), std::vector<double>(frequencies * 2 * half_width_), {}};
 }
 
-// Gaussian weights of the 2w grid points base-w+1 .. base+w around each
-// frequency, by fast Gaussian gridding: exp(-(d - j dx)^2/4T) =
-// exp(-d^2/4T) * exp(d dx/2T)^j * exp(-(j dx)^2/4T), two exponentials per frequency.
 void GaussianNufft::locate(std::span<const double> theta, Scratch& scratch) const {
   if (theta.size() > scratch.window_start.size())
     throw std::invalid_argument("GaussianNufft: scratch holds " +
                                 std::to_string(scratch.window_start.size()) + " frequencies, " +
                                 std::to_string(theta.size()) + " given");
+  gaussian_windows(theta.data(), theta.size(), scratch.window_start.data(), scratch.weight.data());
+}
+
+// Gaussian weights of the 2w grid points base-w+1 .. base+w around each
+// frequency, by fast Gaussian gridding: exp(-(d - j dx)^2/4T) =
+// exp(-d^2/4T) * exp(d dx/2T)^j * exp(-(j dx)^2/4T), two exponentials per
+// frequency.  Lanes of frequencies side by side: one frequency's powers are a
+// chain of dependent products, several frequencies' chains overlap.
+void GaussianNufft::gaussian_windows(const double* theta, std::size_t n, long* start, double* weight) const {
+  constexpr std::size_t lanes = 8;
   const int G = grid_, w = half_width_;
   const double dx = 2.0 * pi / G;
-  for (std::size_t k = 0; k < theta.size(); ++k) {
-    const auto [base, offset] = locate_on_grid(theta[k], dx);
-    scratch.window_start[k] = ((base - w + 1) % G + G) % G;
-    double* out = scratch.weight.data() + k * 2 * w;
-    const double e1 = std::exp(-offset * offset / (4.0 * variance_));
-    const double e2 = std::exp(offset * dx / (2.0 * variance_));
-    const double inv_e2 = 1.0 / e2;
-    double up = e1;
-    for (int j = 0; j <= w; ++j) {  // points base + j
-      out[w - 1 + j] = up * tail_[j];
-      up *= e2;
+  for (std::size_t k0 = 0; k0 < n; k0 += lanes) {
+    const std::size_t m = std::min(lanes, n - k0);
+    double up[lanes], down[lanes], e2[lanes], inv_e2[lanes];
+    for (std::size_t i = 0; i < m; ++i) {
+      const double u = std::floor(theta[k0 + i] / dx);
+      const long base = static_cast<long>(u);
+      const double offset = theta[k0 + i] - u * dx;  // in [0, dx)
+      start[k0 + i] = ((base - w + 1) % G + G) % G;
+      up[i] = down[i] = std::exp(-offset * offset / (4.0 * variance_));
+      e2[i] = std::exp(offset * dx / (2.0 * variance_));
+      inv_e2[i] = 1.0 / e2[i];
     }
-    double down = e1;
-    for (int j = 1; j < w; ++j) {  // points base - j
-      down *= inv_e2;
-      out[w - 1 - j] = down * tail_[j];
-    }
+    double* out = weight + k0 * 2 * w;
+    for (int j = 0; j <= w; ++j)  // points base + j
+      for (std::size_t i = 0; i < m; ++i) {
+        out[i * 2 * w + w - 1 + j] = up[i] * tail_[j];
+        up[i] *= e2[i];
+      }
+    for (int j = 1; j < w; ++j)  // points base - j
+      for (std::size_t i = 0; i < m; ++i) {
+        down[i] *= inv_e2[i];
+        out[i * 2 * w + w - 1 - j] = down[i] * tail_[j];
+      }
   }
 }
 
-void GaussianNufft::forward_centred(std::span<const cplx> in, std::span<cplx> out,
-                                    Scratch& scratch) const {
-  auto* samples = reinterpret_cast<cplx*>(scratch.samples.get());
-  auto* grid = reinterpret_cast<cplx*>(scratch.grid.get());
+GaussianNufft::PassScratch GaussianNufft::make_pass_scratch(int series) const {
+  PassScratch scratch{make_fftw_buffer<fftw_complex>(grid_), {}};
+  for (int c = 0; c < 2 * series; ++c) scratch.grid.push_back(make_fftw_buffer<fftw_complex>(grid_ + 2 * half_width_));
+  return scratch;
+}
+
+void GaussianNufft::to_grid(const cplx* in, fftw_complex* samples_buffer, fftw_complex* grid_buffer) const {
+  auto* samples = reinterpret_cast<cplx*>(samples_buffer);
+  auto* grid = reinterpret_cast<cplx*>(grid_buffer);
   const int G = grid_, B = samples_, half = samples_ / 2, w = half_width_;
   for (int l = 0; l < G; ++l) samples[l] = 0.0;
   // Deconvolve, centred on t' = t - B/2, so the Gaussian's spectrum is
@@ -97,9 +105,28 @@ void GaussianNufft::forward_centred(std::span<const cplx> in, std::span<cplx> ou
     const int shifted = t - half;
     samples[shifted < 0 ? shifted + G : shifted] = in[t] * deconvolution_[t];
   }
-  fftw_execute_dft(forward_plan_.get(), scratch.samples.get(), scratch.grid.get());
+  fftw_execute_dft(forward_plan_.get(), samples_buffer, grid_buffer);
   for (int j = 0; j < 2 * w; ++j) grid[G + j] = grid[j];
-  const double* values = reinterpret_cast<const double*>(grid);
+}
+
+void GaussianNufft::from_grid(fftw_complex* grid_buffer, fftw_complex* samples_buffer, cplx* out, bool add) const {
+  auto* grid = reinterpret_cast<cplx*>(grid_buffer);
+  const int G = grid_, B = samples_, half = samples_ / 2, w = half_width_;
+  for (int j = 0; j < 2 * w; ++j) grid[j] += grid[G + j];  // fold the periodic copy back
+  fftw_execute_dft(backward_plan_.get(), grid_buffer, samples_buffer);
+  const auto* samples = reinterpret_cast<const cplx*>(samples_buffer);
+  for (int t = 0; t < B; ++t) {
+    const int shifted = t - half;
+    const cplx value = samples[shifted < 0 ? shifted + G : shifted] * deconvolution_[t];
+    out[t] = add ? out[t] + value : value;
+  }
+}
+
+void GaussianNufft::forward_centred(std::span<const cplx> in, std::span<cplx> out,
+                                    Scratch& scratch) const {
+  to_grid(in.data(), scratch.samples.get(), scratch.grid.get());
+  const double* values = reinterpret_cast<const double*>(scratch.grid.get());
+  const int w = half_width_;
   for (std::size_t k = 0; k < out.size(); ++k) {
     const double* window = values + 2 * scratch.window_start[k];
     const double* weight = scratch.weight.data() + k * 2 * w;
@@ -115,7 +142,7 @@ void GaussianNufft::forward_centred(std::span<const cplx> in, std::span<cplx> ou
 void GaussianNufft::adjoint_centred(std::span<const cplx> c, std::span<cplx> out,
                                     Scratch& scratch) const {
   auto* grid = reinterpret_cast<cplx*>(scratch.grid.get());
-  const int G = grid_, B = samples_, half = samples_ / 2, w = half_width_;
+  const int G = grid_, w = half_width_;
   for (int l = 0; l < G + 2 * w; ++l) grid[l] = 0.0;
   auto* values = reinterpret_cast<double*>(grid);
   for (std::size_t k = 0; k < c.size(); ++k) {
@@ -127,13 +154,7 @@ void GaussianNufft::adjoint_centred(std::span<const cplx> c, std::span<cplx> out
       window[2 * j + 1] += im * weight[j];
     }
   }
-  for (int j = 0; j < 2 * w; ++j) grid[j] += grid[G + j];  // fold the periodic copy back
-  fftw_execute_dft(backward_plan_.get(), scratch.grid.get(), scratch.samples.get());
-  const auto* samples = reinterpret_cast<const cplx*>(scratch.samples.get());
-  for (int t = 0; t < B; ++t) {
-    const int shifted = t - half;
-    out[t] = samples[shifted < 0 ? shifted + G : shifted] * deconvolution_[t];
-  }
+  from_grid(scratch.grid.get(), scratch.samples.get(), out.data(), false);
 }
 
 void GaussianNufft::forward(std::span<const cplx> in, std::span<const double> theta,

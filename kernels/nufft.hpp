@@ -19,6 +19,8 @@
 // run after run; execution uses caller-owned scratch (one per thread).
 #include <fftw3.h>
 
+#include <algorithm>
+#include <array>
 #include <complex>
 #include <cstddef>
 #include <span>
@@ -62,6 +64,26 @@ class GaussianNufft {
   void adjoint_centred(std::span<const std::complex<double>> c, std::span<std::complex<double>> out,
                        Scratch& scratch) const;
 
+  // Both halves at once for C series through the same frequencies, when each
+  // frequency's adjoint coefficients follow from its forward values alone (a
+  // block operator's far field): F_c = forward_centred(in_c) at theta_k, then
+  // map(k, values) turns values = (F_1(k) .. F_C(k)) in place into the
+  // coefficients c_c(k), and add_out_c += adjoint_centred(c_c).  The Gaussian
+  // weights of a frequency are computed where they are used, shared by the C
+  // series both ways, instead of stored by locate() and read back 2C times.
+  // Equal to locate + forward_centred + map + adjoint_centred to rounding (the
+  // forward sums are reassociated into vector lanes).  The frequencies need no
+  // locate() beforehand.
+  struct PassScratch {
+    FftwBuffer<fftw_complex> samples;            // time side, G points
+    std::vector<FftwBuffer<fftw_complex>> grid;  // per series: forward grid, then adjoint grid, G + 2w points each
+  };
+  PassScratch make_pass_scratch(int series) const;
+  template <int C, class Map>
+  void forward_map_adjoint(std::span<const double> theta, const std::array<const std::complex<double>*, C>& in,
+                           const std::array<std::complex<double>*, C>& add_out, PassScratch& scratch,
+                           Map&& map) const;
+
   // Convenience forms of the definitions at the top (locate + centred + phase).
   void forward(std::span<const std::complex<double>> in, std::span<const double> theta,
                std::span<std::complex<double>> out, Scratch& scratch) const;
@@ -69,6 +91,16 @@ class GaussianNufft {
                std::span<std::complex<double>> out, Scratch& scratch) const;
 
  private:
+  // Frequencies' Gaussian windows: first grid point start[k] and the 2w
+  // weights weight[k * 2w ..] of theta[k], k < n.
+  void gaussian_windows(const double* theta, std::size_t n, long* start, double* weight) const;
+  // in (B samples) deconvolved onto the time grid, transformed into `grid`,
+  // whose first 2w points are copied after its G.
+  void to_grid(const std::complex<double>* in, fftw_complex* samples, fftw_complex* grid) const;
+  // `grid` (G + 2w points, its tail folded back here) transformed and
+  // deconvolved into out (B samples), assigned or added.
+  void from_grid(fftw_complex* grid, fftw_complex* samples, std::complex<double>* out, bool add) const;
+
   int samples_, grid_, half_width_;
   double variance_;                   // T in exp(-x^2 / (4 T))
   std::vector<double> deconvolution_; // 1 / ghat(t - B/2), t = 0..B-1, divided by G
@@ -76,5 +108,66 @@ class GaussianNufft {
   FftwPlan forward_plan_;   // samples -> grid, e^{-i} (out of place: complex_dft_plan)
   FftwPlan backward_plan_;  // grid -> samples, e^{+i}
 };
+
+template <int C, class Map>
+void GaussianNufft::forward_map_adjoint(std::span<const double> theta,
+                                        const std::array<const std::complex<double>*, C>& in,
+                                        const std::array<std::complex<double>*, C>& add_out, PassScratch& scratch,
+                                        Map&& map) const {
+  const int G = grid_, w = half_width_;
+  std::array<const double*, C> forward;
+  std::array<double*, C> adjoint;
+  for (int c = 0; c < C; ++c) {
+    to_grid(in[c], scratch.samples.get(), scratch.grid[2 * c].get());
+    forward[c] = reinterpret_cast<const double*>(scratch.grid[2 * c].get());
+    adjoint[c] = reinterpret_cast<double*>(scratch.grid[2 * c + 1].get());
+    for (int l = 0; l < 2 * (G + 2 * w); ++l) adjoint[c][l] = 0.0;
+  }
+  // Windows a batch of frequencies at a time: their exponentials and
+  // weight recurrences are independent chains that overlap.
+  constexpr std::size_t batch = 16;
+  constexpr int lanes = 8;
+  double weight[batch * 2 * max_half_width];
+  long start[batch];
+  // One frequency's weights each twice (re, im), so that its window of 2w
+  // complex grid points is one contiguous run of 4w doubles both ways.
+  alignas(64) double tap[4 * max_half_width];
+  alignas(64) double value[4 * max_half_width];
+  const int run = 4 * w, whole = run - run % lanes;
+  std::array<std::complex<double>, C> values;
+  for (std::size_t k0 = 0; k0 < theta.size(); k0 += batch) {
+    const std::size_t n = std::min(batch, theta.size() - k0);
+    gaussian_windows(theta.data() + k0, n, start, weight);
+    for (std::size_t i = 0; i < n; ++i) {
+      const long at = 2 * start[i];
+      for (int j = 0; j < 2 * w; ++j) tap[2 * j] = tap[2 * j + 1] = weight[i * 2 * w + j];
+      for (int c = 0; c < C; ++c) {
+        // Partial sums in `lanes` lanes, even lanes Re and odd lanes Im
+        // (reassociated: the in-order sum is a chain of 2w dependent additions).
+        const double* window = forward[c] + at;
+        double part[lanes] = {};
+        for (int l0 = 0; l0 < whole; l0 += lanes)
+          for (int l = 0; l < lanes; ++l) part[l] += window[l0 + l] * tap[l0 + l];
+        for (int l = 0; l < run - whole; ++l) part[l] += window[whole + l] * tap[whole + l];
+        double re = 0.0, im = 0.0;
+        for (int l = 0; l < lanes; l += 2) {
+          re += part[l];
+          im += part[l + 1];
+        }
+        values[c] = {re, im};
+      }
+      map(k0 + i, values);
+      for (int c = 0; c < C; ++c) {
+        double* window = adjoint[c] + at;
+        for (int l = 0; l < run; l += 2) {
+          value[l] = values[c].real();
+          value[l + 1] = values[c].imag();
+        }
+        for (int l = 0; l < run; ++l) window[l] += value[l] * tap[l];
+      }
+    }
+  }
+  for (int c = 0; c < C; ++c) from_grid(scratch.grid[2 * c + 1].get(), scratch.samples.get(), add_out[c], true);
+}
 
 }  // namespace slipstrip
