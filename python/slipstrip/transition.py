@@ -407,7 +407,7 @@ def transition_heights_markdown(stars: list[dict]) -> str:
     for t in sorted(stars, key=lambda t: (-t["rate_weakening"], t["length"])):
         (h0, h1), (r0, r1) = t["height_bracket"], t["height_over_critical_length_bracket"]
         (s0, s1), (n0, n1) = t["height_range"], t["seeds_at_bracket"]
-        spread = f"{s0:.2g}–{s1:.2g} m" + (f" ({t['picks_without_crossing']} of {t['seed_picks']} picks: no crossing)"
+        spread = f"{s0:.3g}–{s1:.3g} m" + (f" ({t['picks_without_crossing']} of {t['seed_picks']} picks: no crossing)"
                                            if t["picks_without_crossing"] else "")
         lines.append(f"| {t['rate_weakening']:.4f} | {t['length']:g} m | {t['height']:.2g} m ({h0:g}–{h1:g}) | "
                      f"{spread} | {n0}, {n1} | "
