@@ -787,6 +787,15 @@ constexpr const char* kSlowStateNames[4] = {"slow_x_re", "slow_x_im", "slow_y_re
 constexpr long long kFaceStateFormatPerStep = 2;
 // Format 3: the far field advanced a batch of steps at a time (far_batch).
 constexpr long long kFaceStateFormat = 3;
+
+// A design length the restart point must share with this operator (its
+// states are laid out by it): refused by name otherwise.
+void require_same(const HistoryOperatorState& state, const std::string& key, long long expected, const char* what) {
+  if (state.counter(key) != expected)
+    throw std::invalid_argument("history operator state: the half-space body's restart point has " + std::string(what) +
+                                " " + std::to_string(state.counter(key)) + ", this operator " +
+                                std::to_string(expected) + "; it cannot be resumed with another " + what);
+}
 }  // namespace
 
 void FaceHalfSpaceHistory::save_into(HistoryOperatorState& state, const std::string& prefix) const {
@@ -827,10 +836,7 @@ void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const
         std::to_string(kFaceStateFormatPerStep) + " nor " + std::to_string(kFaceStateFormat) +
         ") and cannot be resumed by this version; rerun the case from the start, or resume it with the version "
         "that wrote it");
-  if (state.counter(prefix + "slow_block") != block_)
-    throw std::invalid_argument("history operator state: the half-space body's restart point has slow block " +
-                                std::to_string(state.counter(prefix + "slow_block")) + ", this operator " +
-                                std::to_string(block_) + "; it cannot be resumed with another block length");
+  require_same(state, prefix + "slow_block", block_, "slow block");
   state.copy_to(prefix + "ring_x", std::span<complex>(ring_x_));
   state.copy_to(prefix + "ring_y", std::span<complex>(ring_y_));
   state.copy_to(prefix + "running_x", std::span<complex>(running_x_));
@@ -851,10 +857,7 @@ void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const
   state.copy_to(prefix + "history_y", std::span<complex>(history_y_));
   step_ = state.counter(prefix + "step");
   if (format == kFaceStateFormat) {
-    if (state.counter(prefix + "far_batch") != batch_)
-      throw std::invalid_argument("history operator state: the half-space body's restart point has far-field batch " +
-                                  std::to_string(state.counter(prefix + "far_batch")) + ", this operator " +
-                                  std::to_string(batch_) + "; it cannot be resumed with another batch");
+    require_same(state, prefix + "far_batch", batch_, "far-field batch");
     state.copy_to(prefix + "far_batch_x", std::span<complex>(far_batch_x_));
     state.copy_to(prefix + "far_batch_y", std::span<complex>(far_batch_y_));
     return;

@@ -236,14 +236,14 @@ void Simulation3d::initialise(std::span<const double> initial_state, std::span<c
   // t = 0: no history; tau_h = tau_0 + eta v0 along x.
   std::copy(drive_.begin(), drive_.end(), load_x_.begin());
   std::fill(load_z_.begin(), load_z_.end(), 0.0);
+  for (std::size_t i = 0; i < nodes(); ++i)
+    load_magnitude_[i] = std::sqrt(load_x_[i] * load_x_[i] + load_z_[i] * load_z_[i]);
   solve(/*initial=*/true);
   check_finite("initial fields");
 }
 
+// load_magnitude_ = |tau_h| at every node, set by the caller with the load.
 void Simulation3d::solve(bool initial) {
-  const std::size_t n = nodes();
-  for (std::size_t i = 0; i < n; ++i)
-    load_magnitude_[i] = std::sqrt(load_x_[i] * load_x_[i] + load_z_[i] * load_z_[i]);
   if (variable_normal_stress()) {
     solve_with_normal_stress(initial);
     directions();
@@ -388,6 +388,7 @@ void Simulation3d::step() {
   // arithmetic.
   for (std::size_t i = 0; i < n; ++i) {
     const double m = std::sqrt(load_x_[i] * load_x_[i] + load_z_[i] * load_z_[i]);
+    load_magnitude_[i] = m;
     previous_speed_[i] =
         m > 0.0 ? slip_rate_x_[i] * (load_x_[i] / m) + slip_rate_z_[i] * (load_z_[i] / m) : speed_[i];
   }
