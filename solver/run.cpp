@@ -155,32 +155,8 @@ class InterfaceRun {
     station_values_.assign(fields().size() * stations_.size(), 0.0);
   }
 
-  SlipSamplingSetup sampling() const {
-    SlipSamplingSetup sampling = LineRun::common_sampling(config_, sim_.dx());
-    sampling.nodes_z = sim_.nodes_z();
-    sampling.dz = sim_.dz();
-    sampling.W = config_.geometry.width;
-    sampling.x.resize(sim_.nodes());
-    sampling.z.resize(sim_.nodes());
-    for (std::size_t i = 0; i < sim_.nodes(); ++i) {
-      sampling.x[i] = static_cast<double>(i % static_cast<std::size_t>(sim_.nodes_x())) * sim_.dx();
-      sampling.z[i] = static_cast<double>(i / static_cast<std::size_t>(sim_.nodes_x())) * sim_.dz();
-    }
-    return sampling;
-  }
-  RunOutputOptions options() const {
-    RunOutputOptions options = LineRun::common_options(config_);
-    options.interface_2d_fields = field_units();
-    options.station_x = config_.output.stations;
-    options.station_z = config_.output.stations_z;
-    options.station_fields = field_units();
-    // The parameters every node ran with, flattened as the slip sampling (x
-    // fastest), so the file is interpretable without the config's profiles.
-    options.node_parameters =
-        LineRun::node_parameters(resolve_friction_nodes(config_.friction, config_.friction_profiles,
-                                                        friction_node_grid(config_)));
-    return options;
-  }
+  SlipSamplingSetup sampling() const { return interface_2d_sampling(config_); }
+  RunOutputOptions options() const { return interface_2d_output_options(config_, sim_.variable_normal_stress()); }
   std::span<const double> sampled_slip() const { return sim_.slip_x(); }
   std::span<const double> front_slip_rate() const { return sim_.speed(); }
   double mean_slip() const { return sim_.mean_slip_x(); }
@@ -209,30 +185,7 @@ class InterfaceRun {
   }
 
  private:
-  // The snapshot and station fields, in the file's order: seven, and the
-  // normal stress and opening for dissimilar bodies (docs/3d.md).
-  struct Fields {
-    std::array<std::span<const double>, 9> spans;
-    std::size_t count;
-    std::size_t size() const { return count; }
-    std::span<const double> operator[](std::size_t f) const { return spans[f]; }
-    operator std::span<const std::span<const double>>() const { return {spans.data(), count}; }
-  };
-  Fields fields() const {
-    return {{sim_.slip_x(), sim_.slip_z(), sim_.slip_rate_x(), sim_.slip_rate_z(), sim_.state(),
-             sim_.shear_stress_x(), sim_.shear_stress_z(), sim_.normal_stress(), sim_.opening()},
-            sim_.variable_normal_stress() ? 9u : 7u};
-  }
-  std::vector<std::pair<std::string, std::string>> field_units() const {
-    std::vector<std::pair<std::string, std::string>> units = {
-        {"slip_x", "m"}, {"slip_z", "m"}, {"slip_rate_x", "m/s"}, {"slip_rate_z", "m/s"},
-        {"state", "s"},  {"shear_stress_x", "Pa"}, {"shear_stress_z", "Pa"}};
-    if (sim_.variable_normal_stress()) {
-      units.emplace_back("normal_stress", "Pa");
-      units.emplace_back("opening", "m");
-    }
-    return units;
-  }
+  Interface2dFields fields() const { return interface_2d_fields(sim_); }
 
   const SimulationConfig& config_;
   const Simulation3d& sim_;
@@ -474,6 +427,54 @@ RunResult resume_simulation(const std::string& output_path, const RunHooks& hook
                                 "' holds (not its restart point)");
   const SimulationConfig config = load_config_string(header.config_toml);
   return drive_any(config, output_path, hooks, &checkpoint);
+}
+
+SlipSamplingSetup interface_2d_sampling(const SimulationConfig& config) {
+  const auto& g = config.geometry;
+  // The node spacings as Simulation3d computes them.
+  const double dx = g.length / g.nodes, dz = g.width / g.nodes_z;
+  SlipSamplingSetup sampling = LineRun::common_sampling(config, dx);
+  sampling.nodes_z = g.nodes_z;
+  sampling.dz = dz;
+  sampling.W = g.width;
+  const std::size_t nodes = static_cast<std::size_t>(g.nodes) * static_cast<std::size_t>(g.nodes_z);
+  sampling.x.resize(nodes);
+  sampling.z.resize(nodes);
+  for (std::size_t i = 0; i < nodes; ++i) {
+    sampling.x[i] = static_cast<double>(i % static_cast<std::size_t>(g.nodes)) * dx;
+    sampling.z[i] = static_cast<double>(i / static_cast<std::size_t>(g.nodes)) * dz;
+  }
+  return sampling;
+}
+
+RunOutputOptions interface_2d_output_options(const SimulationConfig& config, bool variable_normal_stress) {
+  RunOutputOptions options = LineRun::common_options(config);
+  options.interface_2d_fields = interface_2d_field_units(variable_normal_stress);
+  options.station_x = config.output.stations;
+  options.station_z = config.output.stations_z;
+  options.station_fields = interface_2d_field_units(variable_normal_stress);
+  // The parameters every node ran with, flattened as the slip sampling (x
+  // fastest), so the file is interpretable without the config's profiles.
+  options.node_parameters = LineRun::node_parameters(
+      resolve_friction_nodes(config.friction, config.friction_profiles, friction_node_grid(config)));
+  return options;
+}
+
+std::vector<std::pair<std::string, std::string>> interface_2d_field_units(bool variable_normal_stress) {
+  std::vector<std::pair<std::string, std::string>> units = {
+      {"slip_x", "m"}, {"slip_z", "m"}, {"slip_rate_x", "m/s"}, {"slip_rate_z", "m/s"},
+      {"state", "s"},  {"shear_stress_x", "Pa"}, {"shear_stress_z", "Pa"}};
+  if (variable_normal_stress) {
+    units.emplace_back("normal_stress", "Pa");
+    units.emplace_back("opening", "m");
+  }
+  return units;
+}
+
+Interface2dFields interface_2d_fields(const Simulation3d& sim) {
+  return {{sim.slip_x(), sim.slip_z(), sim.slip_rate_x(), sim.slip_rate_z(), sim.state(), sim.shear_stress_x(),
+           sim.shear_stress_z(), sim.normal_stress(), sim.opening()},
+          sim.variable_normal_stress() ? 9u : 7u};
 }
 
 }  // namespace slipstrip

@@ -1,10 +1,15 @@
 #pragma once
 // Drive one Simulation to the end of its duration, writing the HDF5 run file.
+#include <array>
 #include <functional>
+#include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "config/simulation_config.hpp"
 #include "io/file_lock.hpp"
+#include "solver/run_output.hpp"
 
 namespace slipstrip {
 
@@ -93,5 +98,29 @@ io::FileLock lock_run_file(const std::string& output_path);
 // resume_simulation under a lock the caller already holds (lock_run_file of
 // the same `output_path`; another lock is a std::logic_error).
 RunResult resume_simulation(const std::string& output_path, const RunHooks& hooks, const io::FileLock& held);
+
+// The records of a 2D interface (geometry.nodes_z > 1, docs/3d.md) as
+// run_simulation writes them, for a writer that gathers the fields of a run
+// split over processes (parallel/distributed_run.hpp): the slip sampling's
+// setup over the whole interface (node i at (i % nodes_x, i / nodes_x)), the
+// writer's options (variable_normal_stress: dissimilar in-plane bodies, whose
+// normal stress and opening are two more fields), and the snapshot fields by
+// name and units in the file's order.
+SlipSamplingSetup interface_2d_sampling(const SimulationConfig& config);
+RunOutputOptions interface_2d_output_options(const SimulationConfig& config, bool variable_normal_stress);
+std::vector<std::pair<std::string, std::string>> interface_2d_field_units(bool variable_normal_stress);
+
+class Simulation3d;
+// The snapshot and station fields of a 2D interface, in the file's order (the
+// seven of interface_2d_field_units, and the normal stress and opening for
+// dissimilar bodies): this process's nodes of each.
+struct Interface2dFields {
+  std::array<std::span<const double>, 9> spans;
+  std::size_t count;
+  std::size_t size() const { return count; }
+  std::span<const double> operator[](std::size_t f) const { return spans[f]; }
+  operator std::span<const std::span<const double>>() const { return {spans.data(), count}; }
+};
+Interface2dFields interface_2d_fields(const Simulation3d& sim);
 
 }  // namespace slipstrip

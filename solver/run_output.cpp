@@ -237,6 +237,7 @@ void RunOutput::create_file(const std::string& config_toml, const SlipSamplingSe
   io::write_attribute(file, "end_time", "");
   io::write_attribute(file, "status", "running");
   if (nodes_z_ > 1) io::write_attribute(file, "format", "slipstrip interface_2d");
+  if (options_.processes > 0) io::write_attribute(file, "processes", static_cast<long long>(options_.processes));
   // Node positions next to every per-node record: x, and z on a 2D interface.
   const auto write_positions = [&](hid_t group) {
     write_fixed_vector(group, "x", slip_sampling.x, "m");
@@ -449,6 +450,14 @@ void RunOutput::record_slip(double t_old, double t_new, std::span<const double> 
                                 " < t_old = " + std::to_string(t_old) + "; time must not go back");
   const bool crossed = slip_sampler_->record(t_old, t_new, slip_old, slip_new);
   if (crossed && slip_sampler_->pending() >= static_cast<std::size_t>(options_.slip_buffer_crossings))
+    write_out(WriteTrigger::buffer_full);
+}
+
+void RunOutput::record_crossings(std::span<const hsize_t> coordinates, std::span<const double> times) {
+  if (!slip_sampler_) return;
+  if (closed_) throw std::logic_error("RunOutput::record_crossings after close: " + path_);
+  slip_sampler_->add_found(coordinates, times);
+  if (!times.empty() && slip_sampler_->pending() >= static_cast<std::size_t>(options_.slip_buffer_crossings))
     write_out(WriteTrigger::buffer_full);
 }
 

@@ -101,6 +101,9 @@ struct RunOutputOptions {
   // are /grid/x and /grid/z, and the XDMF sidecar is a temporal collection of
   // (z, x) grids (io/xdmf.hpp).
   std::vector<std::pair<std::string, std::string>> interface_2d_fields;
+  // > 0: the root attribute `processes`, the MPI processes the run was split
+  // over (slipstrip-mpi run); 0: not written (a run in one process).
+  int processes = 0;
 };
 
 // Where the run file's records stand after a complete write-out: what a
@@ -174,6 +177,11 @@ class RunOutput {
   // (slip sampling, solver/slip_sampler.hpp).
   void record_slip(double t_old, double t_new, std::span<const double> slip_old,
                    std::span<const double> slip_new);
+  // Instead of record_slip, for a run split over processes whose samplers
+  // run on each process's nodes: the level crossings they found in a step,
+  // (level, node) pairs in this file's node numbering and their times
+  // (SlipSampler::add_found).
+  void record_crossings(std::span<const hsize_t> coordinates, std::span<const double> times);
 
   // Writes every buffered row and closes the file again.  Returns false if
   // the write was deferred because a reader holds the file open (the rows stay

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 namespace slipstrip {
 
@@ -65,6 +66,26 @@ void SlipSampler::add_crossings(std::size_t node, double t_old, double t_new, do
     levels_max_ = std::max(levels_max_, level + 1);
     next_threshold_[node] = static_cast<double>(level + 2) * delta_th_;
   }
+}
+
+void SlipSampler::add_found(std::span<const hsize_t> coordinates, std::span<const double> times) {
+  if (coordinates.size() != 2 * times.size())
+    throw std::invalid_argument("SlipSampler::add_found: " + std::to_string(coordinates.size()) +
+                                " coordinates for " + std::to_string(times.size()) + " crossings");
+  for (std::size_t c = 0; c < times.size(); ++c) {
+    const std::size_t level = coordinates[2 * c], node = coordinates[2 * c + 1];
+    if (node >= levels_reached_.size() || level != levels_reached_[node])
+      throw std::invalid_argument("SlipSampler::add_found: crossing of level " + std::to_string(level) +
+                                  " at node " + std::to_string(node) + " is not that node's next level");
+    pending_coords_.push_back(level);
+    pending_coords_.push_back(node);
+    pending_time_.push_back(times[c]);
+    levels_reached_[node] = level + 1;
+    levels_max_ = std::max(levels_max_, level + 1);
+    next_threshold_[node] = static_cast<double>(level + 2) * delta_th_;
+  }
+  // The samplers that found them have checked the initial slip.
+  started_ = true;
 }
 
 void SlipSampler::clear_pending() {

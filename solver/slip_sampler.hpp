@@ -34,6 +34,14 @@ class SlipSampler {
   bool record(double t_old, double t_new, std::span<const double> slip_old,
               std::span<const double> slip_new);
 
+  // Crossings found by other samplers (a run split over processes samples each
+  // process's nodes there, parallel/distributed_run.hpp): (level, node) pairs
+  // in this sampler's node numbering and their times, each the next level of
+  // its node in order, as record() would have found them.  Throws
+  // std::invalid_argument for a node out of range or a level that is not its
+  // node's next one.
+  void add_found(std::span<const hsize_t> coordinates, std::span<const double> times);
+
   // Crossings since the last clear_pending(): (level, node) pairs, and their times [s].
   std::span<const hsize_t> pending_coordinates() const { return pending_coords_; }
   std::span<const double> pending_times() const { return pending_time_; }

@@ -1,16 +1,24 @@
 // slipstrip-mpi: a 2D interface (geometry.nodes_z > 1) split over the
 // processes of an MPI job (parallel/, docs/3d.md "Across machines").
 //
+//   mpirun -np 4 slipstrip-mpi run CONFIG.toml [--out RUN.h5] [--set key=value ...]
+//
+// runs CONFIG and writes the run file `slipstrip run` writes (rank 0 writes
+// it, parallel/distributed_run.hpp), with the root attribute `processes`.
+// Restart points, --resume and stations are refused (not built on several
+// processes).
+//
 //   mpirun -np 4 slipstrip-mpi bench CONFIG.toml [--steps N] [--set key=value ...]
 //
 // times the distributed time step of CONFIG's interface: set-up, wall and CPU
 // time per step, and the parts (the four distributed FFTs with their
 // transposes, this process's history operator alone), with the rows, Fourier
-// modes and FFT message bytes per process.  It does not write a run file:
-// `slipstrip run` (one process) does; a distributed run file is not built yet
-// (docs/3d.md section 7).  Any error on any process prints "rank R: message"
-// and aborts the whole job (MPI_Abort), so no process waits forever in a
-// collective call another one has left.
+// modes and FFT message bytes per process.  An error found on every process
+// (the run's lock or output path on rank 0, a refused config key) prints
+// "rank R: message" once and ends every process with exit code 2; any other
+// error on any process prints "rank R: message" and aborts the whole job
+// (MPI_Abort), so no process waits forever in a collective call another one
+// has left.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -22,10 +30,16 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
+#include "apps/cli.hpp"
 #include "config/config.hpp"
+#include "kernels/history_convolution.hpp"
 #include "parallel/distributed_fft.hpp"
 #include "parallel/distributed_interface.hpp"
+#include "parallel/distributed_run.hpp"
 #include "parallel/mpi_session.hpp"
+#include "slipstrip/version.hpp"
 #include "solver/simulation_3d.hpp"
 
 namespace {
@@ -120,6 +134,66 @@ int bench(const std::string& config_path, const std::vector<std::string>& overri
   return 0;
 }
 
+struct RunArguments {
+  std::string config_path, out_path, resume_path;
+  std::vector<std::string> overrides;
+  bool quiet = false, overwrite = false;
+  long long stop_after_steps = -1;
+};
+
+// `slipstrip-mpi run`: the CLI of `slipstrip run` (apps/command_run.cpp) for a
+// run split over the processes; rank 0 prints.
+int run(const RunArguments& a) {
+  cli::catch_interrupts();
+  const MPI_Comm world = MPI_COMM_WORLD;
+  const int rank = mpi_rank(world), processes = mpi_size(world);
+  if (!a.resume_path.empty())
+    throw CollectiveError("--resume '" + a.resume_path +
+                              "': restart points are not written on several processes, so a run of slipstrip-mpi "
+                              "has none to resume (a run of `slipstrip run` resumes with `slipstrip run --resume`)",
+                          0);
+  if (a.config_path.empty())
+    throw CollectiveError("run: config is required (a TOML config file; see --help)", 0);
+  // Every process reads the config; a refusal is the same on each.
+  SimulationConfig config;
+  try {
+    config = load_config_file(a.config_path, a.overrides);
+  } catch (const std::invalid_argument& e) {
+    throw CollectiveError(e.what(), 0);
+  }
+  std::string out_path = a.out_path;
+  if (out_path.empty()) {
+    auto base = a.config_path.substr(a.config_path.find_last_of('/') + 1);
+    if (auto dot = base.rfind('.'); dot != std::string::npos) base = base.substr(0, dot);
+    out_path = base + ".h5";
+  }
+  const bool tty = rank == 0 && isatty(fileno(stderr));
+  const RunHooks hooks = cli::run_hooks(a.quiet || rank != 0, tty, a.stop_after_steps);
+  if (rank == 0)
+    std::fprintf(stderr, "slipstrip-mpi %s (%s): %s -> %s on %d process%s\n", code_version, git_hash,
+                 a.config_path.c_str(), out_path.c_str(), processes, processes == 1 ? "" : "es");
+  RunResult result;
+  try {
+    result = run_distributed(config, out_path, hooks, a.overwrite, world);
+  } catch (const SetupCancelled& e) {
+    if (rank == 0)
+      std::fprintf(stderr, "interrupted by %s during the set-up (%s); no output written\n", cli::interrupt_name(),
+                   e.what());
+    return cli::signal_exit_code();
+  }
+  if (rank == 0) {
+    if (!a.quiet && tty) std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "%s after %lld steps (dt = %.6g s), simulated %.6g s in %.2f s wall on %d process%s; output %s\n",
+                 result.status.c_str(), result.steps, result.time_step, result.simulated_time, result.wall_seconds,
+                 processes, processes == 1 ? "" : "es", out_path.c_str());
+    if (result.status == "interrupted")
+      std::fprintf(stderr, "no restart point (not written on several processes); the run file is readable\n");
+  }
+  if (result.status == "completed") return 0;
+  if (result.status == "interrupted") return cli::signal_exit_code();
+  return 3;  // diverged
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -134,6 +208,21 @@ int main(int argc, char** argv) {
   bench_command->add_option("config", config_path, "TOML config (geometry.nodes_z > 1)")->required();
   bench_command->add_option("--steps", steps, "Time steps to time")->check(CLI::PositiveNumber);
   bench_command->add_option("--set", overrides, "Override a config key: section.key=value (repeatable)");
+  RunArguments run_arguments;
+  auto* run_command = app.add_subcommand(
+      "run", "Run CONFIG's 2D interface split over the processes; rank 0 writes the run file of `slipstrip run` "
+             "(docs/3d.md, docs/output.md). SIGTERM stops cleanly (status interrupted, no restart point).");
+  run_command->add_option("config", run_arguments.config_path, "TOML config (geometry.nodes_z > 1)");
+  run_command->add_option("--out", run_arguments.out_path, "Output HDF5 file (default: <config name>.h5)");
+  run_command->add_option("--set", run_arguments.overrides, "Override a config key: section.key=value (repeatable)");
+  run_command->add_flag("--quiet", run_arguments.quiet, "No progress bar");
+  run_command->add_flag("--overwrite", run_arguments.overwrite,
+                        "Replace an existing --out file (never the config file itself)");
+  run_command->add_option("--stop-after-steps", run_arguments.stop_after_steps,
+                          "Stop as SIGTERM does (status interrupted, exit 143) once this many time steps are done")
+      ->check(cli::finite_positive());
+  run_command->add_option("--resume", run_arguments.resume_path,
+                          "Refused: restart points are not written on several processes");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -142,7 +231,12 @@ int main(int argc, char** argv) {
     return 0;
   }
   try {
+    if (run_command->parsed()) return run(run_arguments);
     return bench(config_path, overrides, steps);
+  } catch (const CollectiveError& e) {
+    // Every process has it: one line, and every process ends normally.
+    if (rank == 0) std::fprintf(stderr, "rank %d: %s\n", e.origin_rank, e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rank %d: %s\n", rank, e.what());
     MPI_Abort(MPI_COMM_WORLD, 1);

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include "solver/slip_sampler.hpp"
@@ -72,4 +73,33 @@ TEST_CASE("a jump of more than kMaxLevelsPerStep levels in one step is reported 
   // +inf is the solver's to report (non-finite check), not a crossing.
   s.record(0.0, 1e-6, std::vector<double>{0.0}, std::vector<double>{std::numeric_limits<double>::infinity()});
   CHECK(s.pending() == 0);
+}
+
+TEST_CASE("crossings found by samplers of parts of the nodes, added to a whole one, are the whole one's") {
+  // Nodes 0-1 sampled by one part, node 2 by another (a run split over
+  // processes, parallel/distributed_run.hpp), their crossings renumbered and
+  // added to a sampler of all three: its pending crossings, levels and next
+  // thresholds are those of a sampler that recorded all three itself.
+  SlipSampler whole(0.25, 3), first(0.25, 2), second(0.25, 1), gathered(0.25, 3);
+  const std::vector<double> before = {0.0, 0.0, 0.0}, after = {1.0, 0.125, 0.5};
+  whole.record(2.0, 4.0, before, after);
+  first.record(2.0, 4.0, std::vector<double>{0.0, 0.0}, std::vector<double>{1.0, 0.125});
+  second.record(2.0, 4.0, std::vector<double>{0.0}, std::vector<double>{0.5});
+  gathered.add_found(first.pending_coordinates(), first.pending_times());
+  std::vector<hsize_t> renumbered(second.pending_coordinates().begin(), second.pending_coordinates().end());
+  for (std::size_t c = 1; c < renumbered.size(); c += 2) renumbered[c] += 2;
+  gathered.add_found(renumbered, second.pending_times());
+  CHECK(pending(gathered) == pending(whole));
+  CHECK(gathered.levels_max() == whole.levels_max());
+  CHECK(std::vector<std::size_t>(gathered.levels_reached().begin(), gathered.levels_reached().end()) ==
+        std::vector<std::size_t>(whole.levels_reached().begin(), whole.levels_reached().end()));
+  CHECK(std::vector<double>(gathered.next_threshold().begin(), gathered.next_threshold().end()) ==
+        std::vector<double>(whole.next_threshold().begin(), whole.next_threshold().end()));
+  CHECK(gathered.started());
+  // A level that is not its node's next one, a node out of range, and a
+  // count mismatch are refused.
+  const std::vector<double> one_time = {5.0};
+  CHECK_THROWS_AS(gathered.add_found(std::vector<hsize_t>{1, 2}, one_time), std::invalid_argument);
+  CHECK_THROWS_AS(gathered.add_found(std::vector<hsize_t>{0, 3}, one_time), std::invalid_argument);
+  CHECK_THROWS_AS(gathered.add_found(std::vector<hsize_t>{0}, one_time), std::invalid_argument);
 }

@@ -1,0 +1,234 @@
+"""`mpirun -np 2 slipstrip-mpi run` against `slipstrip run` (docs/3d.md, "Across machines").
+
+Run by ctest in an MPI build (test_parallel_run_np2, CMakeLists.txt), which
+sets SLIPSTRIP_BIN, SLIPSTRIP_MPI_BIN and MPIEXEC; not part of the serial
+pytest suite (tests/python).
+
+The same config runs on one process and split over two; the run files are
+compared dataset by dataset and attribute by attribute.  Expected: every
+dataset bit for bit, except the time series' two means (mean slip and mean
+shear stress along x), which each process sums over its own rows before the
+sum over processes (MPI_Allreduce), so they add the same values in another
+order.  For n values of one sign the two orders differ by at most
+2 (n - 1) u of the value (u = 2^-53, the bound of recursive summation taken
+for each order; the shear stress along x is positive, the slip along x too,
+once it is not exactly 0).  The other fields are bit for bit because FFTW's
+MPI transform happens to add in the same order as the one-process transform at
+these sizes (the distributed step's test, tests/cpp/test_parallel_interface_2d.cpp,
+allows 1e-11 for its fields; this test would report a change of FFTW's order
+as a failure to look at).  Not compared: start_time and end_time (wall clock),
+and `processes`, which only the MPI file has (2).
+"""
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+TINY = REPO / "configs" / "3d" / "tiny.toml"
+SERIAL = os.environ.get("SLIPSTRIP_BIN")
+MPI = os.environ.get("SLIPSTRIP_MPI_BIN")
+MPIEXEC = os.environ.get("MPIEXEC") or shutil.which("mpirun")
+
+pytestmark = pytest.mark.skipif(not (SERIAL and MPI and MPIEXEC),
+                                reason="needs SLIPSTRIP_BIN, SLIPSTRIP_MPI_BIN and MPIEXEC (an MPI build's ctest)")
+
+# 20 transits of the 32 x 32 demo: one kept event, the rupture front reached
+# at some nodes, 19 snapshots (under 1 s on one process).
+EVENTS_RUN = ["--set", "output.checkpoint_interval=0", "--set", "time.duration_transits=20",
+              "--set", "output.front_slip_rate=4e-3", "--set", "output.snapshot_interval=1e-4"]
+WALL_CLOCK = {"start_time", "end_time"}
+MEANS = {"timeseries/mean_slip", "timeseries/mean_shear_stress"}
+
+
+def mpi_env():
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    # OpenMPI refuses to start as root (containers) without this consent.
+    env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
+    env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+    return env
+
+
+def run_serial(out, *args, check=True):
+    return subprocess.run([SERIAL, "run", str(TINY), "--out", str(out), "--quiet", *args], env=mpi_env(),
+                          capture_output=True, text=True, check=check, timeout=300)
+
+
+def run_mpi(out, *args, processes=2, check=True):
+    command = [MPIEXEC, "-np", str(processes), "--oversubscribe", MPI, "run", str(TINY), "--out", str(out),
+               "--quiet", *args]
+    return subprocess.run(command, env=mpi_env(), capture_output=True, text=True, check=check, timeout=300)
+
+
+def assert_attributes_equal(one, split, name, skip=()):
+    assert set(one.attrs) - set(skip) == set(split.attrs) - set(skip), name
+    for key in set(one.attrs) - set(skip):
+        assert np.array_equal(np.asarray(one.attrs[key]), np.asarray(split.attrs[key])), (name, key)
+
+
+def assert_runs_equal(one_path, split_path, nodes):
+    """The files of one process and of two: every dataset and attribute."""
+    bound = 2 * (nodes - 1) * 2.0**-53
+    with h5py.File(one_path, "r") as one, h5py.File(split_path, "r") as split:
+        assert "processes" not in one.attrs
+        assert split.attrs["processes"] == 2
+        assert_attributes_equal(one, split, "/", skip=WALL_CLOCK | {"processes"})
+        names = []
+        one.visit(names.append)
+        other = []
+        split.visit(other.append)
+        assert sorted(names) == sorted(other)
+        for name in names:
+            a, b = one[name], split[name]
+            assert_attributes_equal(a, b, name)
+            if not isinstance(a, h5py.Dataset):
+                continue
+            assert a.shape == b.shape and a.dtype == b.dtype, name
+            x, y = a[()], b[()]
+            if name in MEANS:
+                assert np.all(np.abs(x - y) <= bound * np.abs(x)), (name, np.max(np.abs(x - y) / np.abs(x)))
+            else:
+                assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), name
+
+
+def test_two_processes_write_the_one_process_run_file(tmp_path):
+    (tmp_path / "one").mkdir()
+    (tmp_path / "two").mkdir()
+    one, two = tmp_path / "one" / "run.h5", tmp_path / "two" / "run.h5"
+    run_serial(one, *EVENTS_RUN)
+    done = run_mpi(two, *EVENTS_RUN)
+    assert "completed after 2600 steps" in done.stderr
+    assert_runs_equal(one, two, 32 * 32)
+    with h5py.File(two, "r") as f:
+        assert f.attrs["status"] == "completed"
+        assert f["snapshots/time"].shape[0] == 19
+        front = f["rupture_front/arrival_time"][()]
+        assert 0 < np.count_nonzero(np.isfinite(front)) < front.size
+    # The sidecar names the file by its name (the same in both directories).
+    assert (one.with_suffix(".xdmf")).read_text() == (two.with_suffix(".xdmf")).read_text()
+    assert not Path(str(two) + ".restart").exists()
+    # The event catalog of the MPI file, by the unchanged `slipstrip events`.
+    for path in (one, two):
+        subprocess.run([SERIAL, "events", str(path)], env=mpi_env(), capture_output=True, text=True, check=True)
+    with h5py.File(one, "r") as a, h5py.File(two, "r") as b:
+        assert b["events"].attrs["n_events"] >= 1
+        names = []
+        a["events"].visit(names.append)
+        assert names
+        assert_attributes_equal(a["events"], b["events"], "events")
+        for name in names:
+            x, y = a["events"][name], b["events"][name]
+            assert_attributes_equal(x, y, name)
+            if isinstance(x, h5py.Dataset):
+                assert np.array_equal(x[()], y[()], equal_nan=x.dtype.kind == "f"), name
+
+
+def test_uneven_slabs_and_snapshots_by_slip(tmp_path):
+    # 32 x 15 nodes: slabs of 8 and 7 rows, Fourier columns 9 and 8; the
+    # snapshots taken by mean slip (rank 0's sum decides, the one its file holds).
+    args = ["--set", "output.checkpoint_interval=0", "--set", "geometry.nodes_z=15",
+            "--set", "geometry.width=0.1171875", "--set", "time.duration_transits=3",
+            "--set", "output.snapshot_interval=0", "--set", "output.snapshot_slip_increment=5e-8"]
+    (tmp_path / "one").mkdir()
+    (tmp_path / "two").mkdir()
+    one, two = tmp_path / "one" / "run.h5", tmp_path / "two" / "run.h5"
+    run_serial(one, *args)
+    run_mpi(two, *args)
+    assert_runs_equal(one, two, 32 * 15)
+    with h5py.File(two, "r") as f:
+        assert f["snapshots"].attrs["trigger"] == "slip_increment"
+        assert f["snapshots/time"].shape[0] > 3
+
+
+def test_stop_after_steps_leaves_a_readable_interrupted_file(tmp_path):
+    # As SIGTERM: status "interrupted", exit 143, the records up to the stop
+    # (the same as one process's interrupted file), no restart point.
+    (tmp_path / "one").mkdir()
+    (tmp_path / "two").mkdir()
+    one, two = tmp_path / "one" / "run.h5", tmp_path / "two" / "run.h5"
+    args = ["--set", "output.checkpoint_interval=0", "--stop-after-steps", "100"]
+    assert run_serial(one, *args, check=False).returncode == 143
+    stopped = run_mpi(two, *args, check=False)
+    assert stopped.returncode == 143, stopped.stderr
+    assert "no restart point" in stopped.stderr
+    assert not Path(str(two) + ".restart").exists()
+    assert_runs_equal(one, two, 32 * 32)
+    with h5py.File(two, "r") as f:
+        assert f.attrs["status"] == "interrupted"
+        assert f["timeseries/time"].shape[0] == 101
+
+
+@pytest.mark.parametrize("args, names", [
+    ([], "output.checkpoint_interval = 600"),
+    (["--set", "output.checkpoint_interval=0", "--set", "output.stations=[0.1]",
+      "--set", "output.stations_z=[0.1]"], "output.stations"),
+    (["--set", "output.checkpoint_interval=0", "--set", "geometry.nodes_z=1", "--set", "geometry.width=0.25"],
+     "geometry.nodes_z = 1"),
+    (["--set", "output.checkpoint_interval=0", "--resume", "elsewhere.h5"], "--resume 'elsewhere.h5'"),
+])
+def test_refused_in_one_line_by_rank_0(tmp_path, args, names):
+    out = tmp_path / "run.h5"
+    refused = run_mpi(out, *args, check=False)
+    assert refused.returncode == 2, refused.stderr
+    lines = [line for line in refused.stderr.splitlines() if line.startswith("rank ")]
+    assert len(lines) == 1 and lines[0].startswith("rank 0: ") and names in lines[0], refused.stderr
+    assert not out.exists()
+
+
+def test_output_checks_on_rank_0(tmp_path):
+    out = tmp_path / "run.h5"
+    out.write_bytes(b"not a run file")
+    refused = run_mpi(out, "--set", "output.checkpoint_interval=0", check=False)
+    assert refused.returncode == 2
+    lines = [line for line in refused.stderr.splitlines() if line.startswith("rank ")]
+    assert len(lines) == 1 and lines[0].startswith("rank 0: ") and "exists" in lines[0], refused.stderr
+    assert out.read_bytes() == b"not a run file"
+    # The run's lock, held by another process: refused before any set-up.
+    lock = Path(str(out) + ".lock")
+    holder = subprocess.Popen(["flock", str(lock), "sleep", "60"])
+    try:
+        for _ in range(100):
+            if lock.exists():
+                break
+            subprocess.run(["sleep", "0.05"])
+        refused = run_mpi(out, "--set", "output.checkpoint_interval=0", "--overwrite", check=False)
+    finally:
+        holder.kill()
+        holder.wait()
+    assert refused.returncode == 2
+    assert "rank 0: " in refused.stderr and "in use" in refused.stderr, refused.stderr
+    assert out.read_bytes() == b"not a run file"
+
+
+def test_sigterm_to_the_processes_stops_with_a_readable_file(tmp_path):
+    # As a batch system stops a job (Slurm's scancel signals every process):
+    # rank 0's stop request ends the time loop on every process in the same
+    # step; status "interrupted", exit 143, no restart point.  (OpenMPI's
+    # mpirun itself ends the job at once on SIGTERM, without this.)
+    out = tmp_path / "run.h5"
+    command = [MPIEXEC, "-np", "2", "--oversubscribe", MPI, "run", str(TINY), "--out", str(out), "--quiet",
+               "--set", "output.checkpoint_interval=0", "--set", "time.duration_transits=100000"]
+    job = subprocess.Popen(command, env=mpi_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        for _ in range(600):
+            if out.exists() or job.poll() is not None:
+                break
+            subprocess.run(["sleep", "0.05"])
+        ranks = subprocess.run(["pgrep", "-P", str(job.pid)], capture_output=True, text=True).stdout.split()
+        assert len(ranks) == 2
+        subprocess.run(["kill", "-TERM", *ranks], check=True)
+        _, stderr = job.communicate(timeout=120)
+    finally:
+        if job.poll() is None:
+            job.kill()
+            job.wait()
+    assert job.returncode == 143, stderr
+    assert "interrupted after" in stderr and "no restart point" in stderr
+    with h5py.File(out, "r") as f:
+        assert f.attrs["status"] == "interrupted"
+        assert f["timeseries/time"].shape[0] > 1
+    assert not Path(str(out) + ".restart").exists()
