@@ -459,8 +459,7 @@ constexpr ConfigKey kKeys[] = {
      .help = "`mirror`: the mirror image of the top body (two identical bodies); `elastic`: the "
              "body described by the keys below (with `mirror` they must equal the top body's values, "
              "and a --set of a top key carries over to them); `rigid`: a rigid base, "
-             "whose face does not deform. On a 2D interface (geometry.nodes_z > 1) `elastic` needs finite "
-             "heights (docs/3d.md). docs/bodies.md",
+             "whose face does not deform. docs/bodies.md; on a 2D interface (geometry.nodes_z > 1) docs/3d.md",
      .choices = names_of<kBodyKindNames>,
      .bind = enum_member<&C::bottom, &BottomBodyConfig::body, kBodyKindNames>()},
     {.section = "bottom", .name = "shear_modulus", .unit = "Pa", .noun = "a modulus",

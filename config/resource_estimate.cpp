@@ -206,6 +206,41 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
                        operator_modes * 16.0 * e.modes_per_fourier_mode + 8.0 * e.echo_steps;
     if (e.block_history) history_seconds = fourier_modes * kBlockSecondsPerFourierMode;
   }
+  if (interface_2d && c.bottom.body != BodyKind::mirror) {
+    // Two different bodies on a 2D interface (kernels/interface_2d_history.hpp,
+    // build_pair): per body an in-plane 2x2 operator (a finite body's modal
+    // FaceModalHistory, a half-space's FaceHalfSpaceHistory) and an antiplane
+    // pair operator (strip or HalfSpaceHistory), each over the F/2 operator
+    // modes; a rigid base has none.  The step follows the faster body.
+    const double operator_modes = fourier_modes / 2.0;
+    const bool elastic = c.bottom.body == BodyKind::elastic;
+    if (elastic && bottom.shear_wave_speed() > cs) e.time_step = c.time.beta * dx / bottom.shear_wave_speed();
+    e.operator_bytes = 0.0;
+    history_seconds = 0.0;
+    const auto add_body = [&](const ElasticMaterial& m, double height, bool is_top) {
+      const BodyOperator face = body_operator(m, height, e.time_step, operator_modes, c.time.history, false, false);
+      // The 2D pair builds the finite body's modal 2x2 operator (no block one).
+      const double face_bytes = is_half_space(height)
+                                    ? face.bytes
+                                    : operator_modes * face.modes_per_fourier_mode * kFaceModalBytesPerMode;
+      const double face_seconds = is_half_space(height)
+                                      ? face.seconds
+                                      : operator_modes * face.modes_per_fourier_mode * kFaceModalSecondsPerMode;
+      const BodyOperator sh = body_operator(m, height, e.time_step, operator_modes, c.time.history, true, true, true);
+      e.operator_bytes += face_bytes + sh.bytes;
+      history_seconds += face_seconds + sh.seconds;
+      if (is_top) {
+        e.echo_steps = face.echo_steps;
+        e.modes_per_fourier_mode = face.modes_per_fourier_mode;
+        e.block_history = sh.block;
+      } else {
+        e.bottom_echo_steps = face.echo_steps;
+        e.bottom_modes_per_fourier_mode = face.modes_per_fourier_mode;
+      }
+    };
+    add_body(c.material, c.geometry.height, true);
+    if (elastic) add_body(bottom, c.bottom.height, false);
+  }
   if (elastic_bottom) {
     const BodyOperator b =
         body_operator(bottom, c.bottom.height, e.time_step, fourier_modes, c.time.history, !per_body, true,

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -351,41 +353,73 @@ double face_half_space_passive_limit(double r2, const HalfSpaceOperatorDesign& d
   return lo;
 }
 
+namespace {
+std::vector<double> line_wavenumbers(double length, int nodes) {
+  if (nodes < 2 || !(length > 0.0))
+    throw std::invalid_argument("FaceHalfSpaceHistory: need time_step > 0, nodes >= 2, length > 0");
+  std::vector<double> k(static_cast<std::size_t>(nodes / 2 + 1));
+  for (int q = 0; q < static_cast<int>(k.size()); ++q) k[q] = 2.0 * pi * q / length;
+  return k;
+}
+}  // namespace
+
 FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
+                                           double time_step, const HalfSpaceOperatorDesign& design,
+                                           const CancelCheck& cancelled)
+    : FaceHalfSpaceHistory(material, line_wavenumbers(length, nodes), time_step, design, cancelled) {}
+
+FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, std::span<const double> wavenumbers,
                                            double time_step, const HalfSpaceOperatorDesign& design,
                                            const CancelCheck& cancelled)
     : dt_(time_step), lags_(design.corrected_lags) {
   if (material.antiplane())
     throw std::invalid_argument("FaceHalfSpaceHistory: the in-plane 2x2 operator needs an in-plane material");
-  if (!(time_step > 0.0) || nodes < 2 || !(length > 0.0))
-    throw std::invalid_argument("FaceHalfSpaceHistory: need time_step > 0, nodes >= 2, length > 0");
+  if (!(time_step > 0.0) || wavenumbers.size() < 2 || wavenumbers[0] != 0.0 ||
+      std::any_of(wavenumbers.begin() + 1, wavenumbers.end(), [](double k) { return !(k > 0.0); }))
+    throw std::invalid_argument(
+        "FaceHalfSpaceHistory: need time_step > 0, the uniform mode 0 first and every other |k| > 0");
   check_half_space_design(design);
   const double mu = material.shear_modulus, cs = material.shear_wave_speed();
   const double r2 = 1.0 / material.wave_speed_ratio_squared();
   const double unit = mu / cs;
   impedance_x_ = unit;
   impedance_y_ = unit / std::sqrt(r2);
-  const int n_modes = nodes / 2 + 1;
-  wavenumber_.resize(n_modes);
+  const int n_modes = static_cast<int>(wavenumbers.size());
+  wavenumber_.assign(wavenumbers.begin(), wavenumbers.end());
   h_.resize(n_modes);
-  for (int q = 0; q < n_modes; ++q) {
-    wavenumber_[q] = 2.0 * pi * q / length;
-    h_[q] = cs * wavenumber_[q] * dt_;
-  }
+  for (int q = 0; q < n_modes; ++q) h_[q] = cs * wavenumber_[q] * dt_;
+  // The near-field sums span every mode's stored lags: from the smallest h
+  // (mode 1 on a line, whose wavenumbers increase with q) up to the longest
+  // window, widened to design.near_field_h_min and near_field_tau_max when set.
   std::vector<int> window(n_modes, 0);
-  double tau_near_max = 0.0;
+  double tau_near_max = design.near_field_tau_max;
+  double h_min = design.near_field_h_min > 0.0 ? design.near_field_h_min : std::numeric_limits<double>::infinity();
   for (int q = 1; q < n_modes; ++q) {
     window[q] = window_of(h_[q], design);
     tau_near_max = std::max(tau_near_max, window[q] * h_[q]);
+    h_min = std::min(h_min, h_[q]);
   }
-  const EntrySums sums = n_modes > 1 ? entry_sums(r2, h_[1], tau_near_max, design) : EntrySums{};
+  const EntrySums sums = entry_sums(r2, h_min, tau_near_max, design);
+  // Modes of equal h (the modes +-kz of a 2D interface) share one design:
+  // design_of[q] is the first mode with q's h; only those are designed.
+  std::vector<int> design_of(n_modes, 0), distinct;
+  {
+    std::map<double, int> first_of;
+    for (int q = 1; q < n_modes; ++q) {
+      const auto [at, added] = first_of.emplace(h_[q], q);
+      design_of[q] = at->second;
+      if (added) distinct.push_back(q);
+    }
+  }
 
-  // Each mode's design (sampled near field, exponentials, passivity correction)
-  // is independent: computed in parallel, then laid out flat for the time loop.
+  // Each distinct mode's design (sampled near field, exponentials, passivity
+  // correction) is independent: computed in parallel, then laid out flat for
+  // the time loop.
   std::vector<ModeDesign> designs(n_modes);
   std::vector<std::vector<double>> corrections(n_modes);
   const std::string failure = for_each_mode_in_parallel(
-      1, n_modes, cancelled, "the half-space body's operator", [&](int q) {
+      0, static_cast<int>(distinct.size()), cancelled, "the half-space body's operator", [&](int d) {
+    const int q = distinct[d];
     ModeDesign& m = designs[q];
     m = design_mode(r2, h_[q], window[q], sums);
     try {
@@ -400,10 +434,15 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
   if (!failure.empty()) {
     // The largest c_s k dt that failed (a failed mode has no correction).
     double failed_h = 0.0;
-    for (int q = 1; q < n_modes; ++q)
+    for (int q : distinct)
       if (corrections[q].empty()) failed_h = std::max(failed_h, h_[q]);
     throw FaceHalfSpaceNotPassive(failure, failed_h);
   }
+  for (int q = 1; q < n_modes; ++q)
+    if (design_of[q] != q) {
+      designs[q] = designs[design_of[q]];
+      corrections[q] = corrections[design_of[q]];
+    }
 
   static_weight_.assign(n_modes, {});
   first_lag_.assign(n_modes + 1, 0);

@@ -116,7 +116,18 @@ double face_half_space_passive_limit(double speed_ratio_squared, const HalfSpace
 
 class FaceHalfSpaceHistory final : public FaceHistory {
  public:
+  // The modes of a line of `length` and `nodes` nodes: |k| = 2 pi q / length,
+  // q = 0..nodes/2.
   FaceHalfSpaceHistory(const ElasticMaterial& material, double length, int nodes, double time_step,
+                       const HalfSpaceOperatorDesign& design = {}, const CancelCheck& cancelled = {});
+  // Any list of |k| (mode q has |k| = wavenumbers[q]; the uniform mode 0
+  // first and only there), e.g. the in-plane operator of a 2D interface's
+  // mode at |k| = hypot(kx, kz) (kernels/interface_2d_history.hpp).  The
+  // near-field sums span the list's h = c_s |k| dt (and design.near_field_h_min,
+  // near_field_tau_max when set); each mode gets its own passivity correction,
+  // and modes of equal |k| share one design, computed once.  On a line's
+  // wavenumbers this is the constructor above, bit for bit.
+  FaceHalfSpaceHistory(const ElasticMaterial& material, std::span<const double> wavenumbers, double time_step,
                        const HalfSpaceOperatorDesign& design = {}, const CancelCheck& cancelled = {});
 
   double time_step() const override { return dt_; }

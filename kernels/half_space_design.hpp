@@ -41,7 +41,8 @@ struct HalfSpaceOperatorDesign {
   // agree to rounding (FMA contraction); tests and benchmarks pick one here.
   std::optional<simd::InstructionSet> instruction_set;
   // The near-field exponential sum is fitted over h = c_s |k| dt from the
-  // smallest h of the operator's modes up to their largest stored window.  An
+  // smallest h of the operator's modes up to their largest stored window
+  // (HalfSpaceHistory and FaceHalfSpaceHistory alike).  An
   // operator holding part of a larger one's modes (one process of a 2D
   // interface split over processes) is given the whole one's range here
   // (set_near_field_range), so its modes get the same fit; 0: its own modes'.

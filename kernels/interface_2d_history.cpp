@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "kernels/face_half_space.hpp"
 #include "kernels/face_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/inplane_pair_history.hpp"
@@ -208,14 +209,14 @@ InterfaceHistory2d InterfaceHistory2d::build_pair(const InterfaceBody& top, cons
                                                   const CancelCheck& cancelled,
                                                   const StripOperatorFactory& strip_operator) {
   const std::vector<double> magnitude = interface_operator_wavevectors(grid).magnitude;
-  // In-plane: each body's 2x2 face operator at |k| (kernels/face_history.hpp).
+  // In-plane: each body's 2x2 face operator at |k| (kernels/face_history.hpp;
+  // a half-space's, kernels/face_half_space.hpp, with its near-field sums
+  // over the whole list's |k| and a passivity correction per distinct |k|).
   auto face = [&](const InterfaceBody& body) -> std::unique_ptr<FaceHistory> {
-    if (is_half_space(body.height))
-      throw std::invalid_argument(
-          "InterfaceHistory2d::build_pair: a half-space body's 2x2 operator over a 2D interface's |k| is not "
-          "built (finite heights and a rigid base only)");
     ElasticMaterial m = body.material;
     m.plane = PlaneCondition::strain;  // a body invariant along the crest of the mode
+    if (is_half_space(body.height))
+      return std::make_unique<FaceHalfSpaceHistory>(m, magnitude, time_step, HalfSpaceOperatorDesign{}, cancelled);
     return std::make_unique<FaceModalHistory>(m, body.height, body.outer_face, magnitude, time_step);
   };
   // Antiplane: each body's pair-normalised operator (kernels/two_body_history.hpp);

@@ -34,9 +34,9 @@
 // Resolved modes are untouched.
 //
 // Dissimilar bodies (build_pair): the in-plane operator is the 1D in-plane
-// pair's (InplanePairHistory: each body's 2x2 face operator at |k|, continuous
-// tractions, the slip component along k-hat, the normal stress) and the
-// antiplane one the 1D antiplane pair's (TwoBodyHistory).  The normal stress
+// pair's (InplanePairHistory: each body's 2x2 face operator at |k|, finite or
+// a half-space, continuous tractions, the slip component along k-hat, the
+// normal stress) and the antiplane one the 1D antiplane pair's (TwoBodyHistory).  The normal stress
 // of each mode is the in-plane pair's, fed with the slip along k-hat (and the
 // opening stress of the contact step); the SH problem carries no normal
 // stress.  It gets the same Nyquist treatment as the shear history.
@@ -156,12 +156,13 @@ class InterfaceHistory2d {
                                   const HalfSpaceOperatorDesign& half_space = {});
 
   // Two different bodies (docs/3d.md, "Dissimilar bodies"): the in-plane
-  // operator is InplanePairHistory over each finite body's FaceModalHistory
-  // at the operator modes' |k| (a half-space's 2x2 operator over a list of |k|
-  // is not built: std::invalid_argument), the antiplane one TwoBodyHistory over
-  // each body's pair-normalised strip operator (strip_operator, by default
-  // the modal StripHistory; HalfSpaceHistory for a half-space).  bottom =
-  // nullopt is a rigid base.  The time step must make every finite body's
+  // operator is InplanePairHistory over each body's 2x2 face operator at the
+  // operator modes' |k| (FaceModalHistory for a finite body,
+  // FaceHalfSpaceHistory for a half-space), the antiplane one TwoBodyHistory
+  // over each body's pair-normalised operator (strip_operator, by default the
+  // modal StripHistory; HalfSpaceHistory for a half-space).  bottom = nullopt
+  // is a rigid base.  A half-space body's 2x2 operator throws
+  // FaceHalfSpaceNotPassive when the step is too long for its Poisson ratio.  The time step must make every finite body's
   // shear echo a whole number of steps (two_body_time_step); a bottom height
   // is used as given.
   static InterfaceHistory2d build_pair(const InterfaceBody& top, const std::optional<InterfaceBody>& bottom,

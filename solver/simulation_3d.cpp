@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <optional>
 #include <numeric>
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "friction/normal_stress_response.hpp"
+#include "kernels/face_half_space.hpp"
 #include "kernels/two_body_history.hpp"
 #include "laws/initial_state.hpp"
 #include "solver/interface_contact.hpp"
@@ -31,16 +33,6 @@ const SimulationConfig& checked_3d(const SimulationConfig& c) {
   if (c.material.plane != PlaneCondition::strain)
     refuse("material.plane = \"" + std::string(kPlaneConditionNames[static_cast<int>(c.material.plane)]) +
            "\" is not allowed with a 2D interface: expected \"strain\" (the bodies are 3D; slip has x and z parts)");
-  // Dissimilar bodies: finite heights (a half-space's 2x2 face operator over
-  // the |k| of a 2D interface is not built) or a rigid base.
-  if (c.bottom.body != BodyKind::mirror && is_half_space(c.geometry.height))
-    refuse("geometry.height = inf is not allowed with bottom.body = \"" +
-           std::string(kBodyKindNames[static_cast<int>(c.bottom.body)]) +
-           "\" on a 2D interface: expected a finite height (a half-space in a dissimilar pair is 1D only; "
-           "two half-spaces: bottom.body = \"mirror\")");
-  if (c.bottom.body == BodyKind::elastic && is_half_space(c.bottom.height))
-    refuse("bottom.height = inf is not allowed on a 2D interface: expected a finite height (a half-space in "
-           "a dissimilar pair is 1D only)");
   if (c.interface.law != InterfaceLawName::rate_and_state)
     refuse("interface.law must be \"rate_and_state\"");
   if (c.interface.load_pulse_amplitude != 0.0) refuse("interface.load_pulse_amplitude must be 0");
@@ -122,7 +114,50 @@ class SerialSpectralStep final : public InterfaceSpectralStep {
     std::optional<InterfaceBody> bottom;
     if (config.bottom.body == BodyKind::elastic)
       bottom = InterfaceBody{bottom_material(config), timing_3d(config).bottom_height, config.bottom.outer_face};
-    return InterfaceHistory2d::build_pair(top, bottom, interface_grid(config), time_step, cancelled, strip_operator);
+    try {
+      return InterfaceHistory2d::build_pair(top, bottom, interface_grid(config), time_step, cancelled,
+                                            strip_operator);
+    } catch (const FaceHalfSpaceNotPassive&) {
+      throw std::invalid_argument(half_space_time_step_error(config, time_step));
+    }
+  }
+
+  // A half-space body's 2x2 operator exists only when c_s |k|_max dt is at
+  // most face_half_space_passive_limit (a function of the Poisson ratio),
+  // |k|_max the grid's largest (hypot(pi/dx, pi/dz) on even grids): the bound
+  // on time.beta it implies for the first half-space body over it, in one line.
+  static std::string half_space_time_step_error(const SimulationConfig& config, double time_step) {
+    double k_max = 0.0;
+    for (double k : interface_wavevectors(interface_grid(config)).magnitude) k_max = std::max(k_max, k);
+    struct Body {
+      const char* name;
+      const char* key;
+      ElasticMaterial material;
+      double height;
+    };
+    std::vector<Body> bodies{{"top", "material.poisson_ratio", config.material, config.geometry.height}};
+    if (config.bottom.body == BodyKind::elastic)
+      bodies.push_back({"bottom", "bottom.poisson_ratio", bottom_material(config), config.bottom.height});
+    for (Body& b : bodies) {
+      if (!is_half_space(b.height)) continue;
+      b.material.plane = PlaneCondition::strain;
+      const double h_max = b.material.shear_wave_speed() * k_max * time_step;
+      const double limit = face_half_space_passive_limit(1.0 / b.material.wave_speed_ratio_squared(),
+                                                         HalfSpaceOperatorDesign{}, h_max);
+      if (h_max <= limit) continue;
+      std::ostringstream msg;
+      msg << "time.beta = " << config.time.beta << " is too large for the " << b.name
+          << " body, a half-space with " << b.key << " = " << b.material.poisson_ratio
+          << " on a 2D interface: its passive 2x2 operator needs c_s |k| dt <= " << std::setprecision(4) << limit
+          << " at the grid's largest |k| = " << k_max << " 1/m, i.e. time.beta <= "
+          << config.time.beta * limit / h_max << " here (docs/3d.md)";
+      return msg.str();
+    }
+    std::ostringstream msg;
+    msg << "time.beta = " << config.time.beta
+        << " is too large for a half-space body's passive 2x2 operator on this 2D interface: expected a smaller "
+           "time.beta (docs/3d.md)";
+    return msg.str();
   }
 
   InterfaceHistory2d history_;

@@ -120,6 +120,42 @@ TEST_CASE("2D interface: the operator-memory estimate bounds the built operators
   }
 }
 
+TEST_CASE("2D interface, dissimilar bodies: the operator-memory estimate counts each body, half-spaces included") {
+  // Each body's in-plane 2x2 operator and antiplane operator over the grid's
+  // operator modes (kernels/interface_2d_history.hpp, build_pair): a strip on
+  // a half-space of another material, two different half-spaces, a half-space
+  // on a rigid base and two different strips, 16 x 8 nodes.  Tolerance: a
+  // factor of 2 either way, the estimate's stated accuracy
+  // (docs/reliability.md), as the 1D pairs' test below; the time step within 1 %.
+  const std::string other = "[bottom]\nbody = \"elastic\"\nshear_modulus = 4.5e9\ndensity = 2400.0\n"
+                            "poisson_ratio = 0.25\n";
+  struct Case {
+    const char* top_height;
+    const char* bottom;
+  };
+  for (const Case& k : {Case{"0.1", "elastic_inf"}, Case{"\"inf\"", "elastic_inf"}, Case{"\"inf\"", "rigid"},
+                        Case{"0.1", "elastic_0.05"}}) {
+    std::string text = "[geometry]\nlength = 0.4\nwidth = 0.2\nnodes = 16\nnodes_z = 8\nheight = " +
+                       std::string(k.top_height) + "\n[time]\nbeta = 0.2\n";
+    const std::string bottom = k.bottom;
+    if (bottom == "rigid")
+      text += "[bottom]\nbody = \"rigid\"\n";
+    else
+      text += other + "height = " + (bottom == "elastic_inf" ? std::string("\"inf\"") : std::string("0.05")) + "\n";
+    const SimulationConfig c = load_config_string(text);
+    const ResourceEstimate e = estimate_resources(c);
+    const Simulation3d sim(c);
+    const double built = static_cast<double>(sim.history_operator().stats().memory_bytes);
+    INFO(text);
+    MESSAGE("top " << std::string(k.top_height) << ", bottom " << bottom << ": estimate " << e.operator_bytes << " B, built "
+                   << built << " B (ratio " << e.operator_bytes / built << "); dt " << e.time_step << " s, built "
+                   << sim.time_step() << " s");
+    CHECK(e.operator_bytes > 0.5 * built);
+    CHECK(e.operator_bytes < 2.0 * built);
+    CHECK(e.time_step == doctest::Approx(sim.time_step()).epsilon(0.01));
+  }
+}
+
 TEST_CASE("resource estimates follow the strip geometry") {
   SimulationConfig c = load_config_string("");  // reference: N = 1600, H = 0.1 m, beta = 0.25
   const auto e = estimate_resources(c);
