@@ -52,6 +52,32 @@ struct Worst {
   double largest_rate = 0.0, largest_stress = 0.0, largest_normal_change = 0.0;
 };
 
+// Steps a 2D run whose field is independent of z (nodes_z rows of the 1D
+// run's nodes) next to the 1D run, and returns the largest differences of
+// every field over all nodes and steps, with the 1D run's largest values.
+Worst compare_z_independent(Simulation3d& sim, Simulation& flat, int nodes, int nodes_z, int steps, double sigma0) {
+  Worst w;
+  for (int n = 0; n < steps; ++n) {
+    for (int iz = 0; iz < nodes_z; ++iz)
+      for (int ix = 0; ix < nodes; ++ix) {
+        const std::size_t i = static_cast<std::size_t>(iz) * nodes + ix;
+        w.rate = std::max(w.rate, std::abs(sim.slip_rate_x()[i] - flat.slip_rate()[ix]));
+        w.rate_z = std::max(w.rate_z, std::abs(sim.slip_rate_z()[i]));
+        w.stress = std::max(w.stress, std::abs(sim.shear_stress_x()[i] - flat.shear_stress()[ix]));
+        w.normal = std::max(w.normal, std::abs(sim.normal_stress()[i] - flat.normal_stress()[ix]));
+        w.effective = std::max(w.effective,
+                               std::abs(sim.effective_normal_stress()[i] - flat.effective_normal_stress()[ix]));
+        w.state = std::max(w.state, std::abs(sim.state()[i] - flat.state()[ix]) / flat.state()[ix]);
+      }
+    w.largest_rate = std::max(w.largest_rate, max_abs(flat.slip_rate()));
+    w.largest_stress = std::max(w.largest_stress, max_abs(flat.shear_stress()));
+    for (double s : flat.normal_stress()) w.largest_normal_change = std::max(w.largest_normal_change, std::abs(s - sigma0));
+    flat.step();
+    sim.step();
+  }
+  return w;
+}
+
 }  // namespace
 
 TEST_CASE("2D interface, dissimilar bodies, field independent of z = the 1D in-plane dissimilar pair (round-off)") {
@@ -71,25 +97,7 @@ TEST_CASE("2D interface, dissimilar bodies, field independent of z = the 1D in-p
   REQUIRE(sim.time_step() == flat.time_step());
   REQUIRE(sim.radiation_damping() == flat.radiation_damping());
   const double v0 = c1.loading.driving_velocity, sigma0 = c1.loading.normal_stress;
-  Worst w;
-  for (int n = 0; n < 600; ++n) {
-    for (int iz = 0; iz < 4; ++iz)
-      for (int ix = 0; ix < 32; ++ix) {
-        const std::size_t i = iz * 32 + ix;
-        w.rate = std::max(w.rate, std::abs(sim.slip_rate_x()[i] - flat.slip_rate()[ix]));
-        w.rate_z = std::max(w.rate_z, std::abs(sim.slip_rate_z()[i]));
-        w.stress = std::max(w.stress, std::abs(sim.shear_stress_x()[i] - flat.shear_stress()[ix]));
-        w.normal = std::max(w.normal, std::abs(sim.normal_stress()[i] - flat.normal_stress()[ix]));
-        w.effective = std::max(w.effective,
-                               std::abs(sim.effective_normal_stress()[i] - flat.effective_normal_stress()[ix]));
-        w.state = std::max(w.state, std::abs(sim.state()[i] - flat.state()[ix]) / flat.state()[ix]);
-      }
-    w.largest_rate = std::max(w.largest_rate, max_abs(flat.slip_rate()));
-    w.largest_stress = std::max(w.largest_stress, max_abs(flat.shear_stress()));
-    for (double s : flat.normal_stress()) w.largest_normal_change = std::max(w.largest_normal_change, std::abs(s - sigma0));
-    flat.step();
-    sim.step();
-  }
+  const Worst w = compare_z_independent(sim, flat, 32, 4, 600, sigma0);
   MESSAGE("max |v| = " << w.largest_rate / v0 << " v0, max |sigma - sigma0| = " << w.largest_normal_change / sigma0
                        << " sigma0; differences: v_x " << w.rate / w.largest_rate << ", v_z " << w.rate_z / w.largest_rate
                        << " (of max|v|), tau_x " << w.stress / w.largest_stress << " (of max|tau|), sigma "
@@ -151,26 +159,7 @@ TEST_CASE("2D interface, a half-space in a dissimilar pair, field independent of
     REQUIRE(sim.time_step() == flat.time_step());
     REQUIRE(sim.radiation_damping() == flat.radiation_damping());
     const double v0 = c1.loading.driving_velocity, sigma0 = c1.loading.normal_stress;
-    Worst w;
-    for (int n = 0; n < 600; ++n) {
-      for (int iz = 0; iz < 4; ++iz)
-        for (int ix = 0; ix < 32; ++ix) {
-          const std::size_t i = iz * 32 + ix;
-          w.rate = std::max(w.rate, std::abs(sim.slip_rate_x()[i] - flat.slip_rate()[ix]));
-          w.rate_z = std::max(w.rate_z, std::abs(sim.slip_rate_z()[i]));
-          w.stress = std::max(w.stress, std::abs(sim.shear_stress_x()[i] - flat.shear_stress()[ix]));
-          w.normal = std::max(w.normal, std::abs(sim.normal_stress()[i] - flat.normal_stress()[ix]));
-          w.effective = std::max(w.effective,
-                                 std::abs(sim.effective_normal_stress()[i] - flat.effective_normal_stress()[ix]));
-          w.state = std::max(w.state, std::abs(sim.state()[i] - flat.state()[ix]) / flat.state()[ix]);
-        }
-      w.largest_rate = std::max(w.largest_rate, max_abs(flat.slip_rate()));
-      w.largest_stress = std::max(w.largest_stress, max_abs(flat.shear_stress()));
-      for (double s : flat.normal_stress())
-        w.largest_normal_change = std::max(w.largest_normal_change, std::abs(s - sigma0));
-      flat.step();
-      sim.step();
-    }
+    const Worst w = compare_z_independent(sim, flat, 32, 4, 600, sigma0);
     MESSAGE(std::string(pc.name) << ": max |v| = " << w.largest_rate / v0 << " v0, max |sigma - sigma0| = "
                                  << w.largest_normal_change / sigma0 << " sigma0; differences: v_x "
                                  << w.rate / w.largest_rate << ", v_z " << w.rate_z / w.largest_rate
