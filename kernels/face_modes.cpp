@@ -5,8 +5,6 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "kernels/hyperbolic.hpp"
-
 namespace slipstrip {
 namespace {
 
@@ -46,59 +44,81 @@ double pole_function(Layer layer, double k, double xs, double xd, double h) {
   return d.a_sinh * s.cosh - k * k * s.sinh_over_a * d.cosh;
 }
 
-complex f_of(Layer layer, complex a, double h) {
-  return layer == Layer::driven ? a * hyperbolic::coth_right_half(a * h)
-                                : a * hyperbolic::tanh_right_half(a * h);
+// d/dx of the three unscaled quantities (x = a^2), times the same factor e^{-a h}
+// as hyperbolic_of (for x > 0):
+//   d(a sinh)/dx = (sinh/a + h cosh) / 2,   d(cosh)/dx = h (sinh/a) / 2,
+//   d(sinh/a)/dx = (h cosh - sinh/a) / (2x),
+// the last from its Taylor series h^3 sum_{n>=1} n z^{n-1} / (2n+1)!, z = x h^2, for
+// |z| <= 1, where the difference would cancel (ten terms: the next is below 1e-20 of the sum).
+Hyperbolic hyperbolic_slope_of(double x, double h) {
+  const Hyperbolic q = hyperbolic_of(x, h);
+  double sinh_over_a_slope;
+  const double z = x * h * h;
+  if (std::abs(z) <= 1.0) {
+    double sum = 0.0, power = 1.0, factorial = 6.0;  // z^{n-1}, (2n+1)!
+    for (int n = 1; n <= 10; ++n) {
+      sum += n * power / factorial;
+      power *= z;
+      factorial *= (2.0 * n + 2.0) * (2.0 * n + 3.0);
+    }
+    sinh_over_a_slope = h * h * h * sum * (x > 0.0 ? std::exp(-std::sqrt(x) * h) : 1.0);
+  } else {
+    sinh_over_a_slope = (h * q.cosh - q.sinh_over_a) / (2.0 * x);
+  }
+  return {0.5 * (q.sinh_over_a + h * q.cosh), sinh_over_a_slope, 0.5 * h * q.sinh_over_a};
 }
 
-// f'(a) / (2a), finite at a = 0.
-complex f_slope(Layer layer, complex a, double h) {
-  const complex z = a * h;
-  if (std::abs(z) < 1e-3) {
-    const complex z2 = z * z;
-    return layer == Layer::driven ? h / 3.0 * (1.0 - 2.0 * z2 / 15.0) : h * (1.0 - 2.0 * z2 / 3.0);
-  }
-  const complex e = std::exp(-2.0 * z);
-  if (layer == Layer::driven) {
-    // coth z - z / sinh^2 z,  1/sinh^2 z = 4 e^{-2z} / (1 - e^{-2z})^2
-    return (hyperbolic::coth_right_half(z) - 4.0 * z * e / ((1.0 - e) * (1.0 - e))) / (2.0 * a);
-  }
-  // tanh z + z / cosh^2 z,  1/cosh^2 z = 4 e^{-2z} / (1 + e^{-2z})^2
-  return (hyperbolic::tanh_right_half(z) + 4.0 * z * e / ((1.0 + e) * (1.0 + e))) / (2.0 * a);
-}
-
-// Decay rate alpha with alpha^2 = x, on the branch Re alpha >= 0 (alpha = i beta for x < 0).
-complex rate_of(double x) { return x >= 0.0 ? complex(std::sqrt(x), 0.0) : complex(0.0, std::sqrt(-x)); }
-
-// W_m of one layer at its mode omega: K = mu N s^2 / (c_s^2 E) near the zero of E in
-// s^2, N = [[f_s f_d, -i k P],[i k P, alpha_s^2]] with P = -f_s there, so
-//   W = R / omega^2 = -mu N / (c_s^2 E'),   E' = dE/d(s^2),
-//   E' = f_d / c_s^2 + alpha_s^2 f'(alpha_d) / (2 alpha_d c_d^2) - k^2 f'(alpha_s) / (2 alpha_s c_s^2),
-// and N = v v^H / alpha_s^2 with v = (i k f_s, alpha_s^2) (rank one).
+// W_m of one layer at its mode omega (docs/inplane_bodies.md §4).  K = mu N s^2 /
+// (c_s^2 E) has f(alpha) = alpha coth (driven) or alpha tanh (roller) in N and E,
+// and f is infinite where sinh (driven) or cosh (roller) vanishes.  Where that
+// happens to both waves at a mode (driven: q_s h and q_d h both multiples of pi),
+// E is not zero but infinite and -mu N / (c_s^2 dE/ds^2) is inf/inf.  So take
+// numerator and denominator times the factor g of pole_function, which clears
+// every such pole:  K = mu (g N) s^2 / (c_s^2 D),  D = g E,  and g N is a matrix
+// of products of the bounded quantities of hyperbolic_of:
+//   driven, g = sinh_s sinh_d / (alpha_s alpha_d):
+//     g N = [[cosh_s cosh_d, i k cosh_s sinh_d/alpha_d], [-i k ..., alpha_s sinh_s sinh_d/alpha_d]],
+//   roller, g = cosh_s cosh_d / alpha_s^2:
+//     g N = [[(sinh_s/alpha_s) alpha_d sinh_d, i k (sinh_s/alpha_s) cosh_d], [-i k ..., cosh_s cosh_d]],
+// where the off-diagonal entry -i k P g uses P g = 2 c_s^2 D / s^2 - f_s g = -f_s g at
+// D = 0.  D and g N are entire in s^2, so at a simple zero of D the residue in s^2 is
+// mu s^2 (g N) / (c_s^2 D') and W = residue / omega^2 = -mu (g N) / (c_s^2 D'),
+// D' = dD/dx_s / c_s^2 + dD/dx_d / c_d^2 (x = alpha^2 = k^2 + s^2/c^2).  The e^{-a h}
+// scaling of hyperbolic_of multiplies D, D' (D = 0 kills the derivative of the
+// scale) and g N alike and cancels.  det(g N) = (cosh_s sinh_d/alpha_d) D (driven)
+// or (sinh_s/alpha_s) cosh_d D (roller) vanishes at the mode: g N is rank one and
+// is rebuilt from its larger diagonal entry so that W is rank one to rounding.
 FaceMatrix mode_weight(const ElasticMaterial& m, Layer layer, double h, double k, double omega) {
   const double mu = m.shear_modulus, cs = m.shear_wave_speed(), cd = m.dilatational_wave_speed();
   const double xs = k * k - omega * omega / (cs * cs), xd = k * k - omega * omega / (cd * cd);
-  const complex as = rate_of(xs), ad = rate_of(xd);
-  const complex fs = f_of(layer, as, h), fd = f_of(layer, ad, h);
-  const double e_prime = (fd / (cs * cs) + xs * f_slope(layer, ad, h) / (cd * cd) -
-                          k * k * f_slope(layer, as, h) / (cs * cs)).real();
-  // v = (i k f_s, x_s) or, equally at the mode (x_s f_d = k^2 f_s), x_s (i f_d / k, 1):
-  // take the form with the smaller first entry (f_s or f_d may sit near a pole of f).
-  const double fs_r = fs.real(), fd_r = fd.real();
-  double vx, vy;  // v = (i vx, vy), both real
-  if (std::abs(k * fs_r) <= std::abs(xs * fd_r / k)) {
-    vx = k * fs_r;
-    vy = xs;
+  const Hyperbolic s = hyperbolic_of(xs, h), d = hyperbolic_of(xd, h);
+  const Hyperbolic ds = hyperbolic_slope_of(xs, h), dd = hyperbolic_slope_of(xd, h);
+  const double k2 = k * k;
+  double nxx, nyy, b, d_xs, d_xd;  // g N = [[nxx, i b], [-i b, nyy]]; dD/dx_s, dD/dx_d
+  if (layer == Layer::driven) {
+    // D = alpha_s sinh_s cosh_d - k^2 cosh_s sinh_d / alpha_d
+    nxx = s.cosh * d.cosh;
+    nyy = s.a_sinh * d.sinh_over_a;
+    b = k * s.cosh * d.sinh_over_a;
+    d_xs = ds.a_sinh * d.cosh - k2 * ds.cosh * d.sinh_over_a;
+    d_xd = s.a_sinh * dd.cosh - k2 * s.cosh * dd.sinh_over_a;
   } else {
-    vx = xs * fd_r / k;
-    vy = xs;
+    // D = alpha_d sinh_d cosh_s - k^2 (sinh_s / alpha_s) cosh_d
+    nxx = s.sinh_over_a * d.a_sinh;
+    nyy = s.cosh * d.cosh;
+    b = k * s.sinh_over_a * d.cosh;
+    d_xs = d.a_sinh * ds.cosh - k2 * ds.sinh_over_a * d.cosh;
+    d_xd = dd.a_sinh * s.cosh - k2 * s.sinh_over_a * dd.cosh;
   }
-  const double scale = -mu / (cs * cs * e_prime * xs);
+  const double d_prime = d_xs / (cs * cs) + d_xd / (cd * cd);
+  const double scale = -mu / (cs * cs * d_prime);
   FaceMatrix w;
-  w.xx = scale * vx * vx;
-  w.xy = scale * complex(0.0, vx * vy);   // (i vx) * conj(vy)
-  w.yx = scale * complex(0.0, -vx * vy);  // vy * conj(i vx)
-  w.yy = scale * vy * vy;
+  const bool xx_pivot = std::abs(nxx) >= std::abs(nyy);
+  if ((xx_pivot ? nxx : nyy) == 0.0) return w;  // g N = 0: D vanishes here without a pole of K
+  w.xx = scale * (xx_pivot ? nxx : b * b / nyy);
+  w.yy = scale * (xx_pivot ? b * b / nxx : nyy);
+  w.xy = scale * complex(0.0, b);
+  w.yx = scale * complex(0.0, -b);
   return w;
 }
 

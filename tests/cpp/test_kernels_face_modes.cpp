@@ -7,6 +7,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <numbers>
 #include <vector>
 
 #include "face_reference.hpp"
@@ -156,4 +157,82 @@ TEST_CASE("face modes: frequencies and residues agree with the propagator refere
         }
       }
   CHECK(checked >= 150);
+}
+
+TEST_CASE("face modes: residues where both vertical wavenumbers are multiples of pi/H at once") {
+  // Plane strain, nu = 0.33: (c_d/c_s)^2 = 67/17, and a mode of a driven layer of
+  // height h with q_s h = 2 j pi, q_d h = j pi (q^2 = omega^2/c^2 - k^2) exists at
+  // k h = j pi / (5 sqrt 2) (17 (2j)^2 - 67 j^2 = j^2).  There a sinh of each vertical
+  // wavenumber vanishes and f = a coth(a h) of both waves is infinite; the clamped
+  // body's driven half-layer (h = H/2) meets it at even j.  The kH grids of the
+  // tests above miss these points.  Reference: the residue of the propagator
+  // reference, the symmetric average of (s^2 + omega_m^2) K_ref(s) at
+  // s = i omega_m (1 +- eps), which cancels the O(eps) term: its error is
+  // O(eps^2 (omega_m / gap)^2) plus the reference's rounding amplified by 1/eps
+  // (measured worst over all modes 2.4e-5, 2.4e-7, 2.6e-9, 2.7e-8 of |R_m| at eps =
+  // 1e-5, 1e-6, 1e-7, 1e-8).  eps = 1e-7, tolerance 1e-7; a weight evaluated as
+  // inf/inf at the degenerate modes was off by 0.24 to 0.995.  Every mode below
+  // 40 c_s / H is checked, not only the degenerate ones.
+  const double H = 0.1, eps = 1e-7;
+  const ElasticMaterial m = kMaterials[0];  // Table S1, plane strain, nu = 0.33
+  int checked = 0, degenerate = 0;
+  double worst = 0.0, worst_degenerate = 0.0;
+  for (OuterFace face : {OuterFace::driven, OuterFace::clamped})
+    for (int j = 1; j <= 8; ++j) {
+      if (face == OuterFace::clamped && j % 2 != 0) continue;
+      const double kH = j * std::numbers::pi / (5.0 * std::sqrt(2.0));
+      for (double sign : {1.0, -1.0}) {
+        const double k = sign * kH / H;
+        const auto all = slipstrip::face_modes(m, H, face, k, 40.0 * m.shear_wave_speed() / H);
+        // The clamped body's roller and driven half-layers share the degenerate
+        // frequency (both sines vanish in either layer's pole function): a double
+        // pole of K whose residue is the sum of the two listed weights.
+        std::vector<FaceMode> modes;
+        for (const FaceMode& md : all)
+          if (!modes.empty() && md.frequency - modes.back().frequency <= 1e-12 * md.frequency)
+            modes.back().weight = modes.back().weight + md.weight;
+          else
+            modes.push_back(md);
+        const double h = face == OuterFace::driven ? H : 0.5 * H;
+        const double c_s = m.shear_wave_speed(), c_d = m.dilatational_wave_speed();
+        for (std::size_t i = 0; i < modes.size(); ++i) {
+          const double w = modes[i].frequency;
+          const double gap = std::min(i > 0 ? w - modes[i - 1].frequency : w,
+                                      i + 1 < modes.size() ? modes[i + 1].frequency - w : w);
+          if (gap < 1e-3 * w) continue;
+          FaceMatrix ref;
+          for (double e : {eps, -eps}) {
+            const cd s(0.0, w * (1.0 + e));
+            ref = ref + cd(0.5 * (s * s + w * w)) * slipstrip::testing::reference_strip(m, H, face, k, s);
+          }
+          const FaceMatrix expected = cd(w * w) * modes[i].weight;
+          // Is this one of the degenerate modes (both sin(q h) = 0)?
+          const double qs = std::sqrt(std::max(0.0, w * w / (c_s * c_s) - k * k)) * h / std::numbers::pi;
+          const double qd = std::sqrt(std::max(0.0, w * w / (c_d * c_d) - k * k)) * h / std::numbers::pi;
+          const bool both = std::abs(qs - std::round(qs)) < 1e-9 && std::abs(qd - std::round(qd)) < 1e-9 &&
+                            std::round(qd) > 0.0;
+          const double err = (ref - expected).max_abs() / ref.max_abs();
+          CAPTURE(kH);
+          CAPTURE(sign);
+          CAPTURE(int(face));
+          CAPTURE(i);
+          CAPTURE(w * H / c_s);
+          CAPTURE(both);
+          CAPTURE(expected.xx);
+          CAPTURE(ref.xx);
+          CHECK(err <= 1e-7);
+          worst = std::max(worst, err);
+          if (both) worst_degenerate = std::max(worst_degenerate, err);
+          degenerate += both;
+          ++checked;
+        }
+      }
+    }
+  std::printf("[face modes] degenerate kH: %d residues, worst relative error %.2e; %d with both sines zero, "
+              "worst %.2e\n",
+              checked, worst, degenerate, worst_degenerate);
+  // The degenerate mode has q_s H = 2 j pi for either face (the clamped body's
+  // half-layer: q_s H / 2 = 2 (j / 2) pi), so omega H / c_s is just above 2 pi j and
+  // below 40 for j <= 6: driven j = 1..6, clamped j = 2, 4, 6, both signs of k.
+  CHECK(degenerate == 18);
 }
