@@ -208,7 +208,17 @@ InterfaceHistory2d InterfaceHistory2d::build_pair(const InterfaceBody& top, cons
                                                   const InterfaceGrid2d& grid, double time_step,
                                                   const CancelCheck& cancelled,
                                                   const StripOperatorFactory& strip_operator) {
-  const std::vector<double> magnitude = interface_operator_wavevectors(grid).magnitude;
+  return build_pair(top, bottom, grid, interface_modes_all(grid), time_step, cancelled, strip_operator, PairPart{});
+}
+
+InterfaceHistory2d InterfaceHistory2d::build_pair(const InterfaceBody& top, const std::optional<InterfaceBody>& bottom,
+                                                  const InterfaceGrid2d& grid, const InterfaceModeSet& modes,
+                                                  double time_step, const CancelCheck& cancelled,
+                                                  const StripOperatorFactory& strip_operator, const PairPart& part) {
+  const std::vector<double> magnitude = interface_operator_wavevectors(grid, modes).magnitude;
+  const auto design_of = [&](const InterfaceBody& body) -> const HalfSpaceOperatorDesign& {
+    return &body == &top ? part.top_half_space : part.bottom_half_space;
+  };
   // In-plane: each body's 2x2 face operator at |k| (kernels/face_history.hpp;
   // a half-space's, kernels/face_half_space.hpp, with its near-field sums
   // over the whole list's |k| and a passivity correction per distinct |k|).
@@ -216,7 +226,7 @@ InterfaceHistory2d InterfaceHistory2d::build_pair(const InterfaceBody& top, cons
     ElasticMaterial m = body.material;
     m.plane = PlaneCondition::strain;  // a body invariant along the crest of the mode
     if (is_half_space(body.height))
-      return std::make_unique<FaceHalfSpaceHistory>(m, magnitude, time_step, HalfSpaceOperatorDesign{}, cancelled);
+      return std::make_unique<FaceHalfSpaceHistory>(m, magnitude, time_step, design_of(body), cancelled);
     return std::make_unique<FaceModalHistory>(m, body.height, body.outer_face, magnitude, time_step);
   };
   // Antiplane: each body's pair-normalised operator (kernels/two_body_history.hpp);
@@ -225,16 +235,30 @@ InterfaceHistory2d InterfaceHistory2d::build_pair(const InterfaceBody& top, cons
     ElasticMaterial m = body.material;
     m.plane = PlaneCondition::antiplane;
     if (is_half_space(body.height))
-      return std::make_unique<HalfSpaceHistory>(m, magnitude, time_step, HalfSpaceOperatorDesign{}, cancelled);
+      return std::make_unique<HalfSpaceHistory>(m, magnitude, time_step, design_of(body), cancelled);
     const StripKernels kernels = compute_strip_kernels(m, body.height, magnitude, time_step, cancelled);
     if (strip_operator) return strip_operator(m, kernels);
     return std::make_unique<StripHistory>(m, kernels, cancelled);
   };
-  auto inplane = std::make_unique<InplanePairHistory>(face(top), bottom ? face(*bottom) : nullptr);
+  std::unique_ptr<FaceHistory> face_top, face_bottom;
+  std::optional<FaceHalfSpaceNotPassive> not_passive;
+  try {
+    face_top = face(top);
+    if (bottom) face_bottom = face(*bottom);
+  } catch (const FaceHalfSpaceNotPassive& e) {
+    not_passive.emplace(e);
+  }
+  if (part.any_process ? part.any_process(not_passive.has_value()) : not_passive.has_value()) {
+    if (not_passive) throw *not_passive;
+    throw FaceHalfSpaceNotPassive("a half-space body's 2x2 operator has no passive correction on another process's "
+                                  "modes",
+                                  0.0);
+  }
+  auto inplane = std::make_unique<InplanePairHistory>(std::move(face_top), std::move(face_bottom));
   throw_if_cancelled(cancelled, "the in-plane pair's operators");
   auto sh_top = sh(top);
   auto antiplane = std::make_unique<TwoBodyHistory>(std::move(sh_top), bottom ? sh(*bottom) : nullptr);
-  return InterfaceHistory2d(grid, std::move(inplane), std::move(antiplane));
+  return InterfaceHistory2d(grid, modes, std::move(inplane), std::move(antiplane));
 }
 
 namespace {

@@ -169,6 +169,26 @@ class InterfaceHistory2d {
                                        const InterfaceGrid2d& grid, double time_step,
                                        const CancelCheck& cancelled = {},
                                        const StripOperatorFactory& strip_operator = {});
+  // What a part of a pair operator split over processes needs to be the
+  // whole one's part: each body's half-space design (set_near_field_range over
+  // the whole grid's h = c_s |k| dt of that body), and `any_process`, which
+  // returns whether the flag it is given is true on any process building a
+  // part (collective; called once, after the in-plane face operators, so that
+  // a half-space face without a passive correction on one process's modes
+  // stops every process there, before the antiplane operators' collectives).
+  // Defaults: the operator's own modes' ranges; this process only.
+  struct PairPart {
+    HalfSpaceOperatorDesign top_half_space, bottom_half_space;
+    std::function<bool(bool)> any_process;
+  };
+  // The same over the modes of a set (designs shared among its own modes of
+  // equal |k|).  When some process's half-space face has no passive
+  // correction, every process throws FaceHalfSpaceNotPassive (h = the largest
+  // failed c_s |k| dt among this process's modes, 0 on a process without one).
+  static InterfaceHistory2d build_pair(const InterfaceBody& top, const std::optional<InterfaceBody>& bottom,
+                                       const InterfaceGrid2d& grid, const InterfaceModeSet& modes,
+                                       double time_step, const CancelCheck& cancelled,
+                                       const StripOperatorFactory& strip_operator, const PairPart& part);
 
   const InterfaceGrid2d& grid() const { return grid_; }
   double time_step() const { return inplane_->time_step(); }

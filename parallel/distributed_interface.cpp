@@ -11,12 +11,14 @@ namespace slipstrip {
 
 namespace {
 
-// Half-spaces: the near-field fit over the whole grid's |k| (every process
-// computes it from the whole list), as on one process.
-HalfSpaceOperatorDesign whole_operator_half_space_design(const SimulationConfig& config, double time_step) {
+// A half-space body of c_s = `material`'s: the near-field fit over the whole
+// grid's h = c_s |k| dt (every process computes it from the whole list), as on
+// one process.
+HalfSpaceOperatorDesign whole_operator_half_space_design(const SimulationConfig& config,
+                                                         const ElasticMaterial& material, double time_step) {
   HalfSpaceOperatorDesign design;
   std::vector<double> h = interface_operator_wavevectors(interface_grid(config)).magnitude;
-  const double cs = config.material.shear_wave_speed();
+  const double cs = material.shear_wave_speed();
   for (double& value : h) value = cs * value * time_step;  // the expression HalfSpaceHistory uses
   set_near_field_range(design, h);
   return design;
@@ -28,26 +30,34 @@ class DistributedSpectralStep final : public InterfaceSpectralStep {
                           MPI_Comm comm)
       : comm_(comm),
         fft_(config.geometry.nodes, config.geometry.nodes_z, comm),
-        history_(InterfaceHistory2d::build(
-            config.material, config.geometry.height, interface_grid(config),
-            interface_mode_columns(interface_grid(config), fft_.first_column(), fft_.columns()), time_step,
-            cancelled,
-            [&](const ElasticMaterial& body, const StripKernels& kernels) {
-              // The whole operator's largest count of normal modes per Fourier
-              // mode (collective: every process builds the in-plane, then the
-              // antiplane operator).
-              unsigned long long most = most_normal_modes(kernels);
-              MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, comm_);
-              return make_strip_history(body, kernels, config.time.history, cancelled,
-                                        static_cast<std::size_t>(most));
-            },
-            whole_operator_half_space_design(config, time_step))),
-        spectrum_x_(fft_.local_modes()), spectrum_z_(fft_.local_modes()) {}
+        history_(build_history(config, time_step, cancelled)),
+        spectrum_x_(fft_.local_modes()), spectrum_z_(fft_.local_modes()) {
+    if (history_.variable_normal_stress()) {
+      spectrum_opening_.assign(fft_.local_modes(), 0.0);
+      spectrum_normal_.assign(fft_.local_modes(), 0.0);
+    }
+  }
 
   InterfaceSlab slab() const override { return {fft_.first_row(), fft_.rows()}; }
   void history(std::span<const double> rate_x, std::span<const double> rate_z, std::span<double> history_x,
                std::span<double> history_z) override {
     transform_push_invert(fft_, history_, spectrum_x_, spectrum_z_, rate_x, rate_z, history_x, history_z);
+  }
+  bool variable_normal_stress() const override { return history_.variable_normal_stress(); }
+  // Collective, as the transforms are: every process passes an opening stress
+  // or none alike (Simulation3d decides from its own nodes, so the processes
+  // agree on it below).
+  void history(std::span<const double> rate_x, std::span<const double> rate_z,
+               std::span<const double> opening_stress, std::span<double> history_x, std::span<double> history_z,
+               std::span<double> normal_stress) override {
+    int any_opening = opening_stress.empty() ? 0 : 1;
+    MPI_Allreduce(MPI_IN_PLACE, &any_opening, 1, MPI_INT, MPI_LOR, comm_);
+    // A process whose own nodes carry no opening stress transforms zeros
+    // when another process's do (its part of the whole field).
+    if (any_opening && opening_stress.empty()) opening_stress = zero_opening_;
+    transform_push_invert(fft_, history_, spectrum_x_, spectrum_z_, spectrum_opening_, spectrum_normal_, rate_x,
+                          rate_z, any_opening ? opening_stress : std::span<const double>(), history_x, history_z,
+                          normal_stress);
   }
   const InterfaceHistory2d& history_operator() const override { return history_; }
   InterfaceHistory2d& history_operator() override { return history_; }
@@ -61,10 +71,43 @@ class DistributedSpectralStep final : public InterfaceSpectralStep {
   }
 
  private:
+  // This process's modes' operators, each choice made as on one process.
+  InterfaceHistory2d build_history(const SimulationConfig& config, double time_step, const CancelCheck& cancelled) {
+    const InterfaceGrid2d grid = interface_grid(config);
+    const InterfaceModeSet modes = interface_mode_columns(grid, fft_.first_column(), fft_.columns());
+    // The whole operator's largest count of normal modes per Fourier mode
+    // decides modal / block and B (collective: every process builds the
+    // strip operators in the same order).
+    const auto strip_operator = [&](const ElasticMaterial& body, const StripKernels& kernels) {
+      unsigned long long most = most_normal_modes(kernels);
+      MPI_Allreduce(MPI_IN_PLACE, &most, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, comm_);
+      return make_strip_history(body, kernels, config.time.history, cancelled, static_cast<std::size_t>(most));
+    };
+    if (config.bottom.body == BodyKind::mirror)
+      return InterfaceHistory2d::build(config.material, config.geometry.height, grid, modes, time_step, cancelled,
+                                       strip_operator,
+                                       whole_operator_half_space_design(config, config.material, time_step));
+    // Dissimilar bodies: each half-space body's near-field fit over the whole
+    // grid's range of its own h (its own c_s); the passivity correction is per
+    // |k|, so a process's modes get the one-process corrections.
+    InterfaceHistory2d::PairPart part;
+    part.top_half_space = whole_operator_half_space_design(config, config.material, time_step);
+    if (config.bottom.body == BodyKind::elastic)
+      part.bottom_half_space = whole_operator_half_space_design(config, bottom_material(config), time_step);
+    part.any_process = [this](bool flag) {
+      int any = flag ? 1 : 0;
+      MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_LOR, comm_);
+      return any != 0;
+    };
+    zero_opening_.assign(fft_.local_nodes(), 0.0);
+    return interface_pair_history(config, time_step, cancelled, modes, strip_operator, part);
+  }
+
   MPI_Comm comm_;
   DistributedRealFft2d fft_;
+  std::vector<double> zero_opening_;  // dissimilar bodies: a slab of zeros (see history())
   InterfaceHistory2d history_;
-  std::vector<std::complex<double>> spectrum_x_, spectrum_z_;
+  std::vector<std::complex<double>> spectrum_x_, spectrum_z_, spectrum_opening_, spectrum_normal_;
 };
 
 }  // namespace

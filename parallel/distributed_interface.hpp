@@ -8,7 +8,13 @@
 //     antiplane history operators of those modes only, built from the designs
 //     of their own |k| (InterfaceHistory2d over an InterfaceModeSet); the
 //     choice modal / block and the block length B are made from the whole
-//     operator's largest normal-mode count, as on one process;
+//     operator's largest normal-mode count, as on one process, and a
+//     half-space's near-field fit spans the whole grid's |k|;
+//   * dissimilar bodies: the pair operators of those modes (each body's 2x2
+//     face operator, the antiplane pair, the normal stress; each half-space
+//     body's fit over the whole grid's range of its own c_s |k| dt), the
+//     normal stress's and opening stress's transforms distributed as the
+//     others; the contact step is node-local;
 //   * sums and maxima over the interface (mean slip, mean shear stress,
 //     max |v|) by MPI_Allreduce.
 // The results equal one process's to round-off (the FFT and the sums add in

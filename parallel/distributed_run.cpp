@@ -40,10 +40,6 @@ void check_distributed_run(const SimulationConfig& config) {
   if (config.geometry.nodes_z < 2)
     refuse("geometry.nodes_z = " + std::to_string(config.geometry.nodes_z) +
            ": a run split over processes is a 2D interface only (nodes_z > 1); a line runs with `slipstrip run`");
-  if (config.bottom.body != BodyKind::mirror)
-    refuse("bottom.body = \"" + std::string(kBodyKindNames[static_cast<int>(config.bottom.body)]) +
-           "\" is not allowed on several processes: expected \"mirror\" (the distributed step carries no normal "
-           "stress)");
   if (!config.output.stations.empty())
     refuse("output.stations is not allowed on several processes: expected [] (stations are recorded by "
            "`slipstrip run` on one process)");

@@ -36,7 +36,7 @@ struct CollectiveError : std::invalid_argument {
 
 // Throws CollectiveError (on every process, origin 0) naming the key of what a
 // run split over processes does not do: a line (geometry.nodes_z = 1),
-// dissimilar bodies, stations, restart points.
+// stations, restart points.
 void check_distributed_run(const SimulationConfig& config);
 
 // Runs `config` split over `comm` and writes `output_path` on rank 0.

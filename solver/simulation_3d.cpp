@@ -60,6 +60,64 @@ TwoBodyTiming timing_3d(const SimulationConfig& c) {
   return TwoBodyTiming{dt, c.geometry.height, bottom, 0.0};
 }
 
+// A half-space body's 2x2 operator exists only when c_s |k|_max dt is at
+// most face_half_space_passive_limit (a function of the Poisson ratio),
+// |k|_max the grid's largest (hypot(pi/dx, pi/dz) on even grids): the bound
+// on time.beta it implies for the first half-space body over it, in one line.
+std::string half_space_time_step_error(const SimulationConfig& config, double time_step) {
+  double k_max = 0.0;
+  for (double k : interface_wavevectors(interface_grid(config)).magnitude) k_max = std::max(k_max, k);
+  struct Body {
+    const char* name;
+    const char* key;
+    ElasticMaterial material;
+    double height;
+  };
+  std::vector<Body> bodies{{"top", "material.poisson_ratio", config.material, config.geometry.height}};
+  if (config.bottom.body == BodyKind::elastic)
+    bodies.push_back({"bottom", "bottom.poisson_ratio", bottom_material(config), config.bottom.height});
+  for (Body& b : bodies) {
+    if (!is_half_space(b.height)) continue;
+    b.material.plane = PlaneCondition::strain;
+    const double h_max = b.material.shear_wave_speed() * k_max * time_step;
+    const double limit = face_half_space_passive_limit(1.0 / b.material.wave_speed_ratio_squared(),
+                                                       HalfSpaceOperatorDesign{}, h_max);
+    if (h_max <= limit) continue;
+    std::ostringstream msg;
+    msg << "time.beta = " << config.time.beta << " is too large for the " << b.name
+        << " body, a half-space with " << b.key << " = " << b.material.poisson_ratio
+        << " on a 2D interface: its passive 2x2 operator needs c_s |k| dt <= " << std::setprecision(4) << limit
+        << " at the grid's largest |k| = " << k_max << " 1/m, i.e. time.beta <= "
+        << config.time.beta * limit / h_max << " here (docs/3d.md)";
+    return msg.str();
+  }
+  std::ostringstream msg;
+  msg << "time.beta = " << config.time.beta
+      << " is too large for a half-space body's passive 2x2 operator on this 2D interface: expected a smaller "
+         "time.beta (docs/3d.md)";
+  return msg.str();
+}
+
+}  // namespace
+
+InterfaceHistory2d interface_pair_history(const SimulationConfig& config, double time_step,
+                                          const CancelCheck& cancelled, const InterfaceModeSet& modes,
+                                          const InterfaceHistory2d::StripOperatorFactory& strip_operator,
+                                          const InterfaceHistory2d::PairPart& part) {
+  const InterfaceBody top{config.material, config.geometry.height, config.top.outer_face};
+  std::optional<InterfaceBody> bottom;
+  if (config.bottom.body == BodyKind::elastic)
+    bottom = InterfaceBody{bottom_material(config), timing_3d(config).bottom_height, config.bottom.outer_face};
+  try {
+    return InterfaceHistory2d::build_pair(top, bottom, interface_grid(config), modes, time_step, cancelled,
+                                          strip_operator, part);
+  } catch (const FaceHalfSpaceNotPassive&) {
+    throw std::invalid_argument(half_space_time_step_error(config, time_step));
+  }
+}
+
+namespace {
+
 // One process: RealFft2d and the operator over every mode.
 class SerialSpectralStep final : public InterfaceSpectralStep {
  public:
@@ -82,19 +140,8 @@ class SerialSpectralStep final : public InterfaceSpectralStep {
   void history(std::span<const double> rate_x, std::span<const double> rate_z,
                std::span<const double> opening_stress, std::span<double> history_x, std::span<double> history_z,
                std::span<double> normal_stress) override {
-    fft_.forward(rate_x, spectrum_x_);
-    fft_.forward(rate_z, spectrum_z_);
-    if (opening_stress.empty()) {
-      history_.push(spectrum_x_, spectrum_z_, {});
-    } else {
-      fft_.forward(opening_stress, spectrum_opening_);
-      history_.push(spectrum_x_, spectrum_z_, spectrum_opening_);
-    }
-    fft_.inverse(history_.history_x(), history_x);
-    fft_.inverse(history_.history_z(), history_z);
-    // inverse() may overwrite its input: a copy of the operator's output.
-    std::copy(history_.normal_stress().begin(), history_.normal_stress().end(), spectrum_normal_.begin());
-    fft_.inverse(spectrum_normal_, normal_stress);
+    transform_push_invert(fft_, history_, spectrum_x_, spectrum_z_, spectrum_opening_, spectrum_normal_, rate_x,
+                          rate_z, opening_stress, history_x, history_z, normal_stress);
   }
   const InterfaceHistory2d& history_operator() const override { return history_; }
   InterfaceHistory2d& history_operator() override { return history_; }
@@ -110,54 +157,8 @@ class SerialSpectralStep final : public InterfaceSpectralStep {
     if (!dissimilar(config))
       return InterfaceHistory2d::build(config.material, config.geometry.height, interface_grid(config), time_step,
                                        cancelled, strip_operator);
-    const InterfaceBody top{config.material, config.geometry.height, config.top.outer_face};
-    std::optional<InterfaceBody> bottom;
-    if (config.bottom.body == BodyKind::elastic)
-      bottom = InterfaceBody{bottom_material(config), timing_3d(config).bottom_height, config.bottom.outer_face};
-    try {
-      return InterfaceHistory2d::build_pair(top, bottom, interface_grid(config), time_step, cancelled,
-                                            strip_operator);
-    } catch (const FaceHalfSpaceNotPassive&) {
-      throw std::invalid_argument(half_space_time_step_error(config, time_step));
-    }
-  }
-
-  // A half-space body's 2x2 operator exists only when c_s |k|_max dt is at
-  // most face_half_space_passive_limit (a function of the Poisson ratio),
-  // |k|_max the grid's largest (hypot(pi/dx, pi/dz) on even grids): the bound
-  // on time.beta it implies for the first half-space body over it, in one line.
-  static std::string half_space_time_step_error(const SimulationConfig& config, double time_step) {
-    double k_max = 0.0;
-    for (double k : interface_wavevectors(interface_grid(config)).magnitude) k_max = std::max(k_max, k);
-    struct Body {
-      const char* name;
-      const char* key;
-      ElasticMaterial material;
-      double height;
-    };
-    std::vector<Body> bodies{{"top", "material.poisson_ratio", config.material, config.geometry.height}};
-    if (config.bottom.body == BodyKind::elastic)
-      bodies.push_back({"bottom", "bottom.poisson_ratio", bottom_material(config), config.bottom.height});
-    for (Body& b : bodies) {
-      if (!is_half_space(b.height)) continue;
-      b.material.plane = PlaneCondition::strain;
-      const double h_max = b.material.shear_wave_speed() * k_max * time_step;
-      const double limit = face_half_space_passive_limit(1.0 / b.material.wave_speed_ratio_squared(),
-                                                         HalfSpaceOperatorDesign{}, h_max);
-      if (h_max <= limit) continue;
-      std::ostringstream msg;
-      msg << "time.beta = " << config.time.beta << " is too large for the " << b.name
-          << " body, a half-space with " << b.key << " = " << b.material.poisson_ratio
-          << " on a 2D interface: its passive 2x2 operator needs c_s |k| dt <= " << std::setprecision(4) << limit
-          << " at the grid's largest |k| = " << k_max << " 1/m, i.e. time.beta <= "
-          << config.time.beta * limit / h_max << " here (docs/3d.md)";
-      return msg.str();
-    }
-    std::ostringstream msg;
-    msg << "time.beta = " << config.time.beta
-        << " is too large for a half-space body's passive 2x2 operator on this 2D interface: expected a smaller "
-           "time.beta (docs/3d.md)";
-    return msg.str();
+    return interface_pair_history(config, time_step, cancelled, interface_modes_all(interface_grid(config)),
+                                  strip_operator, {});
   }
 
   InterfaceHistory2d history_;
@@ -193,7 +194,7 @@ Simulation3d::Simulation3d(const SimulationConfig& config, std::span<const doubl
     if (!spectral_->variable_normal_stress())
       throw std::invalid_argument(
           "bottom.body = \"" + std::string(kBodyKindNames[static_cast<int>(config_.bottom.body)]) +
-          "\" is not allowed with this spectral step (a 2D interface split over processes): expected \"mirror\"");
+          "\" is not allowed with this spectral step (it carries no normal stress): expected \"mirror\"");
     // The pair's instantaneous response (kernels/inplane_pair_history.hpp).
     eta_ = spectral_->history_operator().radiation_damping();
     local_ = LocalSolveParameters(config_.friction, config_.loading.normal_stress, eta_);

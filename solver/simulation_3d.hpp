@@ -23,6 +23,7 @@
 // and the friction sees the regularised normal stress sigma_eff
 // (friction/normal_stress_response.hpp), |tau| = sigma_eff f(|v|, phi), solved
 // node by node with the scalar routines on the magnitudes.
+#include <algorithm>
 #include <complex>
 #include <functional>
 #include <memory>
@@ -60,8 +61,7 @@ class InterfaceSpectralStep {
   // Dissimilar in-plane bodies: whether this step carries the normal stress,
   // and the same step with the opening stress d at t_n (empty: none) in and the
   // compressive normal stress perturbation at t_{n+1} out.  The default
-  // carries none (a run split over processes poses identical bodies only) and
-  // throws std::logic_error if called.
+  // carries none and throws std::logic_error if called.
   virtual bool variable_normal_stress() const { return false; }
   virtual void history(std::span<const double> rate_x, std::span<const double> rate_z,
                        std::span<const double> opening_stress, std::span<double> history_x,
@@ -88,9 +88,46 @@ void transform_push_invert(Fft& fft, InterfaceHistory2d& history, std::span<std:
   fft.inverse(history.history_z(), history_z);
 }
 
+// The same for dissimilar bodies: rates and the opening stress (empty: none)
+// -> spectra -> history and normal stress -> their parts at the nodes (a third
+// pair of transforms).  spectrum_opening and spectrum_normal are scratch of
+// the transform's mode count.  No allocation.
+template <class Fft>
+void transform_push_invert(Fft& fft, InterfaceHistory2d& history, std::span<std::complex<double>> spectrum_x,
+                           std::span<std::complex<double>> spectrum_z,
+                           std::span<std::complex<double>> spectrum_opening,
+                           std::span<std::complex<double>> spectrum_normal, std::span<const double> rate_x,
+                           std::span<const double> rate_z, std::span<const double> opening_stress,
+                           std::span<double> history_x, std::span<double> history_z,
+                           std::span<double> normal_stress) {
+  fft.forward(rate_x, spectrum_x);
+  fft.forward(rate_z, spectrum_z);
+  if (opening_stress.empty()) {
+    history.push(spectrum_x, spectrum_z, {});
+  } else {
+    fft.forward(opening_stress, spectrum_opening);
+    history.push(spectrum_x, spectrum_z, spectrum_opening);
+  }
+  fft.inverse(history.history_x(), history_x);
+  fft.inverse(history.history_z(), history_z);
+  // The inverse transform may overwrite its input: a copy of the operator's output.
+  std::copy(history.normal_stress().begin(), history.normal_stress().end(), spectrum_normal.begin());
+  fft.inverse(spectrum_normal, normal_stress);
+}
+
 // Makes the spectral step of `config` at time step `time_step`.
 using SpectralStepFactory = std::function<std::unique_ptr<InterfaceSpectralStep>(
     const SimulationConfig& config, double time_step, const CancelCheck& cancelled)>;
+
+// The dissimilar bodies' operator of `config` (bottom.body "elastic" or
+// "rigid") over a set of Fourier modes (InterfaceHistory2d::build_pair; the
+// serial step's over all of them).  A half-space body without a passive 2x2
+// operator is a std::invalid_argument naming time.beta, the body's Poisson
+// ratio and the bound on time.beta.
+InterfaceHistory2d interface_pair_history(const SimulationConfig& config, double time_step,
+                                          const CancelCheck& cancelled, const InterfaceModeSet& modes,
+                                          const InterfaceHistory2d::StripOperatorFactory& strip_operator,
+                                          const InterfaceHistory2d::PairPart& part);
 
 // One process: all rows, all modes; the strip operators chosen by
 // time.history (make_strip_history).
