@@ -37,6 +37,7 @@ struct BlockStripHistory::Scratch {
   std::vector<cplx> frequency;     // one value per theta_k of a mode
   std::vector<cplx> series;        // B outputs
   std::vector<double> phase_re, phase_im;  // e^{i theta_k B/2} of the located design
+  GaussianNufft::PassScratch far;          // the one-pass far field's grids
 };
 
 int automatic_block_length(std::size_t most_normal_modes, int direct_block) {
@@ -133,7 +134,7 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
     scratch_.push_back({make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
                         nufft_->make_scratch(2 * most),
                         std::vector<cplx>(2 * most), std::vector<cplx>(B), std::vector<double>(2 * most),
-                        std::vector<double>(2 * most)});
+                        std::vector<double>(2 * most), nufft_->make_pass_scratch(1)});
 
   // Levels s = direct_block .. B/2.
   std::size_t spectrum_size = 0;
@@ -187,7 +188,8 @@ ModeOperatorStats BlockStripHistory::stats() const {
                                    history_.size()) +
                    rows_.memory_bytes() +
                    scratch_.size() * sizeof(cplx) *
-                       (4 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency.size());
+                       (4 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency.size() +
+                        3 * static_cast<std::size_t>(nufft_->grid_size()));
   return s;
 }
 
@@ -223,15 +225,13 @@ void BlockStripHistory::convolve_level(int q, std::size_t l, int start, Scratch&
   for (int j = 0; j < s; ++j) out[j] += buffer[s + j] * scale;
 }
 
-void BlockStripHistory::locate_design(std::size_t d, Scratch& scratch) const {
-  // The Gaussian weights of the design's frequencies (for both transforms) and
+void BlockStripHistory::design_phases(std::size_t d, Scratch& scratch) const {
   // p_k = e^{i theta_k B/2}: once per design and block, for all its modes.
-  const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
-  std::span<const double> theta(theta_.data() + f0, count);
-  nufft_->locate(theta, scratch.nufft);
   // The frequencies come in pairs (+phi_m, -phi_m): the second phase of a
   // pair is the first's conjugate, bit for bit (cos is even and sin odd, and
   // (-phi) B/2 = -(phi B/2) exactly), so half the cosines and sines.
+  const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
+  const double* theta = theta_.data() + f0;
   const double half_block = 0.5 * static_cast<double>(block_);
   for (std::size_t k = 0; k < count; k += 2) {
     const double c = std::cos(theta[k] * half_block), s = std::sin(theta[k] * half_block);
@@ -239,6 +239,14 @@ void BlockStripHistory::locate_design(std::size_t d, Scratch& scratch) const {
     scratch.phase_im[k] = s;
     scratch.phase_im[k + 1] = -s;
   }
+}
+
+void BlockStripHistory::locate_design(std::size_t d, Scratch& scratch) const {
+  // The Gaussian weights of the design's frequencies (for both transforms of
+  // each of its modes) and its phases.
+  const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
+  nufft_->locate({theta_.data() + f0, count}, scratch.nufft);
+  design_phases(d, scratch);
 }
 
 void BlockStripHistory::advance_far_field(int q, Scratch& scratch) {
@@ -269,6 +277,33 @@ void BlockStripHistory::advance_far_field(int q, Scratch& scratch) {
   nufft_->adjoint_centred(transformed, scratch.series, scratch.nufft);
   cplx* out = rows_.accumulator(0, q);
   for (std::size_t t = 0; t < B; ++t) out[t] += scratch.series[t];
+}
+
+void BlockStripHistory::advance_far_field_in_one_pass(int q, Scratch& scratch) {
+  // As advance_far_field, frequency by frequency: F_k from the Gaussian
+  // weights computed there, the state update, and the coefficient spread into
+  // the adjoint grid through the same weights.  The design is this mode's
+  // alone, so storing its weights for the two transforms would be written and
+  // read once each.  The same arithmetic but for the forward sums' order
+  // (vector lanes, GaussianNufft::forward_map_adjoint).
+  const std::size_t d = design_[q];
+  const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
+  if (count == 0) return;
+  cplx* state = state_.data() + first_state_[q];
+  const double* half_weight = half_weight_.data() + f0;
+  const double *phase_re = scratch.phase_re.data(), *phase_im = scratch.phase_im.data();
+  const auto far = [&](std::size_t k, std::array<cplx, 1>& value) {
+    const double pr = phase_re[k], pi_ = phase_im[k];
+    const double ar = state[k].real(), ai = state[k].imag();
+    const double fr = value[0].real(), fi = value[0].imag();
+    // p A + F, then times p
+    const double ur = pr * ar - pi_ * ai + fr, ui = pr * ai + pi_ * ar + fi;
+    const double nr = pr * ur - pi_ * ui, ni = pr * ui + pi_ * ur;
+    state[k] = cplx(nr, ni);
+    value[0] = cplx(half_weight[k] * (pr * nr - pi_ * ni), half_weight[k] * (pr * ni + pi_ * nr));
+  };
+  nufft_->forward_map_adjoint<1>({theta_.data() + f0, count}, {rows_.input(0, q)}, {rows_.accumulator(0, q)},
+                                 scratch.far, far);
 }
 
 void BlockStripHistory::add_direct_part(int q, int slot, cplx v) {
@@ -318,9 +353,18 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
   // design, so the modes of one design (equal |k|) share one set of Gaussian
   // weights and phases.  (No level fires at the block's end: (tau + 1) % 2s =
   // B % 2s = 0 != s.)  Per mode the same arithmetic as mode by mode.
+  // A design of one mode (every design of a 1D interface) takes the one-pass
+  // far field instead: its weights would be used by that mode alone.
   auto advance_design = [&](std::size_t d, Scratch& scratch) {
+    const std::size_t first = design_first_mode_[d], end = design_first_mode_[d + 1];
+    if (end - first == 1) {
+      design_phases(d, scratch);
+      advance_far_field_in_one_pass(static_cast<int>(design_modes_[first]), scratch);
+      give_output(static_cast<int>(design_modes_[first]));
+      return;
+    }
     locate_design(d, scratch);
-    for (std::size_t i = design_first_mode_[d]; i < design_first_mode_[d + 1]; ++i) {
+    for (std::size_t i = first; i < end; ++i) {
       const int q = static_cast<int>(design_modes_[i]);
       advance_far_field(q, scratch);
       give_output(q);

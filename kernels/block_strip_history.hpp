@@ -94,8 +94,15 @@ class BlockStripHistory final : public HistoryOperator {
  private:
   struct Scratch;
   void convolve_level(int q, std::size_t level, int start, Scratch& scratch);
+  // The far field's phases p_k = e^{i theta_k B/2} of a design, and with them
+  // its Gaussian weights (locate_design, for the modes of a shared design).
+  void design_phases(std::size_t design, Scratch& scratch) const;
   void locate_design(std::size_t design, Scratch& scratch) const;
+  // Mode q's far field across the block, with its design's weights located.
   void advance_far_field(int q, Scratch& scratch);
+  // The same for the one mode of a design: in one pass over its frequencies
+  // (GaussianNufft::forward_map_adjoint), no weights stored.
+  void advance_far_field_in_one_pass(int q, Scratch& scratch);
   // Input v at `slot` of its direct block into the direct block's later outputs.
   void add_direct_part(int q, int slot, std::complex<double> v);
 

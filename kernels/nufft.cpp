@@ -58,32 +58,54 @@ void GaussianNufft::locate(std::span<const double> theta, Scratch& scratch) cons
 // exp(-d^2/4T) * exp(d dx/2T)^j * exp(-(j dx)^2/4T), two exponentials per
 // frequency.  Lanes of frequencies side by side: one frequency's powers are a
 // chain of dependent products, several frequencies' chains overlap.
+//
+// A frequency followed by its negative (the block operators list each normal
+// mode as +phi, -phi) shares its window mirrored: with theta = (u + d/dx) dx,
+// 0 < d < dx, -theta has base -u-1 and offset dx - d, so its weight at point
+// -u-1+j is exp(-(d - (1-j) dx)^2/4T), theta's at u+1-j: its 2w weights are
+// theta's in reverse order.  The pair's exponentials and products are
+// computed once (the mirrored weights equal the directly computed ones to
+// rounding; the windows' first points are the same integers).  A frequency on
+// a grid point (d = 0) has no mirror of this form and is computed directly.
 void GaussianNufft::gaussian_windows(const double* theta, std::size_t n, long* start, double* weight) const {
   constexpr std::size_t lanes = 8;
   const int G = grid_, w = half_width_;
   const double dx = 2.0 * pi / G;
-  for (std::size_t k0 = 0; k0 < n; k0 += lanes) {
-    const std::size_t m = std::min(lanes, n - k0);
+  std::size_t k = 0;
+  while (k < n) {
+    // Up to `lanes` frequencies computed directly, each perhaps with its mirror.
+    std::size_t index[lanes];
+    bool mirrored[lanes];
     double up[lanes], down[lanes], e2[lanes], inv_e2[lanes];
-    for (std::size_t i = 0; i < m; ++i) {
-      const double u = std::floor(theta[k0 + i] / dx);
+    std::size_t m = 0;
+    for (; m < lanes && k < n; ++m) {
+      const double u = std::floor(theta[k] / dx);
       const long base = static_cast<long>(u);
-      const double offset = theta[k0 + i] - u * dx;  // in [0, dx)
-      start[k0 + i] = ((base - w + 1) % G + G) % G;
-      up[i] = down[i] = std::exp(-offset * offset / (4.0 * variance_));
-      e2[i] = std::exp(offset * dx / (2.0 * variance_));
-      inv_e2[i] = 1.0 / e2[i];
+      const double offset = theta[k] - u * dx;  // in [0, dx)
+      index[m] = k;
+      start[k] = ((base - w + 1) % G + G) % G;
+      up[m] = down[m] = std::exp(-offset * offset / (4.0 * variance_));
+      e2[m] = std::exp(offset * dx / (2.0 * variance_));
+      inv_e2[m] = 1.0 / e2[m];
+      mirrored[m] = k + 1 < n && theta[k + 1] == -theta[k] && u != theta[k] / dx;
+      if (mirrored[m]) start[k + 1] = ((-base - 1 - w + 1) % G + G) % G;
+      k += mirrored[m] ? 2 : 1;
     }
-    double* out = weight + k0 * 2 * w;
     for (int j = 0; j <= w; ++j)  // points base + j
       for (std::size_t i = 0; i < m; ++i) {
-        out[i * 2 * w + w - 1 + j] = up[i] * tail_[j];
+        weight[index[i] * 2 * w + w - 1 + j] = up[i] * tail_[j];
         up[i] *= e2[i];
       }
     for (int j = 1; j < w; ++j)  // points base - j
       for (std::size_t i = 0; i < m; ++i) {
         down[i] *= inv_e2[i];
-        out[i * 2 * w + w - 1 - j] = down[i] * tail_[j];
+        weight[index[i] * 2 * w + w - 1 - j] = down[i] * tail_[j];
+      }
+    for (std::size_t i = 0; i < m; ++i)
+      if (mirrored[i]) {
+        const double* from = weight + index[i] * 2 * w;
+        double* to = weight + (index[i] + 1) * 2 * w;
+        for (int j = 0; j < 2 * w; ++j) to[j] = from[2 * w - 1 - j];
       }
   }
 }
