@@ -64,8 +64,8 @@ struct BenchResult {
   double floor_cpu_us_per_step = std::numeric_limits<double>::quiet_NaN();
 };
 
-BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
-  using clock = std::chrono::steady_clock;
+// The configuration a case runs (its estimate guards the memory, bench_case runs it).
+SimulationConfig bench_config(const BenchCase& c, const BenchOptions& options) {
   SimulationConfig config;
   config.geometry = {4.0, c.height, c.nodes};
   config.material.plane = c.plane;
@@ -79,11 +79,17 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
     config.bottom.density = 2.0 * config.material.density;
     config.bottom.height = c.height;
   }
-  const double dt = strip_time_step(config.material, c.height, config.geometry.length / c.nodes,
-                                    config.time.beta);
   // A typical statistics run (100 L/c_s), in case an operator is sized by the
   // run's horizon; the timed steps are far fewer.
   config.time.duration = 100.0 * config.geometry.length / config.material.shear_wave_speed();
+  return config;
+}
+
+BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
+  using clock = std::chrono::steady_clock;
+  const SimulationConfig config = bench_config(c, options);
+  const double dt = strip_time_step(config.material, c.height, config.geometry.length / c.nodes,
+                                    config.time.beta);
   const auto t_setup = clock::now();
   Simulation sim(config);  // includes the kernel precompute (closed-form modes)
   const double setup_ms = std::chrono::duration<double, std::milli>(clock::now() - t_setup).count();
@@ -343,35 +349,12 @@ int run_bench(const BenchOptions& options) {
      if (options.dissimilar)
        for (PlaneCondition plane : options.planes) cases.push_back({n, height, plane, true});
      for (const BenchCase& bench : cases) {
-      const PlaneCondition plane = bench.plane;
       // Thick strips hold O(N H/dx) normal modes: estimate the operator's
-      // memory before building it.  P ~ (M/2)(1 + c_s/c_d) modes per Fourier
-      // mode; modal: 7 doubles per mode; block: ~64 P + 48 B bytes, B < 2P;
-      // a dissimilar pair: two 2x2 modal operators, ~144 bytes per mode each.
+      // memory before building it, as a run does (estimate_resources: each
+      // operator at the block length Simulation gives it, checked against the
+      // built operators in tests/cpp/test_solver_reliability.cpp).
       if (!std::isinf(height)) {
-        ElasticMaterial material;
-        material.plane = plane;
-        const double dx = 4.0 / n;
-        const double echo_steps = 2.0 * height / (0.25 * dx);
-        // Antiplane: one (shear) family.
-        const double per_mode = (echo_steps / 2.0) *
-                                (1.0 + (material.antiplane() ? 0.0
-                                                             : material.shear_wave_speed() /
-                                                                   material.dilatational_wave_speed()));
-        const bool block = options.history == HistoryAlgorithm::block ||
-                           (options.history == HistoryAlgorithm::automatic && per_mode >= 128);
-        // A dissimilar pair: in-plane two 2x2 operators, modal ~144 bytes per
-        // normal mode each, block ~64 P + 112 B bytes per Fourier mode each;
-        // antiplane two scalar ones, modal 56 and block ~80 P + 48 B bytes
-        // (B < 2P where that is > 1024 and this guard matters; face_block_length,
-        // body_block_length).
-        const double bytes_per_mode = bench.dissimilar && material.antiplane()
-                                          ? (block ? 2.0 * (80.0 + 48.0 * 2.0) * per_mode : 112.0 * per_mode)
-                                      : bench.dissimilar ? (block ? 2.0 * (64.0 + 112.0 * 2.0) * per_mode
-                                                                : 288.0 * per_mode)
-                                      : block          ? 64.0 * per_mode + 48.0 * 2.0 * per_mode
-                                                       : 56.0 * per_mode;
-        const double gib = (n / 2.0) * bytes_per_mode / (1024.0 * 1024.0 * 1024.0);
+        const double gib = estimate_resources(bench_config(bench, options)).operator_bytes / (1024.0 * 1024.0 * 1024.0);
         if (gib > options.max_operator_gib) {
           if (options.json)
             std::printf("{\"N\": %d, \"height\": %g, \"length\": 4.0, \"us_per_step\": null, "

@@ -93,12 +93,13 @@ BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, d
   if (!pair_operator) {
     // The block algorithm as Simulation chooses it for a finite body (auto: from
     // kBlockThreshold normal modes), with Simulation's B (face_block_length: the
-    // power of two >= max(P, 64), doubled up to 1024).
+    // power of two >= max(P, 64), doubled while its block arrays stay within
+    // kBlockDoublingBytes).
     b.block = history == HistoryAlgorithm::block ||
               (history == HistoryAlgorithm::automatic && b.modes_per_fourier_mode >= kBlockThreshold);
     if (b.block) {
       const double block = face_block_length(static_cast<std::size_t>(std::ceil(b.modes_per_fourier_mode)),
-                                             FaceBlockDesign{}.direct_block);
+                                             FaceBlockDesign{}.direct_block, static_cast<std::size_t>(fourier_modes));
       b.bytes = fourier_modes * (b.modes_per_fourier_mode * kFaceBlockBytesPerMode +
                                  block * kFaceBlockBytesPerBlockStep + kFaceBlockBytesPerFourierMode);
       // Two input components through the same steps as a strip's block operator.
@@ -116,7 +117,7 @@ BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, d
   if (b.block && body_of_two) {
     // 64 P + 48 B + the kernels (16 P), at body_block_length's B instead of B < 2P.
     const double block = body_block_length(static_cast<std::size_t>(std::ceil(b.modes_per_fourier_mode)),
-                                           BlockHistoryDesign{}.direct_block);
+                                           BlockHistoryDesign{}.direct_block, static_cast<std::size_t>(fourier_modes));
     b.bytes = fourier_modes * (80.0 * b.modes_per_fourier_mode + 48.0 * block) + 8.0 * b.echo_steps;
   }
   b.seconds = b.block ? fourier_modes * kBlockSecondsPerFourierMode

@@ -26,6 +26,16 @@
 
 namespace slipstrip {
 
+// The most a body of a pair of different bodies spends on doubling its block
+// length (face_block_length, body_block_length): B is doubled only while the
+// block arrays at the doubled B (rows and kernel spectra, per Fourier mode and
+// step of B) stay within this.  A longer block makes the far field run less
+// often (its cost per step goes like the normal modes over B) for one more FFT
+// level, and costs memory in proportion to B; at N = 2048, H = 1 m a body's
+// push is 16 % (in-plane) and 20 % (antiplane) cheaper at twice the smallest B
+// (docs/performance.md), where the in-plane body's block arrays take 0.94 GB.
+inline constexpr double kBlockDoublingBytes = 1024.0 * 1024.0 * 1024.0;
+
 template <int C>
 class BlockRows {
  public:

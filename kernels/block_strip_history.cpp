@@ -46,8 +46,10 @@ int automatic_block_length(std::size_t most_normal_modes, int direct_block) {
   return block;
 }
 
-int body_block_length(std::size_t most_normal_modes, int direct_block) {
-  return std::max(automatic_block_length(most_normal_modes, direct_block), kBodyBlockLength);
+int body_block_length(std::size_t most_normal_modes, int direct_block, std::size_t fourier_modes) {
+  int block = automatic_block_length(most_normal_modes, direct_block);
+  if (kBodyBlockBytesPerStep * 2.0 * block * static_cast<double>(fourier_modes) <= kBlockDoublingBytes) block *= 2;
+  return std::max(block, kBodyBlockLength);
 }
 
 BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,

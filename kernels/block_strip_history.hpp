@@ -57,16 +57,18 @@ struct BlockHistoryDesign {
 int automatic_block_length(std::size_t most_normal_modes, int direct_block);
 
 // The B Simulation gives the operator of a body of two different ones (an
-// antiplane pair, kernels/two_body_history.hpp): automatic_block_length, but
-// at least kBodyBlockLength.  The far field's cost per step goes like the
-// frequencies over B and the FFT levels' like log B; at N = 2048 one body's
-// push took, CPU us at B = 256 / 512 / 1024 / 2048 (bench_kernels_history,
-// docs/performance.md): H = 0.05 m 123 / 99 / 94 / 73, H = 0.2 m 238 / 167 /
-// 101 / 128, and H = 0.1 m 98 at 512 against 79 at 1024 and 83 at 2048.  The
-// block arrays cost 32 bytes per Fourier mode and step of B (~32 KiB per
-// Fourier mode at 1024); where B is already longer it stays.
+// antiplane pair, kernels/two_body_history.hpp): automatic_block_length,
+// doubled when the block arrays at twice that B (kBodyBlockBytesPerStep per
+// Fourier mode and step of B) stay within kBlockDoublingBytes
+// (kernels/block_rows.hpp), and at least kBodyBlockLength.  The far field's
+// cost per step goes like the frequencies over B and the FFT levels' like
+// log B; at N = 2048 one body's push took, CPU us at B = 256 / 512 / 1024 / 2048
+// (bench_kernels_history, docs/performance.md): H = 0.05 m 123 / 99 / 94 / 73,
+// H = 0.2 m 238 / 167 / 101 / 128, and H = 0.1 m 98 at 512 against 79 at 1024
+// and 83 at 2048; H = 1 m 151 / 120 / 109 at 2048 / 4096 / 8192.
 inline constexpr int kBodyBlockLength = 1024;
-int body_block_length(std::size_t most_normal_modes, int direct_block);
+inline constexpr double kBodyBlockBytesPerStep = 3.0 * 16.0;  // 2 complex rows, 1 complex spectrum
+int body_block_length(std::size_t most_normal_modes, int direct_block, std::size_t fourier_modes);
 
 class BlockStripHistory final : public HistoryOperator {
  public:

@@ -46,18 +46,20 @@ struct FaceBlockDesign {
 // The B Simulation gives a body of a pair of different bodies: the power of
 // two >= max(the most normal modes of any Fourier mode, 2 direct_block) (the
 // rule of FaceBlockDesign::block = 0 and of the identical pair,
-// automatic_block_length), doubled while that stays <= kFaceBlockDoublingLimit.
-// The far field's cost per step goes like (frequencies / B) times the NUFFT
-// width, and a body here transforms two components three kernels wide, so a
-// block twice the modes pays at small heights (one body's push at N = 2048,
-// H = 0.1 m: B = 1024 ~10-15 % faster than B = 512, docs/performance.md); at
-// large heights, where B is already long, doubling it would double the block
-// arrays (7 complex values per Fourier mode and step) for a smaller gain.
-inline constexpr int kFaceBlockDoublingLimit = 1024;
-inline int face_block_length(std::size_t most_normal_modes, int direct_block) {
+// automatic_block_length), doubled when the block arrays at twice that B
+// (kFaceBlockBytesPerStep per Fourier mode and step of B) stay within
+// kBlockDoublingBytes.  The far field's cost per step goes like (frequencies /
+// B) times the NUFFT width, and a body here transforms two components three
+// kernels wide, so a block twice the modes pays: one body's push at N = 2048,
+// H = 0.1 m, B = 1024 ~10-15 % faster than B = 512; H = 1 m, B = 8192 16 %
+// faster than 4096 (docs/performance.md).  At larger heights or N the doubled
+// arrays would pass the bound (N = 2048, H = 4 m: 3.8 GB at B = 32768), and B
+// stays.
+inline constexpr double kFaceBlockBytesPerStep = 7.0 * 16.0;  // 4 complex rows, 3 complex spectra
+inline int face_block_length(std::size_t most_normal_modes, int direct_block, std::size_t fourier_modes) {
   int block = 2 * direct_block;
   while (static_cast<std::size_t>(block) < most_normal_modes) block *= 2;
-  if (2 * block <= kFaceBlockDoublingLimit) block *= 2;
+  if (kFaceBlockBytesPerStep * 2.0 * block * static_cast<double>(fourier_modes) <= kBlockDoublingBytes) block *= 2;
   return block;
 }
 

@@ -65,7 +65,7 @@ std::unique_ptr<FaceHistory> make_finite_body_history(const SimulationConfig& co
     algorithm = most >= kBlockHistoryThreshold ? HistoryAlgorithm::block : HistoryAlgorithm::modal;
   if (algorithm == HistoryAlgorithm::block) {
     FaceBlockDesign design;
-    design.block = face_block_length(most, design.direct_block);
+    design.block = face_block_length(most, design.direct_block, static_cast<std::size_t>(g.nodes / 2 + 1));
     return std::make_unique<FaceBlockHistory>(m, height, face, g.length, g.nodes, time_step, design, cancelled);
   }
   return std::make_unique<FaceModalHistory>(m, height, face, g.length, g.nodes, time_step);
@@ -93,7 +93,9 @@ std::unique_ptr<HistoryOperator> make_pair_history(const SimulationConfig& confi
           ? compute_strip_kernels(material, height, g.length, nodes, time_step, cancelled)
           : load_or_compute_strip_kernels(config.output.kernel_cache, material, height, g.length,
                                           nodes, time_step, nullptr, cancelled);
-  const int block = body_of_two ? body_block_length(most_normal_modes(kernels), BlockHistoryDesign{}.direct_block) : 0;
+  const int block = body_of_two ? body_block_length(most_normal_modes(kernels), BlockHistoryDesign{}.direct_block,
+                                                    kernels.first_oscillator.size() - 1)
+                                : 0;
   return make_strip_history(material, kernels, config.time.history, cancelled, 0, block);
 }
 // A half-space body's 2x2 operator exists only when the shortest wavelength's

@@ -357,7 +357,7 @@ struct DissimilarPair {
       std::size_t most = 0;
       for (std::size_t q = 0; q + 1 < kernels.first_oscillator.size(); ++q)
         most = std::max(most, kernels.first_oscillator[q + 1] - kernels.first_oscillator[q]);
-      design.block = body_block_length(most, design.direct_block);
+      design.block = body_block_length(most, design.direct_block, kernels.first_oscillator.size() - 1);
     }
     return std::make_unique<BlockStripHistory>(m, kernels, design);
   }
