@@ -262,7 +262,7 @@ InterfaceHistory2d InterfaceHistory2d::build_pair(const InterfaceBody& top, cons
 }
 
 namespace {
-constexpr const char* kInterface2dKind = "interface 2d";
+constexpr const char* kInterface2dKind = InterfaceHistory2d::kStateKind;
 }  // namespace
 
 HistoryOperatorState InterfaceHistory2d::save_state() const {

@@ -224,6 +224,8 @@ class InterfaceHistory2d {
   // continues exactly as the saved operator would.
   HistoryOperatorState save_state() const;
   void restore_state(const HistoryOperatorState& state);
+  // The kind of that state.
+  static constexpr const char* kStateKind = "interface 2d";
 
  private:
   InterfaceGrid2d grid_;

@@ -4,6 +4,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -20,18 +22,11 @@
 #include "solver/run_output.hpp"
 #include "solver/simulation_3d.hpp"
 #include "solver/slip_sampler.hpp"
+#include "slipstrip/version.hpp"
 
 namespace slipstrip {
 
 static_assert(sizeof(hsize_t) == sizeof(unsigned long long), "crossings are sent as MPI_UNSIGNED_LONG_LONG");
-
-namespace {
-std::string format_number(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
-}  // namespace
 
 void check_distributed_run(const SimulationConfig& config) {
   const auto refuse = [](const std::string& what) {
@@ -43,10 +38,6 @@ void check_distributed_run(const SimulationConfig& config) {
   if (!config.output.stations.empty())
     refuse("output.stations is not allowed on several processes: expected [] (stations are recorded by "
            "`slipstrip run` on one process)");
-  if (config.output.checkpoint_interval != 0.0)
-    refuse("output.checkpoint_interval = " + format_number(config.output.checkpoint_interval) +
-           " s: restart points are not written on several processes; set output.checkpoint_interval = 0 (a "
-           "stop then closes the run file with status \"interrupted\", without a restart point)");
 }
 
 namespace {
@@ -59,6 +50,124 @@ std::string broadcast_string(std::string text, int root, MPI_Comm comm) {
   MPI_Bcast(text.data(), static_cast<int>(size), MPI_CHAR, root, comm);
   return text;
 }
+
+// A refusal found on rank 0 (`refusal` non-empty there) thrown on every
+// process.  Collective.
+void throw_if_refused(const std::string& refusal, MPI_Comm comm) {
+  const std::string text = broadcast_string(refusal, 0, comm);
+  if (!text.empty()) throw CollectiveError(text, 0);
+}
+
+// An error met by some processes (`error` non-empty there) thrown on every
+// process as the lowest such rank's.  Collective.
+void throw_if_any_failed(const std::string& error, const std::string& context, MPI_Comm comm) {
+  const int processes = mpi_size(comm);
+  int first = error.empty() ? processes : mpi_rank(comm);
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
+  if (first < processes) throw CollectiveError(context + broadcast_string(error, first, comm), first);
+}
+
+// Arrays of a restart point are sent in pieces of at most this many values
+// (MPI counts are ints).
+constexpr std::size_t kMessageValues = std::size_t{1} << 26;
+
+void send_values(std::span<const double> values, int destination, MPI_Comm comm) {
+  for (std::size_t begin = 0; begin < values.size(); begin += kMessageValues) {
+    const std::size_t count = std::min(kMessageValues, values.size() - begin);
+    MPI_Send(values.data() + begin, static_cast<int>(count), MPI_DOUBLE, destination, 0, comm);
+  }
+}
+
+void receive_values(std::span<double> values, int source, MPI_Comm comm) {
+  for (std::size_t begin = 0; begin < values.size(); begin += kMessageValues) {
+    const std::size_t count = std::min(kMessageValues, values.size() - begin);
+    MPI_Recv(values.data() + begin, static_cast<int>(count), MPI_DOUBLE, source, 0, comm, MPI_STATUS_IGNORE);
+  }
+}
+
+// A history operator state from one process to another: its kind, counters
+// and array names and sizes as text (names hold no line breaks), then each
+// array's values.
+void send_state(const HistoryOperatorState& state, int destination, MPI_Comm comm) {
+  std::ostringstream header;
+  header << state.kind << '\n' << state.counters.size() << ' ' << state.arrays.size() << '\n';
+  for (const auto& [name, value] : state.counters) header << value << ' ' << name << '\n';
+  for (const auto& [name, values] : state.arrays) header << values.size() << ' ' << name << '\n';
+  const std::string text = header.str();
+  const unsigned long long size = text.size();
+  MPI_Send(&size, 1, MPI_UNSIGNED_LONG_LONG, destination, 0, comm);
+  MPI_Send(text.data(), static_cast<int>(size), MPI_CHAR, destination, 0, comm);
+  for (const auto& [name, values] : state.arrays) send_values(values, destination, comm);
+}
+
+HistoryOperatorState receive_state(int source, MPI_Comm comm) {
+  unsigned long long size = 0;
+  MPI_Recv(&size, 1, MPI_UNSIGNED_LONG_LONG, source, 0, comm, MPI_STATUS_IGNORE);
+  std::string text(size, '\0');
+  MPI_Recv(text.data(), static_cast<int>(size), MPI_CHAR, source, 0, comm, MPI_STATUS_IGNORE);
+  std::istringstream header(text);
+  HistoryOperatorState state;
+  std::getline(header, state.kind);
+  std::size_t counters = 0, arrays = 0;
+  header >> counters >> arrays;
+  const auto name_after_number = [&] {
+    std::string name;
+    header.get();  // the space
+    std::getline(header, name);
+    return name;
+  };
+  for (std::size_t c = 0; c < counters; ++c) {
+    long long value = 0;
+    header >> value;
+    state.counters.emplace_back(name_after_number(), value);
+  }
+  for (std::size_t a = 0; a < arrays; ++a) {
+    std::size_t count = 0;
+    header >> count;
+    state.arrays.emplace_back(name_after_number(), std::vector<double>(count));
+  }
+  for (auto& [name, values] : state.arrays) receive_values(values, source, comm);
+  return state;
+}
+
+// Process r's part of a field of the whole interface held on rank 0 (`whole`,
+// rows in order; ignored elsewhere), `local_count` values on each process:
+// the inverse of gather_rows.  Collective.
+template <class T>
+std::vector<T> scatter_rows(std::span<const T> whole, std::size_t local_count, MPI_Datatype type, MPI_Comm comm) {
+  const int rank = mpi_rank(comm);
+  const int count = static_cast<int>(local_count);
+  std::vector<int> counts(rank == 0 ? mpi_size(comm) : 0), offsets(counts.size());
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  if (rank == 0) std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
+  std::vector<T> local(local_count);
+  MPI_Scatterv(whole.data(), counts.data(), offsets.data(), type, local.data(), count, type, 0, comm);
+  return local;
+}
+
+// The fields of a 2D interface's state (SimulationState) that a restart
+// point of a run split over processes holds for the whole interface,
+// gathered on rank 0 and scattered back by rows; the last four with dissimilar
+// bodies only (a varying normal stress).
+struct StateField {
+  const char* name;
+  std::vector<double> SimulationState::*field;
+  bool normal_stress_only;
+};
+constexpr StateField kStateFields[] = {{"slip", &SimulationState::slip, false},
+                                       {"slip_rate", &SimulationState::slip_rate, false},
+                                       {"state", &SimulationState::state, false},
+                                       {"shear_stress", &SimulationState::shear_stress, false},
+                                       {"slip_z", &SimulationState::slip_z, false},
+                                       {"slip_rate_z", &SimulationState::slip_rate_z, false},
+                                       {"shear_stress_z", &SimulationState::shear_stress_z, false},
+                                       {"speed", &SimulationState::speed, false},
+                                       {"normal_stress", &SimulationState::normal_stress, true},
+                                       {"effective_normal_stress", &SimulationState::effective_normal_stress, true},
+                                       {"gap", &SimulationState::gap, true},
+                                       {"opening_stress", &SimulationState::opening_stress, true}};
+
+std::string rank_prefix(int rank) { return "rank" + std::to_string(rank) + "."; }
 
 // What each process passes to rank 0 in a step: coordinates (for the slip
 // sampling (level, node) pairs, for the rupture front nodes) and values,
@@ -105,38 +214,19 @@ class RecordGather {
 };
 
 // The per-step control reduction (MPI_MAX over the processes): whether some
-// process diverged, rank 0's stop request, whether some process has level
+// process diverged, rank 0's stop request, rank 0's decision to write a
+// restart point (its wall-clock timer), whether some process has level
 // crossings or front arrivals to pass, and the largest |v| (for the progress).
-constexpr std::size_t kDiverged = 0, kStop = 1, kCrossings = 2, kFront = 3, kMaxSpeed = 4, kControlSize = 5;
+constexpr std::size_t kDiverged = 0, kStop = 1, kRestartPoint = 2, kCrossings = 3, kFront = 4, kMaxSpeed = 5,
+                      kControlSize = 6;
 
-}  // namespace
-
-RunResult run_distributed(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
-                          bool overwrite, MPI_Comm comm) {
+// The time loop of a new run (resuming = false) or of a resumed one (the
+// restart point `resume_from` on rank 0, already checked against the run
+// file; null on the other processes).  Collective.
+RunResult drive(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
+                MPI_Comm comm, bool resuming, const RunCheckpoint* resume_from) {
   using clock = std::chrono::steady_clock;
   const int rank = mpi_rank(comm), processes = mpi_size(comm);
-  check_distributed_run(config);
-
-  // The run's lock and the output paths, on rank 0 (the one process that
-  // writes), before any process starts the set-up: as run_simulation's.
-  std::optional<io::FileLock> lock;
-  std::string refusal;
-  if (rank == 0) {
-    try {
-      lock.emplace(lock_run_file(output_path));
-      if (overwrite) {
-        remove_checkpoint(output_path);
-      } else {
-        const io::OutputPath outputs[] = {{"output", output_path},
-                                          {"restart point", checkpoint_path(output_path)}};
-        io::check_output_paths(outputs, {}, false);
-      }
-    } catch (const std::exception& e) {
-      refusal = e.what();
-    }
-  }
-  refusal = broadcast_string(refusal, 0, comm);
-  if (!refusal.empty()) throw CollectiveError(refusal, 0);
 
   // The set-up is collective (the distributed operator's choices are made
   // over all processes), so it is not cancelled half-way on one process: a
@@ -168,6 +258,71 @@ RunResult run_distributed(const SimulationConfig& config, const std::string& out
   const auto& out_cfg = config.output;
   const std::size_t first_node = static_cast<std::size_t>(sim.nodes_x()) * sim.slab().first_row;
   const std::size_t nodes = sim.nodes();  // this process's
+  const std::size_t all_nodes = static_cast<std::size_t>(sim.nodes_x()) * static_cast<std::size_t>(sim.nodes_z());
+  const std::string restart_path = checkpoint_path(output_path);
+
+  // A resumed run: rank 0 checks the restart point against this run's time
+  // step and step count, then each process receives its rows of the fields
+  // and its own history operator state, and restores them.
+  if (resuming) {
+    std::string refusal;
+    if (rank == 0) {
+      try {
+        validate_checkpoint(*resume_from, config, sim.time_step(), total_steps, output_path);
+        for (const auto& f : kStateFields) {
+          const std::size_t size = (resume_from->simulation.*f.field).size();
+          const std::size_t expected = !f.normal_stress_only || sim.variable_normal_stress() ? all_nodes : 0;
+          if (size != expected)
+            throw std::invalid_argument("restart point '" + restart_path + "': simulation/" + f.name + " has " +
+                                        std::to_string(size) + " values, expected " + std::to_string(expected) +
+                                        (expected ? " (the interface's nodes)" : " (identical bodies)") +
+                                        "; it cannot be resumed");
+        }
+      } catch (const std::invalid_argument& e) {
+        refusal = e.what();
+      }
+      if (refusal.empty() && !resume_from->checksum_verified && hooks.warning)
+        hooks.warning("restart point '" + restart_path +
+                      "' has no checksum: its fields are checked, but damage to its data cannot be found");
+    }
+    throw_if_refused(refusal, comm);
+    SimulationState local;
+    double time = rank == 0 ? resume_from->simulation.time : 0.0;
+    long long step = rank == 0 ? resume_from->simulation.step_index : 0;
+    MPI_Bcast(&time, 1, MPI_DOUBLE, 0, comm);
+    MPI_Bcast(&step, 1, MPI_LONG_LONG, 0, comm);
+    local.time = time;
+    local.step_index = step;
+    for (const auto& f : kStateFields)
+      if (!f.normal_stress_only || sim.variable_normal_stress())
+        local.*f.field = scatter_rows<double>(
+            rank == 0 ? std::span<const double>(resume_from->simulation.*f.field) : std::span<const double>(), nodes,
+            MPI_DOUBLE, comm);
+    if (rank == 0) {
+      const auto& split = resume_from->simulation.history;
+      for (int r = 1; r < processes; ++r) send_state(split.part(rank_prefix(r), ""), r, comm);
+      local.history = split.part(rank_prefix(0), "");
+    } else {
+      local.history = receive_state(0, comm);
+    }
+    // The part gets the kind of this process's operator (InterfaceHistory2d),
+    // whose restore_state checks every array by name and size; the slab is
+    // checked here, so that a restart point of another split is named as such.
+    std::string error;
+    try {
+      local.history.kind = sim.history_operator().save_state().kind;
+      const long long first_row = local.history.counter("first_row"), rows = local.history.counter("rows");
+      if (first_row != sim.slab().first_row || rows != sim.slab().rows)
+        throw std::invalid_argument("process " + std::to_string(rank) + " held rows " + std::to_string(first_row) +
+                                    ".." + std::to_string(first_row + rows - 1) + ", here rows " +
+                                    std::to_string(sim.slab().first_row) + ".." +
+                                    std::to_string(sim.slab().first_row + sim.slab().rows - 1));
+      sim.restore_state(local);
+    } catch (const std::invalid_argument& e) {
+      error = e.what();
+    }
+    throw_if_any_failed(error, "restart point '" + restart_path + "' cannot be resumed: ", comm);
+  }
 
   // Rank 0 writes the file with run_simulation's writer and records.
   std::unique_ptr<RunOutput> output;
@@ -175,10 +330,27 @@ RunResult run_distributed(const SimulationConfig& config, const std::string& out
   if (rank == 0) {
     RunOutputOptions options = interface_2d_output_options(config, sim.variable_normal_stress());
     options.processes = processes;
-    output = std::make_unique<RunOutput>(output_path, to_toml(config), interface_2d_sampling(config), options);
-    if (out_cfg.front_slip_rate > 0.0)
-      front_arrival.assign(static_cast<std::size_t>(sim.nodes_x()) * sim.nodes_z(),
-                           std::numeric_limits<double>::quiet_NaN());
+    if (!resuming) {
+      output = std::make_unique<RunOutput>(output_path, to_toml(config), interface_2d_sampling(config), options);
+      if (out_cfg.front_slip_rate > 0.0) front_arrival.assign(all_nodes, std::numeric_limits<double>::quiet_NaN());
+    }
+  }
+  // A resumed run cuts every record of the file back to the restart point
+  // (as resume_simulation's); a file that does not fit it is refused.
+  if (resuming) {
+    std::string refusal;
+    if (rank == 0) {
+      try {
+        RunOutputOptions options = interface_2d_output_options(config, sim.variable_normal_stress());
+        options.processes = processes;
+        output = std::make_unique<RunOutput>(output_path, resume_from->output, interface_2d_sampling(config),
+                                             options);
+        front_arrival = resume_from->output.rupture_front;  // sizes checked by RunOutput
+      } catch (const std::invalid_argument& e) {
+        refusal = e.what();
+      }
+    }
+    throw_if_refused(refusal, comm);
   }
 
   // Each process dates the level crossings and the front arrivals of its own
@@ -187,6 +359,26 @@ RunResult run_distributed(const SimulationConfig& config, const std::string& out
   if (out_cfg.delta_th > 0.0) sampler.emplace(out_cfg.delta_th, nodes);
   std::vector<hsize_t> crossing_coordinates;
   std::vector<bool> front_reached(out_cfg.front_slip_rate > 0.0 ? nodes : 0, false);
+  if (resuming && sampler) {
+    // This process's nodes of the restart point's slip-sampling progress.
+    int started = rank == 0 && resume_from->output.slip_recorded ? 1 : 0;
+    MPI_Bcast(&started, 1, MPI_INT, 0, comm);
+    static_assert(sizeof(std::uint64_t) == sizeof(unsigned long long), "levels are sent as MPI_UNSIGNED_LONG_LONG");
+    const auto levels = scatter_rows<std::uint64_t>(
+        rank == 0 ? std::span<const std::uint64_t>(resume_from->output.levels_reached)
+                  : std::span<const std::uint64_t>(),
+        nodes, MPI_UNSIGNED_LONG_LONG, comm);
+    const auto thresholds = scatter_rows<double>(
+        rank == 0 ? std::span<const double>(resume_from->output.next_threshold) : std::span<const double>(), nodes,
+        MPI_DOUBLE, comm);
+    const std::uint64_t highest = levels.empty() ? 0 : *std::max_element(levels.begin(), levels.end());
+    sampler->restore(static_cast<std::size_t>(highest), started != 0, levels, thresholds);
+  }
+  if (resuming && !front_reached.empty()) {
+    const auto arrival = scatter_rows<double>(
+        rank == 0 ? std::span<const double>(front_arrival) : std::span<const double>(), nodes, MPI_DOUBLE, comm);
+    for (std::size_t i = 0; i < nodes; ++i) front_reached[i] = !std::isnan(arrival[i]);
+  }
   std::vector<hsize_t> front_nodes;
   std::vector<double> front_times;
   const auto find_front = [&] {
@@ -246,16 +438,82 @@ RunResult run_distributed(const SimulationConfig& config, const std::string& out
   double next_timeseries = out_cfg.timeseries_interval;
   double next_snapshot = out_cfg.snapshot_interval;
   double next_snapshot_slip = out_cfg.snapshot_slip_increment;  // rank 0's decides
-  // t = 0, as run_simulation records it.
-  find_front();
-  control = {0.0, 0.0, 0.0, front_nodes.empty() ? 0.0 : 1.0, 0.0};
-  reduce_control();
-  if (control[kFront] > 0.0) pass_front();
-  append_timeseries();
-  if (out_cfg.snapshot_interval > 0.0 || out_cfg.snapshot_slip_increment > 0.0) write_snapshot();
+  if (resuming) {
+    // The records of t = 0 are in the file already; the triggers continue.
+    std::array<double, 3> next{};
+    if (rank == 0) next = {resume_from->next_timeseries, resume_from->next_snapshot, resume_from->next_snapshot_slip};
+    MPI_Bcast(next.data(), 3, MPI_DOUBLE, 0, comm);
+    next_timeseries = next[0];
+    next_snapshot = next[1];
+    next_snapshot_slip = next[2];
+    result.resumed_from_step = sim.step_index();
+  } else {
+    // t = 0, as run_simulation records it.
+    find_front();
+    control = {};
+    control[kFront] = front_nodes.empty() ? 0.0 : 1.0;
+    reduce_control();
+    if (control[kFront] > 0.0) pass_front();
+    append_timeseries();
+    if (out_cfg.snapshot_interval > 0.0 || out_cfg.snapshot_slip_increment > 0.0) write_snapshot();
+  }
+
+  // A restart point (collective), in the one file run_simulation writes
+  // (solver/checkpoint.hpp), by rank 0 with its writer (temporary file,
+  // fsync, rename) once every process's part has arrived: the run file
+  // flushed, then the fields gathered in the one-process layout and each
+  // process's history operator state as its own (kSplitHistoryKind).  The
+  // history states are not regrouped by Fourier mode into the one-process
+  // operator's layout: each operator kind (modal, block, half-space) stores
+  // its state per oscillator, ring-buffer slot or block row rather than per
+  // mode, which would take a layout map per kind; so the restart point is
+  // resumed on as many processes.  force: also when a reader holds the run
+  // file (the run is stopping); otherwise rank 0 postpones the restart point,
+  // on every process, to its next timer check.  Allocates: only at restart
+  // points, never per step.
+  const auto write_restart_point = [&](bool force) {
+    std::optional<RunOutputCursor> cursor;
+    if (rank == 0) cursor = output->flush_for_checkpoint(force);
+    int ready = rank == 0 && cursor ? 1 : 0;
+    MPI_Bcast(&ready, 1, MPI_INT, 0, comm);
+    if (!ready) return false;
+    SimulationState local = sim.save_state();
+    local.history.counters.emplace_back("first_row", sim.slab().first_row);
+    local.history.counters.emplace_back("rows", sim.slab().rows);
+    RunCheckpoint checkpoint;
+    for (const auto& f : kStateFields) {
+      if (f.normal_stress_only && !sim.variable_normal_stress()) continue;
+      auto whole = gather_rows(local.*f.field, comm);
+      if (rank == 0) checkpoint.simulation.*f.field = std::move(whole);
+    }
+    if (rank != 0) {
+      send_state(local.history, 0, comm);
+      return true;
+    }
+    auto& split = checkpoint.simulation.history;
+    split.kind = kSplitHistoryKind;
+    split.counters.emplace_back("processes", processes);
+    split.add_part(rank_prefix(0), local.history);
+    for (int r = 1; r < processes; ++r) split.add_part(rank_prefix(r), receive_state(r, comm));
+    checkpoint.config_toml = to_toml(config);
+    checkpoint.git_hash = slipstrip::git_hash;
+    checkpoint.simulation.time = sim.time();
+    checkpoint.simulation.step_index = sim.step_index();
+    checkpoint.output = std::move(*cursor);
+    // Rank 0's writer learns of the first step's check of the initial slip
+    // only with a crossing; the samplers that made it know.
+    checkpoint.output.slip_recorded = sampler && sampler->started();
+    checkpoint.next_timeseries = next_timeseries;
+    checkpoint.next_snapshot = next_snapshot;
+    checkpoint.next_snapshot_slip = next_snapshot_slip;
+    checkpoint.next_station = out_cfg.station_interval;  // no stations
+    write_checkpoint(output_path, checkpoint);
+    result.restart_point = restart_path;
+    return true;
+  };
 
   const auto start = clock::now();
-  auto last_flush = start, last_progress = start;
+  auto last_flush = start, last_progress = start, last_checkpoint = start;
   const auto seconds_since = [](clock::time_point t) {
     return std::chrono::duration<double>(clock::now() - t).count();
   };
@@ -277,6 +535,11 @@ RunResult run_distributed(const SimulationConfig& config, const std::string& out
     control[kDiverged] = divergence.empty() ? 0.0 : 1.0;
     control[kStop] = rank == 0 && ((hooks.stop_requested && hooks.stop_requested()) ||
                                            (hooks.stop_after_steps >= 0 && sim.step_index() >= hooks.stop_after_steps))
+                                 ? 1.0
+                                 : 0.0;
+    // Rank 0's wall-clock timer, read every 16 steps as run_simulation does.
+    control[kRestartPoint] = rank == 0 && out_cfg.checkpoint_interval > 0.0 && (sim.step_index() & 15) == 0 &&
+                                     seconds_since(last_checkpoint) >= out_cfg.checkpoint_interval
                                  ? 1.0
                                  : 0.0;
     control[kCrossings] = crossed ? 1.0 : 0.0;
@@ -312,6 +575,8 @@ RunResult run_distributed(const SimulationConfig& config, const std::string& out
           next_snapshot_slip = next_slip_trigger(next_snapshot_slip, mean_slip, out_cfg.snapshot_slip_increment);
       }
     }
+    if (control[kRestartPoint] > 0.0 && control[kStop] == 0.0 && write_restart_point(false))
+      last_checkpoint = last_flush = clock::now();
     if (rank == 0 && (sim.step_index() & 15) == 0) {
       if (seconds_since(last_flush) >= out_cfg.flush_interval) {
         output->flush();
@@ -324,6 +589,7 @@ RunResult run_distributed(const SimulationConfig& config, const std::string& out
       }
     }
     if (control[kStop] > 0.0) {
+      write_restart_point(/*force=*/true);
       result.status = "interrupted";
       break;
     }
@@ -337,8 +603,104 @@ RunResult run_distributed(const SimulationConfig& config, const std::string& out
       hooks.progress({sim.time(), config.time.duration, sim.step_index(), control[kMaxSpeed],
                       result.wall_seconds});
     output->close(result.status);
+    if (result.status != "interrupted") {
+      // Completed: nothing left to resume.  Diverged: a resume would
+      // diverge again.  Either way the restart point is dead weight.
+      remove_checkpoint(output_path);
+      result.restart_point.clear();
+    }
   }
+  result.restart_point = broadcast_string(result.restart_point, 0, comm);
   return result;
+}
+
+}  // namespace
+
+RunResult run_distributed(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
+                          bool overwrite, MPI_Comm comm) {
+  const int rank = mpi_rank(comm);
+  check_distributed_run(config);
+  // The run's lock and the output paths, on rank 0 (the one process that
+  // writes), before any process starts the set-up: as run_simulation's.
+  std::optional<io::FileLock> lock;
+  std::string refusal;
+  if (rank == 0) {
+    try {
+      lock.emplace(lock_run_file(output_path));
+      if (overwrite) {
+        remove_checkpoint(output_path);
+      } else {
+        const io::OutputPath outputs[] = {{"output", output_path},
+                                          {"restart point", checkpoint_path(output_path)}};
+        io::check_output_paths(outputs, {}, false);
+      }
+    } catch (const std::exception& e) {
+      refusal = e.what();
+    }
+  }
+  throw_if_refused(refusal, comm);
+  return drive(config, output_path, hooks, comm, false, nullptr);
+}
+
+std::optional<RunResult> resume_distributed(const std::string& run_path, const std::string& given_config_toml,
+                                            const RunHooks& hooks, MPI_Comm comm) {
+  const int rank = mpi_rank(comm), processes = mpi_size(comm);
+  // On rank 0, under the run's lock held to the end: the checks of
+  // resume_simulation, and that the restart point was written on as many
+  // processes.
+  std::optional<io::FileLock> lock;
+  std::optional<RunCheckpoint> checkpoint;
+  std::string refusal, config_toml;
+  int completed = 0;
+  if (rank == 0) {
+    try {
+      lock.emplace(lock_run_file(run_path));
+      const RunFileHeader header = read_run_file_header(run_path);
+      if (header.status == "completed") {
+        completed = 1;
+      } else {
+        if (!given_config_toml.empty() && given_config_toml != header.config_toml)
+          throw std::invalid_argument("--resume '" + run_path +
+                                      "': the config given differs from the run's stored config; a resumed run "
+                                      "always continues with the stored config, give --resume alone");
+        if (header.status.rfind("diverged", 0) == 0)
+          throw std::invalid_argument("run file '" + run_path + "' has status '" + header.status +
+                                      "': a resumed run would diverge again; nothing to resume");
+        checkpoint.emplace(read_checkpoint(run_path));
+        if (checkpoint->config_toml != header.config_toml)
+          throw std::invalid_argument("restart point '" + checkpoint_path(run_path) +
+                                      "' was written for another config than the run file '" + run_path +
+                                      "' holds (not its restart point)");
+        const int written_by = restart_point_processes(*checkpoint);
+        if (written_by == 0)
+          throw std::invalid_argument("restart point '" + checkpoint_path(run_path) +
+                                      "' was written by slipstrip run on one process (its history operator "
+                                      "state over every Fourier mode): resume it with `slipstrip run --resume " +
+                                      run_path + "`");
+        if (written_by != processes)
+          throw std::invalid_argument("restart point '" + checkpoint_path(run_path) + "' was written on " +
+                                      std::to_string(written_by) + " processes, this job has " +
+                                      std::to_string(processes) +
+                                      ": it holds each process's history operator state, so it is resumed on "
+                                      "as many processes (mpirun -np " + std::to_string(written_by) + ")");
+        config_toml = header.config_toml;
+      }
+    } catch (const std::exception& e) {
+      refusal = e.what();
+    }
+  }
+  throw_if_refused(refusal, comm);
+  MPI_Bcast(&completed, 1, MPI_INT, 0, comm);
+  if (completed) return std::nullopt;
+  config_toml = broadcast_string(config_toml, 0, comm);
+  SimulationConfig config;
+  try {
+    config = load_config_string(config_toml);
+  } catch (const std::invalid_argument& e) {
+    throw CollectiveError(e.what(), 0);
+  }
+  check_distributed_run(config);
+  return drive(config, run_path, hooks, comm, true, checkpoint ? &*checkpoint : nullptr);
 }
 
 }  // namespace slipstrip

@@ -12,11 +12,18 @@
 //   * stopping: one reduction per step carries rank 0's stop request (SIGTERM,
 //     --stop-after-steps), whether any process diverged and whether any has
 //     crossings to pass, so every process leaves the time loop in the same step.
-// Restart points are not written on several processes (each process's history
-// state is its own Fourier modes'), so a config that asks for them
-// (output.checkpoint_interval > 0) is refused, as are stations.
+//   * restart points (RUN.h5.restart, solver/checkpoint.hpp): rank 0's
+//     wall-clock timer (output.checkpoint_interval) and its stop request ride
+//     on that reduction, so every process takes part in the same step; the
+//     fields are gathered into the one-process layout, each process's history
+//     operator state is sent to rank 0 as its own (kSplitHistoryKind), and
+//     rank 0 writes the one file with run_simulation's writer (temporary
+//     file, fsync, rename).  Such a restart point is resumed on as many
+//     processes (resume_distributed).
+// Stations are refused.
 #include <mpi.h>
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -36,22 +43,37 @@ struct CollectiveError : std::invalid_argument {
 
 // Throws CollectiveError (on every process, origin 0) naming the key of what a
 // run split over processes does not do: a line (geometry.nodes_z = 1),
-// stations, restart points.
+// stations.
 void check_distributed_run(const SimulationConfig& config);
 
 // Runs `config` split over `comm` and writes `output_path` on rank 0.
 // Collective.  Before the set-up, rank 0 takes the run's lock and checks the
 // output paths as run_simulation does (overwrite: an old restart point of this
 // name is removed); a refusal is a CollectiveError on every process.
-// hooks.stop_requested and hooks.progress are used on rank 0 only;
-// stop_after_steps on every process.  A stop requested during the set-up
-// throws SetupCancelled on every process before the file is created.  A stop
-// in the time loop closes the file with status "interrupted" (no restart
-// point).  A divergence on any process ends the run on all with status
-// "diverged: <the lowest such rank's diagnostic>".  Other errors (a file that
-// cannot be written) are thrown on the process that met them only: the caller
-// must end the job (MPI_Abort).  The result is the same on every process.
+// hooks.stop_requested, hooks.progress and hooks.warning are used on rank 0
+// only; stop_after_steps on every process.  A stop requested during the
+// set-up throws SetupCancelled on every process before the file is created.
+// A stop in the time loop writes a restart point and closes the file with
+// status "interrupted"; restart points are also written every
+// output.checkpoint_interval s of rank 0's wall time.  A divergence on any
+// process ends the run on all with status "diverged: <the lowest such rank's
+// diagnostic>"; a run that completes or diverges removes its restart point.
+// Other errors (a file that cannot be written) are thrown on the process that
+// met them only: the caller must end the job (MPI_Abort).  The result is the
+// same on every process.
 RunResult run_distributed(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
                           bool overwrite, MPI_Comm comm);
+
+// Continues the run of `run_path` from its restart point on as many processes
+// as wrote it, with the config stored in the run file; the file is the one an
+// uninterrupted run on these processes writes, bit for bit.  Collective.
+// Rank 0 takes the run's lock and makes resume_simulation's checks (status,
+// checksum, the restart point's config against the run file's,
+// validate_checkpoint, and given_config_toml, if not empty, against the stored
+// config) and that the restart point was written on this many processes; a
+// refusal is a CollectiveError on every process.  nullopt (on every process)
+// if the run is completed.  The rest is as run_distributed.
+std::optional<RunResult> resume_distributed(const std::string& run_path, const std::string& given_config_toml,
+                                            const RunHooks& hooks, MPI_Comm comm);
 
 }  // namespace slipstrip

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -243,6 +244,16 @@ std::string number(double value) {
 std::string checkpoint_path(const std::string& run_path) { return run_path + ".restart"; }
 
 std::string run_lock_path(const std::string& run_path) { return run_path + ".lock"; }
+
+int restart_point_processes(const RunCheckpoint& checkpoint) {
+  const auto& history = checkpoint.simulation.history;
+  if (history.kind != kSplitHistoryKind) return 0;
+  const long long processes = history.counter("processes");
+  if (processes < 1 || processes > std::numeric_limits<int>::max())
+    throw std::invalid_argument("restart point: history/counters/processes = " + std::to_string(processes) +
+                                ": expected a process count >= 1");
+  return static_cast<int>(processes);
+}
 
 std::string checkpoint_checksum(const RunCheckpoint& c) {
   io::Checksum sum;

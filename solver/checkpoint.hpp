@@ -33,6 +33,18 @@ struct RunCheckpoint {
 // RUN.h5 -> RUN.h5.restart
 std::string checkpoint_path(const std::string& run_path);
 
+// A restart point of a 2D interface split over P processes (slipstrip-mpi
+// run, parallel/distributed_run.hpp) holds the fields of the whole interface
+// in the one-process layout, but each process's history operator state as
+// its own: the history kind below, the counter `processes` = P, and process
+// r's state (kind "interface 2d", over its own Fourier modes, with the
+// counters first_row and rows of its slab) under the prefix "rank<r>.".
+// Such a restart point is resumed on P processes only.
+inline constexpr const char* kSplitHistoryKind = "interface 2d split over processes";
+// P for a restart point of a run split over P processes, 0 for one written in
+// the one-process layout (slipstrip run).
+int restart_point_processes(const RunCheckpoint& checkpoint);
+
 // RUN.h5 -> RUN.h5.lock: the lock file of "one process per run"
 // (io/file_lock.hpp), held by whoever writes the run file or its restart
 // point (a run, a resume, `slipstrip events` into the run file).

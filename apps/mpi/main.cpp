@@ -4,9 +4,15 @@
 //   mpirun -np 4 slipstrip-mpi run CONFIG.toml [--out RUN.h5] [--set key=value ...]
 //
 // runs CONFIG and writes the run file `slipstrip run` writes (rank 0 writes
-// it, parallel/distributed_run.hpp), with the root attribute `processes`.
-// Restart points, --resume and stations are refused (not built on several
-// processes).
+// it, parallel/distributed_run.hpp), with the root attribute `processes`, and
+// its restart points RUN.h5.restart (every output.checkpoint_interval s, and
+// when SIGTERM or --stop-after-steps stops it).
+//
+//   mpirun -np 4 slipstrip-mpi run --resume RUN.h5 [CONFIG [--set ...]]
+//
+// continues it from its restart point on as many processes as wrote it (a
+// config given is only checked against the stored one).  Stations are
+// refused.
 //
 //   mpirun -np 4 slipstrip-mpi bench CONFIG.toml [--steps N] [--set key=value ...]
 //
@@ -27,6 +33,7 @@
 #include <cstdio>
 #include <ctime>
 #include <exception>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -145,17 +152,77 @@ struct RunArguments {
   long long stop_after_steps = -1;
 };
 
+// The last lines of a run or a resumed run (rank 0) and the exit code (every process).
+int report(const RunResult& result, const std::string& out_path, int processes, bool quiet, bool tty) {
+  if (mpi_rank(MPI_COMM_WORLD) == 0) {
+    if (!quiet && tty) std::fprintf(stderr, "\n");
+    std::fprintf(stderr,
+                 "%s after %lld steps (dt = %.6g s), simulated %.6g s in %.2f s wall on %d process%s; output %s\n",
+                 result.status.c_str(), result.steps, result.time_step, result.simulated_time, result.wall_seconds,
+                 processes, processes == 1 ? "" : "es", out_path.c_str());
+    if (!result.restart_point.empty())
+      std::fprintf(stderr, "restart point %s: continue with `mpirun -np %d slipstrip-mpi run --resume %s`\n",
+                   result.restart_point.c_str(), processes, out_path.c_str());
+  }
+  if (result.status == "completed") return 0;
+  if (result.status == "interrupted") return cli::signal_exit_code();
+  return 3;  // diverged
+}
+
+// `slipstrip-mpi run --resume RUN.h5 [CONFIG [--set ...]]`, as `slipstrip run
+// --resume`: the run continues with the config stored in RUN.h5; a config
+// given as well is only checked.
+int resume(const RunArguments& a) {
+  const MPI_Comm world = MPI_COMM_WORLD;
+  const int rank = mpi_rank(world), processes = mpi_size(world);
+  if (!a.out_path.empty() || a.overwrite)
+    throw CollectiveError("--resume '" + a.resume_path +
+                              "' continues writing that file: --out and --overwrite do not apply",
+                          0);
+  std::string given;
+  if (!a.config_path.empty()) {
+    try {
+      given = to_toml(load_config_file(a.config_path, a.overrides));
+    } catch (const std::invalid_argument& e) {
+      throw CollectiveError(e.what(), 0);
+    }
+  } else if (!a.overrides.empty()) {
+    throw CollectiveError("--resume '" + a.resume_path +
+                              "' with --set but no config: a resumed run continues with its stored config and "
+                              "cannot change it (give the original config and --set only to have them checked)",
+                          0);
+  }
+  const bool tty = rank == 0 && isatty(fileno(stderr));
+  const RunHooks hooks = cli::run_hooks(a.quiet || rank != 0, tty, a.stop_after_steps);
+  if (rank == 0) {
+    std::fprintf(stderr, "slipstrip-mpi %s (%s): resuming %s on %d process%s\n", code_version, git_hash,
+                 a.resume_path.c_str(), processes, processes == 1 ? "" : "es");
+  }
+  std::optional<RunResult> result;
+  try {
+    result = resume_distributed(a.resume_path, given, hooks, world);
+  } catch (const SetupCancelled& e) {
+    if (rank == 0)
+      std::fprintf(stderr, "interrupted by %s during the set-up (%s); %s and its restart point are unchanged\n",
+                   cli::interrupt_name(), e.what(), a.resume_path.c_str());
+    return cli::signal_exit_code();
+  }
+  if (!result) {
+    if (rank == 0)
+      std::fprintf(stderr, "%s: the run is already completed; nothing to resume\n", a.resume_path.c_str());
+    return 0;
+  }
+  if (rank == 0) std::fprintf(stderr, "resumed from step %lld\n", result->resumed_from_step);
+  return report(*result, a.resume_path, processes, a.quiet, tty);
+}
+
 // `slipstrip-mpi run`: the CLI of `slipstrip run` (apps/command_run.cpp) for a
 // run split over the processes; rank 0 prints.
 int run(const RunArguments& a) {
   cli::catch_interrupts();
   const MPI_Comm world = MPI_COMM_WORLD;
   const int rank = mpi_rank(world), processes = mpi_size(world);
-  if (!a.resume_path.empty())
-    throw CollectiveError("--resume '" + a.resume_path +
-                              "': restart points are not written on several processes, so a run of slipstrip-mpi "
-                              "has none to resume (a run of `slipstrip run` resumes with `slipstrip run --resume`)",
-                          0);
+  if (!a.resume_path.empty()) return resume(a);
   if (a.config_path.empty())
     throw CollectiveError("run: config is required (a TOML config file; see --help)", 0);
   // Every process reads the config; a refusal is the same on each.
@@ -185,17 +252,7 @@ int run(const RunArguments& a) {
                    e.what());
     return cli::signal_exit_code();
   }
-  if (rank == 0) {
-    if (!a.quiet && tty) std::fprintf(stderr, "\n");
-    std::fprintf(stderr, "%s after %lld steps (dt = %.6g s), simulated %.6g s in %.2f s wall on %d process%s; output %s\n",
-                 result.status.c_str(), result.steps, result.time_step, result.simulated_time, result.wall_seconds,
-                 processes, processes == 1 ? "" : "es", out_path.c_str());
-    if (result.status == "interrupted")
-      std::fprintf(stderr, "no restart point (not written on several processes); the run file is readable\n");
-  }
-  if (result.status == "completed") return 0;
-  if (result.status == "interrupted") return cli::signal_exit_code();
-  return 3;  // diverged
+  return report(result, out_path, processes, a.quiet, tty);
 }
 
 }  // namespace
@@ -215,7 +272,7 @@ int main(int argc, char** argv) {
   RunArguments run_arguments;
   auto* run_command = app.add_subcommand(
       "run", "Run CONFIG's 2D interface split over the processes; rank 0 writes the run file of `slipstrip run` "
-             "(docs/3d.md, docs/output.md). SIGTERM stops cleanly (status interrupted, no restart point).");
+             "(docs/3d.md, docs/output.md). SIGTERM stops cleanly (status interrupted) with a restart point.");
   run_command->add_option("config", run_arguments.config_path, "TOML config (geometry.nodes_z > 1)");
   run_command->add_option("--out", run_arguments.out_path, "Output HDF5 file (default: <config name>.h5)");
   run_command->add_option("--set", run_arguments.overrides, "Override a config key: section.key=value (repeatable)");
@@ -226,7 +283,8 @@ int main(int argc, char** argv) {
                           "Stop as SIGTERM does (status interrupted, exit 143) once this many time steps are done")
       ->check(cli::finite_positive());
   run_command->add_option("--resume", run_arguments.resume_path,
-                          "Refused: restart points are not written on several processes");
+                          "Continue RUN.h5 from its restart point, on as many processes as wrote it (CONFIG, "
+                          "if given, is only checked against the stored config)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -18,9 +18,17 @@ these sizes (the distributed step's test, tests/cpp/test_parallel_interface_2d.c
 allows 1e-11 for its fields; this test would report a change of FFTW's order
 as a failure to look at).  Not compared: start_time and end_time (wall clock),
 and `processes`, which only the MPI file has (2).
+
+Restart points: a run of two processes stopped (--stop-after-steps, SIGTERM
+to both processes) and resumed with `slipstrip-mpi run --resume` on two
+processes writes the file of the uninterrupted run of two processes, bit for
+bit but start_time and end_time.  Its restart point holds each process's
+history operator state, so `slipstrip run --resume` and other process counts
+refuse it, as slipstrip-mpi refuses a restart point of `slipstrip run`.
 """
 import os
 import shutil
+import signal
 import subprocess
 from pathlib import Path
 
@@ -39,7 +47,7 @@ pytestmark = pytest.mark.skipif(not (SERIAL and MPI and MPIEXEC),
 
 # 20 transits of the 32 x 32 demo: one kept event, the rupture front reached
 # at some nodes, 19 snapshots (under 1 s on one process).
-EVENTS_RUN = ["--set", "output.checkpoint_interval=0", "--set", "time.duration_transits=20",
+EVENTS_RUN = ["--set", "time.duration_transits=20",
               "--set", "output.front_slip_rate=4e-3", "--set", "output.snapshot_interval=1e-4"]
 WALL_CLOCK = {"start_time", "end_time"}
 MEANS = {"timeseries/mean_slip", "timeseries/mean_shear_stress"}
@@ -54,13 +62,15 @@ def mpi_env():
 
 
 def run_serial(out, *args, check=True):
-    return subprocess.run([SERIAL, "run", str(TINY), "--out", str(out), "--quiet", *args], env=mpi_env(),
-                          capture_output=True, text=True, check=check, timeout=300)
+    """out None: `args` name the run (--resume RUN.h5)."""
+    command = [SERIAL, "run", *([] if out is None else [str(TINY), "--out", str(out)]), "--quiet", *args]
+    return subprocess.run(command, env=mpi_env(), capture_output=True, text=True, check=check, timeout=300)
 
 
-def run_mpi(out, *args, processes=2, check=True):
-    command = [MPIEXEC, "-np", str(processes), "--oversubscribe", MPI, "run", str(TINY), "--out", str(out),
-               "--quiet", *args]
+def run_mpi(out, *args, processes=2, check=True, config=TINY):
+    """out None: `args` name the run (--resume RUN.h5)."""
+    command = [MPIEXEC, "-np", str(processes), "--oversubscribe", MPI, "run",
+               *([] if out is None else [str(config), "--out", str(out)]), "--quiet", *args]
     return subprocess.run(command, env=mpi_env(), capture_output=True, text=True, check=check, timeout=300)
 
 
@@ -68,6 +78,33 @@ def assert_attributes_equal(one, split, name, skip=()):
     assert set(one.attrs) - set(skip) == set(split.attrs) - set(skip), name
     for key in set(one.attrs) - set(skip):
         assert np.array_equal(np.asarray(one.attrs[key]), np.asarray(split.attrs[key])), (name, key)
+
+
+def assert_files_identical(reference, resumed):
+    """Two files of two processes: every dataset and attribute bit for bit
+    but the wall-clock dates."""
+    with h5py.File(reference, "r") as a, h5py.File(resumed, "r") as b:
+        names, other = [], []
+        a.visit(names.append)
+        b.visit(other.append)
+        assert names == other
+        for name in [""] + names:
+            x, y = (a[name], b[name]) if name else (a, b)
+            assert set(x.attrs) == set(y.attrs), name
+            for key in set(x.attrs) - WALL_CLOCK:
+                assert np.asarray(x.attrs[key]).tobytes() == np.asarray(y.attrs[key]).tobytes(), (name, key)
+            if isinstance(x, h5py.Dataset):
+                assert x.dtype == y.dtype and x[()].tobytes() == y[()].tobytes(), name
+
+
+def refusal_line(completed):
+    """slipstrip-mpi's one line "rank 0: ...", or slipstrip's last line."""
+    lines = [line for line in completed.stderr.splitlines() if line.strip()]
+    ranks = [line for line in lines if line.startswith("rank ")]
+    if ranks:
+        assert len(ranks) == 1, completed.stderr
+        return ranks[0]
+    return lines[-1] if lines else ""
 
 
 def assert_runs_equal(one_path, split_path, nodes):
@@ -130,7 +167,7 @@ def test_two_processes_write_the_one_process_run_file(tmp_path):
 def test_uneven_slabs_and_snapshots_by_slip(tmp_path):
     # 32 x 15 nodes: slabs of 8 and 7 rows, Fourier columns 9 and 8; the
     # snapshots taken by mean slip (rank 0's sum decides, the one its file holds).
-    args = ["--set", "output.checkpoint_interval=0", "--set", "geometry.nodes_z=15",
+    args = ["--set", "geometry.nodes_z=15",
             "--set", "geometry.width=0.1171875", "--set", "time.duration_transits=3",
             "--set", "output.snapshot_interval=0", "--set", "output.snapshot_slip_increment=5e-8"]
     (tmp_path / "one").mkdir()
@@ -170,31 +207,77 @@ def test_dissimilar_bodies(tmp_path, config):
     assert one.with_suffix(".xdmf").read_text() == two.with_suffix(".xdmf").read_text()
 
 
-def test_stop_after_steps_leaves_a_readable_interrupted_file(tmp_path):
-    # As SIGTERM: status "interrupted", exit 143, the records up to the stop
-    # (the same as one process's interrupted file), no restart point.
+# 6 transits (780 steps) of the demo; the block operator, half-spaces and
+# dissimilar bodies (tiny_bodies.toml, tiny_half_space.toml: 320 steps; the
+# normal stress, its opening and the pair operators) restore their own states.
+RESTART_CASES = {
+    "modal strips": (TINY, ["--set", "time.duration_transits=6"]),
+    "block strips": (TINY, ["--set", "time.duration_transits=6", "--set", "time.history=block"]),
+    "half-spaces": (TINY, ["--set", "time.duration_transits=6", "--set", 'geometry.height="inf"',
+                           "--set", "time.beta=0.24"]),
+    "dissimilar bodies": (REPO / "configs" / "3d" / "tiny_bodies.toml", []),
+    "dissimilar half-space": (REPO / "configs" / "3d" / "tiny_half_space.toml", []),
+}
+
+
+@pytest.mark.parametrize("case", list(RESTART_CASES))
+def test_stopped_after_steps_and_resumed_equals_uninterrupted(tmp_path, case):
+    config, extra = RESTART_CASES[case]
+    args = ["--set", "output.front_slip_rate=2.01e-3", "--set", "output.snapshot_interval=1e-4", *extra]
+    reference, resumed = tmp_path / "reference.h5", tmp_path / "resumed.h5"
+    run_mpi(reference, *args, config=config)
+    assert not Path(str(reference) + ".restart").exists()  # a completed run leaves none
+    stopped = run_mpi(resumed, *args, "--stop-after-steps", "133", config=config, check=False)
+    assert stopped.returncode == 143, stopped.stderr
+    restart = Path(str(resumed) + ".restart")
+    assert restart.exists() and f"--resume {resumed}" in stopped.stderr
+    with h5py.File(resumed, "r") as f:
+        assert f.attrs["status"] == "interrupted"
+        assert f["timeseries/time"].shape[0] == 134
+    with h5py.File(restart, "r") as f:
+        assert f["history"].attrs["kind"] == "interface 2d split over processes"
+        assert f["simulation/slip"].shape == (32 * 32,)  # the one-process layout
+        assert ("normal_stress" in f["simulation"]) == case.startswith("dissimilar")
+    done = run_mpi(None, "--resume", str(resumed))
+    assert "resumed from step 133" in done.stderr and "completed after" in done.stderr
+    assert not restart.exists()
+    assert_files_identical(reference, resumed)
+    # A completed run: nothing to resume (exit 0), as `slipstrip run --resume`.
+    again = run_mpi(None, "--resume", str(resumed))
+    assert "nothing to resume" in again.stderr
+
+
+def test_restart_points_resume_on_as_many_processes_only(tmp_path):
     (tmp_path / "one").mkdir()
     (tmp_path / "two").mkdir()
-    one, two = tmp_path / "one" / "run.h5", tmp_path / "two" / "run.h5"
-    args = ["--set", "output.checkpoint_interval=0", "--stop-after-steps", "100"]
-    assert run_serial(one, *args, check=False).returncode == 143
-    stopped = run_mpi(two, *args, check=False)
-    assert stopped.returncode == 143, stopped.stderr
-    assert "no restart point" in stopped.stderr
-    assert not Path(str(two) + ".restart").exists()
-    assert_runs_equal(one, two, 32 * 32)
-    with h5py.File(two, "r") as f:
-        assert f.attrs["status"] == "interrupted"
-        assert f["timeseries/time"].shape[0] == 101
+    single, split = tmp_path / "one" / "run.h5", tmp_path / "two" / "run.h5"
+    args = ["--set", "time.duration_transits=1"]
+    assert run_mpi(split, *args, "--stop-after-steps", "50", check=False).returncode == 143
+    assert run_serial(single, *args, "--stop-after-steps", "50", check=False).returncode == 143
+    # The interrupted files: as the completed ones.
+    assert_runs_equal(single, split, 32 * 32)
+    # Two processes' restart point: refused by one process and by three.
+    refused = run_serial(None, "--resume", str(split), check=False)
+    assert refused.returncode == 2 and "mpirun -np 2 slipstrip-mpi run --resume" in refusal_line(refused)
+    refused = run_mpi(None, "--resume", str(split), processes=3, check=False)
+    assert refused.returncode == 2 and "written on 2 processes, this job has 3" in refusal_line(refused)
+    # One process's restart point: refused by slipstrip-mpi.
+    refused = run_mpi(None, "--resume", str(single), check=False)
+    assert refused.returncode == 2 and "slipstrip run --resume" in refusal_line(refused)
+    # A damaged restart point: the message of `slipstrip run --resume`.
+    with h5py.File(str(split) + ".restart", "r+") as f:
+        slip = f["simulation/slip"]
+        slip[3] = slip[3] + 1e-9
+    refused = run_mpi(None, "--resume", str(split), check=False)
+    assert refused.returncode == 2, refused.stderr
+    assert "is damaged" in refusal_line(refused) and "rank 0: " in refusal_line(refused)
+    with h5py.File(split, "r") as f:
+        assert f.attrs["status"] == "interrupted"  # untouched
 
 
 @pytest.mark.parametrize("args, names", [
-    ([], "output.checkpoint_interval = 600"),
-    (["--set", "output.checkpoint_interval=0", "--set", "output.stations=[0.1]",
-      "--set", "output.stations_z=[0.1]"], "output.stations"),
-    (["--set", "output.checkpoint_interval=0", "--set", "geometry.nodes_z=1", "--set", "geometry.width=0.25"],
-     "geometry.nodes_z = 1"),
-    (["--set", "output.checkpoint_interval=0", "--resume", "elsewhere.h5"], "--resume 'elsewhere.h5'"),
+    (["--set", "output.stations=[0.1]", "--set", "output.stations_z=[0.1]"], "output.stations"),
+    (["--set", "geometry.nodes_z=1", "--set", "geometry.width=0.25"], "geometry.nodes_z = 1"),
 ])
 def test_refused_in_one_line_by_rank_0(tmp_path, args, names):
     out = tmp_path / "run.h5"
@@ -208,7 +291,7 @@ def test_refused_in_one_line_by_rank_0(tmp_path, args, names):
 def test_output_checks_on_rank_0(tmp_path):
     out = tmp_path / "run.h5"
     out.write_bytes(b"not a run file")
-    refused = run_mpi(out, "--set", "output.checkpoint_interval=0", check=False)
+    refused = run_mpi(out, check=False)
     assert refused.returncode == 2
     lines = [line for line in refused.stderr.splitlines() if line.startswith("rank ")]
     assert len(lines) == 1 and lines[0].startswith("rank 0: ") and "exists" in lines[0], refused.stderr
@@ -221,7 +304,7 @@ def test_output_checks_on_rank_0(tmp_path):
             if lock.exists():
                 break
             subprocess.run(["sleep", "0.05"])
-        refused = run_mpi(out, "--set", "output.checkpoint_interval=0", "--overwrite", check=False)
+        refused = run_mpi(out, "--overwrite", check=False)
     finally:
         holder.kill()
         holder.wait()
@@ -230,31 +313,52 @@ def test_output_checks_on_rank_0(tmp_path):
     assert out.read_bytes() == b"not a run file"
 
 
-def test_sigterm_to_the_processes_stops_with_a_readable_file(tmp_path):
-    # As a batch system stops a job (Slurm's scancel signals every process):
-    # rank 0's stop request ends the time loop on every process in the same
-    # step; status "interrupted", exit 143, no restart point.  (OpenMPI's
-    # mpirun itself ends the job at once on SIGTERM, without this.)
-    out = tmp_path / "run.h5"
-    command = [MPIEXEC, "-np", "2", "--oversubscribe", MPI, "run", str(TINY), "--out", str(out), "--quiet",
-               "--set", "output.checkpoint_interval=0", "--set", "time.duration_transits=100000"]
+def signal_both_ranks(out, args, sig, ready):
+    """Starts `mpirun -np 2 slipstrip-mpi run` of `out`, waits until ready()
+    (or the job ended), sends `sig` to both processes; returns the job's exit
+    code and stderr."""
+    command = [MPIEXEC, "-np", "2", "--oversubscribe", MPI, "run", str(TINY), "--out", str(out), "--quiet", *args]
     job = subprocess.Popen(command, env=mpi_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
-        for _ in range(600):
-            if out.exists() or job.poll() is not None:
+        for _ in range(1200):
+            if ready() or job.poll() is not None:
                 break
             subprocess.run(["sleep", "0.05"])
         ranks = subprocess.run(["pgrep", "-P", str(job.pid)], capture_output=True, text=True).stdout.split()
         assert len(ranks) == 2
-        subprocess.run(["kill", "-TERM", *ranks], check=True)
+        for pid in ranks:
+            os.kill(int(pid), sig)
         _, stderr = job.communicate(timeout=120)
     finally:
         if job.poll() is None:
             job.kill()
             job.wait()
-    assert job.returncode == 143, stderr
-    assert "interrupted after" in stderr and "no restart point" in stderr
-    with h5py.File(out, "r") as f:
-        assert f.attrs["status"] == "interrupted"
-        assert f["timeseries/time"].shape[0] > 1
-    assert not Path(str(out) + ".restart").exists()
+    return job.returncode, stderr
+
+
+def test_sigterm_or_sigkill_to_the_processes_then_resume_equals_uninterrupted(tmp_path):
+    # As a batch system stops a job (Slurm's scancel signals every process):
+    # rank 0's stop request ends the time loop on every process in the same
+    # step with a restart point; status "interrupted", exit 143.  (OpenMPI's
+    # mpirun itself ends the job at once on SIGTERM, without this.)  SIGKILL
+    # leaves the last restart point of rank 0's wall-clock timer
+    # (output.checkpoint_interval, read every 16 steps).  Either run, resumed
+    # up to step 1500, writes the file of a run stopped there from t = 0.
+    args = ["--set", "time.duration_transits=100000", "--set", "output.checkpoint_interval=0.25"]
+    reference = tmp_path / "reference.h5"
+    assert run_mpi(reference, *args, "--stop-after-steps", "1500", check=False).returncode == 143
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        out = tmp_path / f"{sig.name}.h5"
+        restart = Path(str(out) + ".restart")
+        returncode, stderr = signal_both_ranks(out, args, sig, out.exists if sig == signal.SIGTERM else restart.exists)
+        assert restart.exists(), stderr
+        if sig == signal.SIGTERM:
+            assert returncode == 143, stderr
+            assert "interrupted after" in stderr and "--resume" in stderr
+            with h5py.File(out, "r") as f:
+                assert f.attrs["status"] == "interrupted"
+        resumed = run_mpi(None, "--resume", str(out), "--stop-after-steps", "1500", check=False)
+        assert resumed.returncode == 143, resumed.stderr
+        step = int(resumed.stderr.split("resumed from step ")[1].split()[0])
+        assert 0 < step < 1500
+        assert_files_identical(reference, out)
