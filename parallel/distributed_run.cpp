@@ -58,14 +58,6 @@ void throw_if_refused(const std::string& refusal, MPI_Comm comm) {
   if (!text.empty()) throw CollectiveError(text, 0);
 }
 
-// An error met by some processes (`error` non-empty there) thrown on every
-// process as the lowest such rank's.  Collective.
-void throw_if_any_failed(const std::string& error, const std::string& context, MPI_Comm comm) {
-  const int processes = mpi_size(comm);
-  int first = error.empty() ? processes : mpi_rank(comm);
-  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
-  if (first < processes) throw CollectiveError(context + broadcast_string(error, first, comm), first);
-}
 
 // Arrays of a restart point are sent in pieces of at most this many values
 // (MPI counts are ints).
@@ -233,6 +225,10 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   // stop requested on rank 0 during it is honoured right after, before the
   // file exists.  A friction solve that fails at t = 0 on some process is an
   // input error there (as run_simulation's).
+  // A refusal met inside the set-up (e.g. a time step too long for a
+  // half-space's operator) is not agreed on collectively: a process may meet
+  // it while the others wait in one of the set-up's collectives, so it ends
+  // the job through MPI_Abort (every process that met it prints it).
   const auto sim_owner = [&] {
     try {
       return std::make_unique<Simulation3d>(config, std::span<const double>(), CancelCheck{},
@@ -617,22 +613,25 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
 }  // namespace
 
 RunResult run_distributed(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
-                          bool overwrite, MPI_Comm comm) {
+                          bool overwrite, std::span<const std::string> inputs, MPI_Comm comm) {
   const int rank = mpi_rank(comm);
   check_distributed_run(config);
   // The run's lock and the output paths, on rank 0 (the one process that
-  // writes), before any process starts the set-up: as run_simulation's.
+  // writes), before any process starts the set-up: as `slipstrip run` and
+  // run_simulation do, so an input (the config) is never an output, even
+  // with overwrite.
   std::optional<io::FileLock> lock;
   std::string refusal;
   if (rank == 0) {
     try {
+      const io::OutputPath outputs[] = {{"--out", output_path},
+                                        {"the restart point of --out", checkpoint_path(output_path)}};
+      io::check_output_paths(outputs, inputs, overwrite);
       lock.emplace(lock_run_file(output_path));
       if (overwrite) {
         remove_checkpoint(output_path);
       } else {
-        const io::OutputPath outputs[] = {{"output", output_path},
-                                          {"restart point", checkpoint_path(output_path)}};
-        io::check_output_paths(outputs, {}, false);
+        io::check_output_paths(outputs, inputs, false);  // again under the lock
       }
     } catch (const std::exception& e) {
       refusal = e.what();
@@ -701,6 +700,13 @@ std::optional<RunResult> resume_distributed(const std::string& run_path, const s
   }
   check_distributed_run(config);
   return drive(config, run_path, hooks, comm, true, checkpoint ? &*checkpoint : nullptr);
+}
+
+void throw_if_any_failed(const std::string& error, const std::string& context, MPI_Comm comm) {
+  const int processes = mpi_size(comm);
+  int first = error.empty() ? processes : mpi_rank(comm);
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm);
+  if (first < processes) throw CollectiveError(context + broadcast_string(error, first, comm), first);
 }
 
 }  // namespace slipstrip

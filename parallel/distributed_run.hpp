@@ -25,6 +25,7 @@
 
 #include <optional>
 #include <stdexcept>
+#include <span>
 #include <string>
 
 #include "config/simulation_config.hpp"
@@ -41,17 +42,25 @@ struct CollectiveError : std::invalid_argument {
   int origin_rank;
 };
 
+// An error met by some processes (`error` non-empty there) thrown on every
+// process as a CollectiveError carrying the lowest such rank's message,
+// prefixed by `context`.  Collective: every process calls it, failed or not.
+void throw_if_any_failed(const std::string& error, const std::string& context, MPI_Comm comm);
+
 // Throws CollectiveError (on every process, origin 0) naming the key of what a
 // run split over processes does not do: a line (geometry.nodes_z = 1),
 // stations.
 void check_distributed_run(const SimulationConfig& config);
 
 // Runs `config` split over `comm` and writes `output_path` on rank 0.
-// Collective.  Before the set-up, rank 0 takes the run's lock and checks the
-// output paths as run_simulation does (overwrite: an old restart point of this
-// name is removed); a refusal is a CollectiveError on every process.
+// Collective.  Before the set-up, rank 0 checks the output paths as
+// `slipstrip run` does (io::check_output_paths: the run file and its restart
+// point are outputs, `inputs`, the config file, never one of them, even with
+// overwrite) and takes the run's lock (overwrite: an old restart point of
+// this name is removed); a refusal is a CollectiveError on every process.
 // hooks.stop_requested, hooks.progress and hooks.warning are used on rank 0
-// only; stop_after_steps on every process.  A stop requested during the
+// only (the stop_after_steps count is read there too, and the stop is passed
+// to every process in the step's control reduction).  A stop requested during the
 // set-up throws SetupCancelled on every process before the file is created.
 // A stop in the time loop writes a restart point and closes the file with
 // status "interrupted"; restart points are also written every
@@ -59,10 +68,12 @@ void check_distributed_run(const SimulationConfig& config);
 // process ends the run on all with status "diverged: <the lowest such rank's
 // diagnostic>"; a run that completes or diverges removes its restart point.
 // Other errors (a file that cannot be written) are thrown on the process that
-// met them only: the caller must end the job (MPI_Abort).  The result is the
-// same on every process.
+// met them only: the caller must end the job (MPI_Abort).  The result's
+// status and restart point are the same on every process; its step count and
+// simulated time are rank 0's there (a process that diverged stopped a step
+// short), its wall time each process's own.
 RunResult run_distributed(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
-                          bool overwrite, MPI_Comm comm);
+                          bool overwrite, std::span<const std::string> inputs, MPI_Comm comm);
 
 // Continues the run of `run_path` from its restart point on as many processes
 // as wrote it, with the config stored in the run file; the file is the one an

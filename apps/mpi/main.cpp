@@ -179,13 +179,14 @@ int resume(const RunArguments& a) {
     throw CollectiveError("--resume '" + a.resume_path +
                               "' continues writing that file: --out and --overwrite do not apply",
                           0);
-  std::string given;
+  std::string given, config_error;
   if (!a.config_path.empty()) {
     try {
       given = to_toml(load_config_file(a.config_path, a.overrides));
     } catch (const std::invalid_argument& e) {
-      throw CollectiveError(e.what(), 0);
+      config_error = e.what();  // agreed on below: one process may fail alone
     }
+    throw_if_any_failed(config_error, "", world);
   } else if (!a.overrides.empty()) {
     throw CollectiveError("--resume '" + a.resume_path +
                               "' with --set but no config: a resumed run continues with its stored config and "
@@ -225,13 +226,17 @@ int run(const RunArguments& a) {
   if (!a.resume_path.empty()) return resume(a);
   if (a.config_path.empty())
     throw CollectiveError("run: config is required (a TOML config file; see --help)", 0);
-  // Every process reads the config; a refusal is the same on each.
+  // Every process reads the config.  A refusal is normally the same on each,
+  // but a process that cannot read the file (another mount) fails alone, so
+  // the processes agree on it before any other collective.
   SimulationConfig config;
+  std::string config_error;
   try {
     config = load_config_file(a.config_path, a.overrides);
   } catch (const std::invalid_argument& e) {
-    throw CollectiveError(e.what(), 0);
+    config_error = e.what();
   }
+  throw_if_any_failed(config_error, "", world);
   std::string out_path = a.out_path;
   if (out_path.empty()) {
     auto base = a.config_path.substr(a.config_path.find_last_of('/') + 1);
@@ -245,7 +250,8 @@ int run(const RunArguments& a) {
                  a.config_path.c_str(), out_path.c_str(), processes, processes == 1 ? "" : "es");
   RunResult result;
   try {
-    result = run_distributed(config, out_path, hooks, a.overwrite, world);
+    const std::string inputs[] = {a.config_path};
+    result = run_distributed(config, out_path, hooks, a.overwrite, inputs, world);
   } catch (const SetupCancelled& e) {
     if (rank == 0)
       std::fprintf(stderr, "interrupted by %s during the set-up (%s); no output written\n", cli::interrupt_name(),

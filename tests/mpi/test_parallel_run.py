@@ -313,6 +313,40 @@ def test_output_checks_on_rank_0(tmp_path):
     assert out.read_bytes() == b"not a run file"
 
 
+def test_the_config_is_never_the_output(tmp_path):
+    # As `slipstrip run`: the config is an input, so --out naming it is
+    # refused even with --overwrite, and the config is left as it was.
+    config = tmp_path / "tiny.toml"
+    config.write_text(TINY.read_text())
+    before = config.read_bytes()
+    refused = run_mpi(config, "--overwrite", check=False, config=config)
+    assert refused.returncode == 2, refused.stderr
+    line = refusal_line(refused)
+    assert line.startswith("rank 0: ") and "--out" in line and "input" in line, refused.stderr
+    assert config.read_bytes() == before
+    assert not Path(str(config) + ".restart").exists()
+
+
+def test_a_config_that_one_process_cannot_read_is_refused_by_all(tmp_path):
+    # Every process reads the config.  Here rank 1 starts in another working
+    # directory, where the relative config path names nothing (as a node that
+    # does not see the file would): the processes agree on the failure, so
+    # the job ends in one line with exit 2 instead of rank 0 waiting forever
+    # in a collective that rank 1 has left.
+    work, elsewhere = tmp_path / "work", tmp_path / "elsewhere"
+    work.mkdir()
+    elsewhere.mkdir()
+    (work / "tiny.toml").write_text(TINY.read_text())
+    script = ('if [ "$OMPI_COMM_WORLD_RANK" = 1 ]; then cd "$1"; fi; shift; exec "$@"')
+    command = [MPIEXEC, "-np", "2", "--oversubscribe", "sh", "-c", script, "sh", str(elsewhere),
+               str(MPI), "run", "tiny.toml", "--out", str(work / "run.h5"), "--quiet"]
+    refused = subprocess.run(command, cwd=work, env=mpi_env(), capture_output=True, text=True, timeout=120)
+    assert refused.returncode == 2, refused.stderr
+    line = refusal_line(refused)
+    assert line.startswith("rank 1: ") and "tiny.toml" in line, refused.stderr
+    assert not (work / "run.h5").exists()
+
+
 def signal_both_ranks(out, args, sig, ready):
     """Starts `mpirun -np 2 slipstrip-mpi run` of `out`, waits until ready()
     (or the job ended), sends `sig` to both processes; returns the job's exit
