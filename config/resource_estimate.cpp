@@ -76,7 +76,8 @@ struct BodyOperator {
 // `pair_operator`: the operator of docs/theory.md (modal/block strip or the
 // half-space), as the mirror pair and each antiplane body use it; otherwise an
 // in-plane body's 2x2 operator.  `body_of_two`: an antiplane body of two
-// different ones, whose block operator takes body_block_length's B.
+// different ones on a line, whose block operator takes body_block_length's B
+// (Simulation's make_pair_history; a 2D pair's is interface_strip_bytes).
 BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, double fourier_modes,
                            HistoryAlgorithm history, bool pair_operator, bool allow_block,
                            bool body_of_two = false) {
@@ -125,6 +126,26 @@ BodyOperator body_operator(const ElasticMaterial& m, double height, double dt, d
   return b;
 }
 
+// A strip operator of a 2D interface (kernels/interface_2d_history.hpp) as
+// make_strip_history builds it over `operator_modes` modes of `modes` normal
+// modes each: the algorithm by time.history (auto: block from kBlockThreshold
+// normal modes).
+bool interface_strip_takes_block(HistoryAlgorithm history, double modes) {
+  return history == HistoryAlgorithm::block || (history == HistoryAlgorithm::automatic && modes >= kBlockThreshold);
+}
+
+// Its bytes.  Modal: 56 per normal mode (kernels/history_convolution.hpp).
+// Block (kernels/block_strip_history.hpp): per mode its states (32 P) and
+// block inputs and outputs (32 B), B = automatic_block_length (the power of
+// two >= max(P, 64)); the design part (frequencies and weights 32 P, kernel
+// spectra 16 B) is shared by the modes of equal |k|, at most half of them
+// distinct (kz and -kz share one).  The kernels are not included.
+double interface_strip_bytes(HistoryAlgorithm history, double operator_modes, double modes) {
+  if (!interface_strip_takes_block(history, modes)) return operator_modes * modes * 56.0;
+  const double block =
+      automatic_block_length(static_cast<std::size_t>(std::ceil(modes)), BlockHistoryDesign{}.direct_block);
+  return operator_modes * (32.0 * modes + 32.0 * block) + 0.5 * operator_modes * (32.0 * modes + 16.0 * block);
+}
 
 std::string bytes_text(double bytes) {
   constexpr const char* kUnits[] = {"B", "KiB", "MiB", "GiB", "TiB"};
@@ -150,7 +171,8 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
   ResourceEstimate e;
   // A 2D interface (nodes_z > 1, docs/3d.md): nodes_z rows of Fourier modes,
   // each with an in-plane and an antiplane operator (modal or half-space),
-  // the time step set by the smaller spacing, seven fields per snapshot node.
+  // the time step set by the smaller spacing, seven fields per snapshot node
+  // (nine for two different bodies).
   const bool interface_2d = c.geometry.nodes_z > 1;
   const double rows_z = interface_2d ? c.geometry.nodes_z : 1.0;
   const double n = c.geometry.nodes * rows_z;
@@ -184,26 +206,12 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
   if (interface_2d && !is_half_space(c.geometry.height)) {
     // Two operators over the operator modes F/2 each (fourier_modes counts
     // both): in-plane P ~ (M/2)(1 + c_s/c_d), antiplane (M/2) normal modes,
-    // each algorithm chosen on its own P.  Modal: 56 bytes per normal mode.
-    // Block (kernels/block_strip_history.hpp): per mode its states (32 P)
-    // and block inputs and outputs (32 B), B the power of two >= max(P, 64);
-    // the design part (frequencies and weights 32 P, kernel spectra 16 B) is
-    // shared by the modes of equal |k|, at most half of them distinct (kz
-    // and -kz share one).  The kernels (16 bytes per normal mode) live while
-    // one operator is built.
-    auto takes_block = [&](double modes) {
-      return c.time.history == HistoryAlgorithm::block ||
-             (c.time.history == HistoryAlgorithm::automatic && modes >= kBlockThreshold);
-    };
+    // each algorithm chosen on its own P (interface_strip_bytes).  The
+    // kernels (16 bytes per normal mode) live while one operator is built.
     const double operator_modes = fourier_modes / 2.0;
-    auto operator_bytes = [&](double modes) {
-      if (!takes_block(modes)) return operator_modes * modes * 56.0;
-      double block = 64.0;
-      while (block < modes) block *= 2.0;
-      return operator_modes * (32.0 * modes + 32.0 * block) + 0.5 * operator_modes * (32.0 * modes + 16.0 * block);
-    };
-    e.block_history = takes_block(e.modes_per_fourier_mode);
-    e.operator_bytes = operator_bytes(e.modes_per_fourier_mode) + operator_bytes(0.5 * e.echo_steps) +
+    e.block_history = interface_strip_takes_block(c.time.history, e.modes_per_fourier_mode);
+    e.operator_bytes = interface_strip_bytes(c.time.history, operator_modes, e.modes_per_fourier_mode) +
+                       interface_strip_bytes(c.time.history, operator_modes, 0.5 * e.echo_steps) +
                        operator_modes * 16.0 * e.modes_per_fourier_mode + 8.0 * e.echo_steps;
     if (e.block_history) history_seconds = fourier_modes * kBlockSecondsPerFourierMode;
   }
@@ -218,6 +226,7 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
     if (elastic && bottom.shear_wave_speed() > cs) e.time_step = c.time.beta * dx / bottom.shear_wave_speed();
     e.operator_bytes = 0.0;
     history_seconds = 0.0;
+    double kernel_bytes = 0.0;  // the antiplane strip kernels, alive while one operator is built
     const auto add_body = [&](const ElasticMaterial& m, double height, bool is_top) {
       const BodyOperator face = body_operator(m, height, e.time_step, operator_modes, c.time.history, false, false);
       // The 2D pair builds the finite body's modal 2x2 operator (no block one).
@@ -227,13 +236,30 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
       const double face_seconds = is_half_space(height)
                                       ? face.seconds
                                       : operator_modes * face.modes_per_fourier_mode * kFaceModalSecondsPerMode;
-      const BodyOperator sh = body_operator(m, height, e.time_step, operator_modes, c.time.history, true, true, true);
-      e.operator_bytes += face_bytes + sh.bytes;
-      history_seconds += face_seconds + sh.seconds;
+      // Antiplane: a half-space's HalfSpaceHistory; a finite body's strip
+      // operator over its M/2 SH normal modes per mode, as make_strip_history
+      // builds it for the 2D pair (the identical bodies' B, not a 1D body's
+      // body_block_length; designs shared by equal |k|).
+      double sh_bytes = 0.0, sh_seconds = 0.0;
+      bool sh_block = false;
+      if (is_half_space(height)) {
+        const BodyOperator sh = body_operator(m, height, e.time_step, operator_modes, c.time.history, true, true);
+        sh_bytes = sh.bytes;
+        sh_seconds = sh.seconds;
+      } else {
+        const double sh_modes = 0.5 * face.echo_steps;
+        sh_block = interface_strip_takes_block(c.time.history, sh_modes);
+        sh_bytes = interface_strip_bytes(c.time.history, operator_modes, sh_modes) + 8.0 * face.echo_steps;
+        sh_seconds = sh_block ? operator_modes * kBlockSecondsPerFourierMode
+                              : operator_modes * sh_modes * kModalSecondsPerMode;
+        kernel_bytes = std::max(kernel_bytes, operator_modes * 16.0 * sh_modes);
+      }
+      e.operator_bytes += face_bytes + sh_bytes;
+      history_seconds += face_seconds + sh_seconds;
       if (is_top) {
         e.echo_steps = face.echo_steps;
         e.modes_per_fourier_mode = face.modes_per_fourier_mode;
-        e.block_history = sh.block;
+        e.block_history = sh_block;
       } else {
         e.bottom_echo_steps = face.echo_steps;
         e.bottom_modes_per_fourier_mode = face.modes_per_fourier_mode;
@@ -241,6 +267,7 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
     };
     add_body(c.material, c.geometry.height, true);
     if (elastic) add_body(bottom, c.bottom.height, false);
+    e.operator_bytes += kernel_bytes;
   }
   if (elastic_bottom) {
     const BodyOperator b =
@@ -270,8 +297,13 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
   // mean slip v0 t gives the number of rows a uniformly sliding run fills.
   const double levels =
       o.delta_th > 0.0 ? c.loading.driving_velocity * c.time.duration / o.delta_th : 0.0;
-  e.output_bytes = interface_2d ? 24.0 * rows + (16.0 + 56.0 * n) * snapshots
-                                 : 32.0 * rows + (8.0 + 32.0 * n) * snapshots + 8.0 * n * levels;
+  // Snapshot fields per node (solver/run.cpp, solver/run_output.cpp): a 2D
+  // interface 7, a line 4; with a variable normal stress (two different
+  // in-plane bodies) also normal_stress and opening.
+  const bool variable_normal_stress = c.bottom.body != BodyKind::mirror && (interface_2d || !c.material.antiplane());
+  const double fields = (interface_2d ? 7.0 : 4.0) + (variable_normal_stress ? 2.0 : 0.0);
+  e.output_bytes = interface_2d ? 24.0 * rows + (16.0 + 8.0 * fields * n) * snapshots
+                                 : 32.0 * rows + (8.0 + 8.0 * fields * n) * snapshots + 8.0 * n * levels;
   return e;
 }
 

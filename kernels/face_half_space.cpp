@@ -327,19 +327,32 @@ ExponentialSum half_space_face_exponential_sum(double r2, FaceEntry entry, doubl
       tau_max, nodes_per_panel);
 }
 
-double face_half_space_passive_limit(double r2, const HalfSpaceOperatorDesign& design, double failed) {
-  if (!(failed > 0.0)) throw std::invalid_argument("face_half_space_passive_limit: need failed > 0");
+namespace {
+// A value for an error message, at the default stream precision (6 digits).
+std::string number_text(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+}  // namespace
+
+bool face_half_space_mode_passive(double r2, const HalfSpaceOperatorDesign& design, double h) {
+  if (!(h > 0.0)) throw std::invalid_argument("face_half_space_mode_passive: need h > 0, got " + number_text(h));
   const double margin = std::max(design.passivity_margin, kMatrixPassivityMargin);
-  const auto passive = [&](double h) {
-    const int window = window_of(h, design);
-    const ModeDesign m = design_mode(r2, h, window, entry_sums(r2, h, window * h, design));
-    try {
-      (void)passivity_correction(m, r2, design.corrected_lags, margin);
-      return true;
-    } catch (const std::exception&) {
-      return false;
-    }
-  };
+  const int window = window_of(h, design);
+  const ModeDesign m = design_mode(r2, h, window, entry_sums(r2, h, window * h, design));
+  try {
+    (void)passivity_correction(m, r2, design.corrected_lags, margin);
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+double face_half_space_passive_limit(double r2, const HalfSpaceOperatorDesign& design, double failed) {
+  if (!(failed > 0.0))
+    throw std::invalid_argument("face_half_space_passive_limit: need failed > 0, got " + number_text(failed));
+  const auto passive = [&](double h) { return face_half_space_mode_passive(r2, design, h); };
   double hi = failed, lo = 0.5 * failed;
   while (!passive(lo)) {
     hi = lo;
@@ -354,9 +367,11 @@ double face_half_space_passive_limit(double r2, const HalfSpaceOperatorDesign& d
 }
 
 namespace {
-std::vector<double> line_wavenumbers(double length, int nodes) {
-  if (nodes < 2 || !(length > 0.0))
-    throw std::invalid_argument("FaceHalfSpaceHistory: need time_step > 0, nodes >= 2, length > 0");
+std::vector<double> line_wavenumbers(double length, int nodes, double time_step) {
+  if (!(time_step > 0.0) || nodes < 2 || !(length > 0.0))
+    throw std::invalid_argument("FaceHalfSpaceHistory: need time_step > 0, nodes >= 2, length > 0; got time_step = " +
+                                number_text(time_step) + " s, nodes = " + std::to_string(nodes) +
+                                ", length = " + number_text(length) + " m");
   std::vector<double> k(static_cast<std::size_t>(nodes / 2 + 1));
   for (int q = 0; q < static_cast<int>(k.size()); ++q) k[q] = 2.0 * pi * q / length;
   return k;
@@ -366,7 +381,7 @@ std::vector<double> line_wavenumbers(double length, int nodes) {
 FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, double length, int nodes,
                                            double time_step, const HalfSpaceOperatorDesign& design,
                                            const CancelCheck& cancelled)
-    : FaceHalfSpaceHistory(material, line_wavenumbers(length, nodes), time_step, design, cancelled) {}
+    : FaceHalfSpaceHistory(material, line_wavenumbers(length, nodes, time_step), time_step, design, cancelled) {}
 
 FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, std::span<const double> wavenumbers,
                                            double time_step, const HalfSpaceOperatorDesign& design,
@@ -374,10 +389,17 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, std:
     : dt_(time_step), lags_(design.corrected_lags) {
   if (material.antiplane())
     throw std::invalid_argument("FaceHalfSpaceHistory: the in-plane 2x2 operator needs an in-plane material");
-  if (!(time_step > 0.0) || wavenumbers.size() < 2 || wavenumbers[0] != 0.0 ||
-      std::any_of(wavenumbers.begin() + 1, wavenumbers.end(), [](double k) { return !(k > 0.0); }))
-    throw std::invalid_argument(
-        "FaceHalfSpaceHistory: need time_step > 0, the uniform mode 0 first and every other |k| > 0");
+  if (!(time_step > 0.0))
+    throw std::invalid_argument("FaceHalfSpaceHistory: need time_step > 0, got " + number_text(time_step) + " s");
+  if (wavenumbers.size() < 2 || wavenumbers[0] != 0.0)
+    throw std::invalid_argument("FaceHalfSpaceHistory: need at least two modes, the uniform mode 0 (|k| = 0) "
+                                "first; got " + std::to_string(wavenumbers.size()) + " modes" +
+                                (wavenumbers.empty() ? std::string()
+                                                     : ", |k| = " + number_text(wavenumbers[0]) + " 1/m at mode 0"));
+  for (std::size_t q = 1; q < wavenumbers.size(); ++q)
+    if (!(wavenumbers[q] > 0.0))
+      throw std::invalid_argument("FaceHalfSpaceHistory: need |k| > 0 at every mode but the first; got |k| = " +
+                                  number_text(wavenumbers[q]) + " 1/m at mode " + std::to_string(q));
   check_half_space_design(design);
   const double mu = material.shear_modulus, cs = material.shear_wave_speed();
   const double r2 = 1.0 / material.wave_speed_ratio_squared();

@@ -105,6 +105,11 @@ struct FaceHalfSpaceNotPassive : std::invalid_argument {
   double h;
 };
 
+// Whether one mode's passivity correction exists at h = c_s |k| dt, for
+// r^2 = c_s^2/c_d^2 and `design` (the mode designed alone, as
+// face_half_space_passive_limit tries it; ~0.1 s).
+bool face_half_space_mode_passive(double speed_ratio_squared, const HalfSpaceOperatorDesign& design, double h);
+
 // The largest c_s |k| dt at which a mode's passivity correction exists, for
 // r^2 = c_s^2/c_d^2 and `design`: bisection (to 1e-3 relative) between
 // `failed` (a value where it does not) and the largest smaller value found by

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -17,6 +16,7 @@
 #include "kernels/face_half_space.hpp"
 #include "kernels/inplane_pair_history.hpp"
 #include "kernels/two_body_history.hpp"
+#include "solver/half_space_time_step.hpp"
 #include "solver/interface_contact.hpp"
 
 namespace slipstrip {
@@ -98,22 +98,14 @@ std::unique_ptr<HistoryOperator> make_pair_history(const SimulationConfig& confi
                                 : 0;
   return make_strip_history(material, kernels, config.time.history, cancelled, 0, block);
 }
-// A half-space body's 2x2 operator exists only when the shortest wavelength's
-// c_s k_max dt is at most face_half_space_passive_limit (a function of the
-// Poisson ratio): the bound on time.beta it implies, computed, in one line.
+// A half-space body's 2x2 operator exists only below a c_s k dt set by its
+// Poisson ratio: the refusal names the bound on time.beta it implies at the
+// line's shortest wavelength, k_max = pi / dx (Nyquist).
 std::string half_space_time_step_error(const SimulationConfig& config, const ElasticMaterial& m, const char* body,
                                        double dx, double dt) {
-  const double h_max = m.shear_wave_speed() * std::numbers::pi * dt / dx;  // k_max = pi / dx (Nyquist)
-  const double limit = face_half_space_passive_limit(1.0 / m.wave_speed_ratio_squared(), HalfSpaceOperatorDesign{},
-                                                     h_max);
-  const double beta_max = config.time.beta * limit / h_max;
-  const std::string key = std::string(body) == "top" ? "material.poisson_ratio" : "bottom.poisson_ratio";
-  std::ostringstream msg;
-  msg << "time.beta = " << config.time.beta << " is too large for the " << body << " body, a half-space with "
-      << key << " = " << m.poisson_ratio << " (plane " << (m.plane == PlaneCondition::stress ? "stress" : "strain")
-      << "): its passive 2x2 operator needs c_s k dt <= " << std::setprecision(4) << limit
-      << " at the shortest wavelength, i.e. time.beta <= " << beta_max << " here (docs/bodies.md §4)";
-  return msg.str();
+  const double k_max = std::numbers::pi / dx;
+  return half_space_time_step_message(config.time.beta, body, m, k_max,
+                                      half_space_time_step_bound(m, k_max, dt, config.time.beta), false);
 }
 
 }  // namespace

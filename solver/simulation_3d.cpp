@@ -14,6 +14,7 @@
 #include "kernels/face_half_space.hpp"
 #include "kernels/two_body_history.hpp"
 #include "laws/initial_state.hpp"
+#include "solver/half_space_time_step.hpp"
 #include "solver/interface_contact.hpp"
 
 namespace slipstrip {
@@ -60,41 +61,48 @@ TwoBodyTiming timing_3d(const SimulationConfig& c) {
   return TwoBodyTiming{dt, c.geometry.height, bottom, 0.0};
 }
 
-// A half-space body's 2x2 operator exists only when c_s |k|_max dt is at
-// most face_half_space_passive_limit (a function of the Poisson ratio),
-// |k|_max the grid's largest (hypot(pi/dx, pi/dz) on even grids): the bound
-// on time.beta it implies for the first half-space body over it, in one line.
-std::string half_space_time_step_error(const SimulationConfig& config, double time_step) {
+// A half-space body's 2x2 operator exists only while c_s |k| dt stays below a
+// limit set by its Poisson ratio, at the grid's largest |k| (hypot(pi/dx,
+// pi/dz) on even grids): the refusal names the failing body and the bound on
+// time.beta it implies (solver/half_space_time_step.hpp).  The failing body is
+// the first half-space one whose mode at |k|_max, designed alone, has no
+// passive correction (the one the bound is computed for).  Otherwise (the
+// operator failed at a smaller |k|, or on another process: failed_h = 0) the
+// bound follows from the c_s |k| dt that failed (failed_h, else each body's at
+// |k|_max), the smallest over the half-space bodies.
+std::string half_space_time_step_error(const SimulationConfig& config, double time_step, double failed_h) {
   double k_max = 0.0;
   for (double k : interface_wavevectors(interface_grid(config)).magnitude) k_max = std::max(k_max, k);
   struct Body {
     const char* name;
-    const char* key;
     ElasticMaterial material;
     double height;
   };
-  std::vector<Body> bodies{{"top", "material.poisson_ratio", config.material, config.geometry.height}};
+  std::vector<Body> bodies{{"top", config.material, config.geometry.height}};
   if (config.bottom.body == BodyKind::elastic)
-    bodies.push_back({"bottom", "bottom.poisson_ratio", bottom_material(config), config.bottom.height});
-  for (Body& b : bodies) {
-    if (!is_half_space(b.height)) continue;
-    b.material.plane = PlaneCondition::strain;
+    bodies.push_back({"bottom", bottom_material(config), config.bottom.height});
+  std::erase_if(bodies, [](const Body& b) { return !is_half_space(b.height); });
+  for (Body& b : bodies) b.material.plane = PlaneCondition::strain;  // as build_pair's 2x2 operators
+  for (const Body& b : bodies) {
     const double h_max = b.material.shear_wave_speed() * k_max * time_step;
-    const double limit = face_half_space_passive_limit(1.0 / b.material.wave_speed_ratio_squared(),
-                                                       HalfSpaceOperatorDesign{}, h_max);
-    if (h_max <= limit) continue;
-    std::ostringstream msg;
-    msg << "time.beta = " << config.time.beta << " is too large for the " << b.name
-        << " body, a half-space with " << b.key << " = " << b.material.poisson_ratio
-        << " on a 2D interface: its passive 2x2 operator needs c_s |k| dt <= " << std::setprecision(4) << limit
-        << " at the grid's largest |k| = " << k_max << " 1/m, i.e. time.beta <= "
-        << config.time.beta * limit / h_max << " here (docs/3d.md)";
-    return msg.str();
+    if (face_half_space_mode_passive(1.0 / b.material.wave_speed_ratio_squared(), HalfSpaceOperatorDesign{}, h_max))
+      continue;
+    return half_space_time_step_message(config.time.beta, b.name, b.material, k_max,
+                                        half_space_time_step_bound(b.material, k_max, time_step, config.time.beta),
+                                        true);
+  }
+  double beta_max = config.time.beta;
+  for (const Body& b : bodies) {
+    const double h_max = b.material.shear_wave_speed() * k_max * time_step;
+    const double failed = failed_h > 0.0 && failed_h <= h_max ? failed_h : h_max;
+    beta_max = std::min(beta_max,
+                        half_space_time_step_bound(b.material, k_max, time_step, config.time.beta, failed).beta_max);
   }
   std::ostringstream msg;
   msg << "time.beta = " << config.time.beta
-      << " is too large for a half-space body's passive 2x2 operator on this 2D interface: expected a smaller "
-         "time.beta (docs/3d.md)";
+      << " is too large for a half-space body's passive 2x2 operator on this 2D interface";
+  if (failed_h > 0.0) msg << " (it has none at c_s |k| dt = " << std::setprecision(4) << failed_h << ")";
+  msg << ": expected time.beta <= " << std::setprecision(4) << beta_max << " (docs/3d.md)";
   return msg.str();
 }
 
@@ -111,8 +119,8 @@ InterfaceHistory2d interface_pair_history(const SimulationConfig& config, double
   try {
     return InterfaceHistory2d::build_pair(top, bottom, interface_grid(config), modes, time_step, cancelled,
                                           strip_operator, part);
-  } catch (const FaceHalfSpaceNotPassive&) {
-    throw std::invalid_argument(half_space_time_step_error(config, time_step));
+  } catch (const FaceHalfSpaceNotPassive& e) {
+    throw std::invalid_argument(half_space_time_step_error(config, time_step, e.h));
   }
 }
 

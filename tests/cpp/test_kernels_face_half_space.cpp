@@ -262,3 +262,19 @@ TEST_CASE("a tall strip's face operator equals the half-space's before the first
     previous = worst;
   }
 }
+
+TEST_CASE("half-space face operator: invalid arguments are refused naming the value and the mode") {
+  // The line form checks the time step too (before its wavenumbers are made),
+  // and a list of |k| names the first mode whose |k| is not positive.
+  const ElasticMaterial m = materials()[0];
+  CHECK_THROWS_WITH_AS(slipstrip::FaceHalfSpaceHistory(m, 0.5, 64, -1e-6),
+                       doctest::Contains("time_step = -1e-06 s"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(slipstrip::FaceHalfSpaceHistory(m, 0.5, 1, 1e-6), doctest::Contains("nodes = 1"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(slipstrip::FaceHalfSpaceHistory(m, std::vector<double>{0.0, 10.0, 0.0, 20.0}, 0.0),
+                       doctest::Contains("got 0 s"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(slipstrip::FaceHalfSpaceHistory(m, std::vector<double>{0.0, 10.0, -5.0, 20.0}, 1e-6),
+                       doctest::Contains("got |k| = -5 1/m at mode 2"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(slipstrip::FaceHalfSpaceHistory(m, std::vector<double>{3.0, 10.0}, 1e-6),
+                       doctest::Contains("|k| = 3 1/m at mode 0"), std::invalid_argument);
+}

@@ -348,6 +348,48 @@ TEST_CASE("2D interface, dissimilar bodies: what is not supported is refused nam
   CHECK(msg.find("bottom.body = \"elastic\"") != std::string::npos);
 }
 
+TEST_CASE("2D interface, dissimilar half-spaces: the refusal of a long step names the body that fails") {
+  // Two half-spaces of the same Poisson ratio, the bottom one with four times
+  // the shear modulus (c_s twice the top's): dt = beta dx / c_s,bottom, so at
+  // time.beta = 0.3 the bottom's c_s |k|_max dt = 0.3 pi sqrt 2 = 1.33 exceeds
+  // the limit (the bound 0.2515 of the test above) while the top's, half of
+  // it, does not.  The refusal names the bottom body, its key and the bound.
+  SimulationConfig c = dissimilar_config(0.4, 16);
+  c.geometry.nodes_z = 4;
+  c.geometry.width = 0.1;
+  c.geometry.height = std::numeric_limits<double>::infinity();
+  c.bottom.height = std::numeric_limits<double>::infinity();
+  c.bottom.shear_modulus = 4.0 * c.material.shear_modulus;
+  c.bottom.density = c.material.density;
+  c.bottom.poisson_ratio = c.material.poisson_ratio;
+  c.time.beta = 0.3;
+  std::string msg = refusal(c);
+  MESSAGE(msg);
+  CHECK(msg.find("time.beta = 0.3 is too large for the bottom body, a half-space with bottom.poisson_ratio") !=
+        std::string::npos);
+  CHECK(msg.find("i.e. time.beta <= 0.2") != std::string::npos);
+  // A failure reported by another process (failed c_s |k| dt = 0 here) at a
+  // step this process's modes pass: a message that still gives a bound on
+  // time.beta (from each half-space body's c_s |k|_max dt), below the value given.
+  c.time.beta = 0.2;
+  InterfaceHistory2d::PairPart part;
+  part.any_process = [](bool) { return true; };
+  const double dt = Simulation3d(c).time_step();
+  msg = "";
+  try {
+    (void)interface_pair_history(c, dt, {}, interface_modes_all(interface_grid(c)), {}, part);
+  } catch (const std::invalid_argument& e) {
+    msg = e.what();
+  }
+  MESSAGE(msg);
+  CHECK(msg.find("time.beta = 0.2 is too large for a half-space body's passive 2x2 operator") != std::string::npos);
+  const auto at = msg.find("expected time.beta <= ");
+  REQUIRE(at != std::string::npos);
+  const double bound = std::stod(msg.substr(at + 23));
+  CHECK(bound > 0.0);
+  CHECK(bound < 0.2);
+}
+
 namespace {
 
 // (e) at the time step of a 1D line of `line_nodes` nodes over 1 m at beta = 0.25.
