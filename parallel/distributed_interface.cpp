@@ -119,21 +119,30 @@ SpectralStepFactory distributed_spectral_step(MPI_Comm comm) {
   };
 }
 
-std::vector<double> gather_rows(std::span<const double> local, MPI_Comm comm, int root) {
+RowGather::RowGather(std::size_t local_count, MPI_Comm comm, int root)
+    : comm_(comm), root_(root), local_count_(static_cast<int>(local_count)) {
   int rank = 0, size = 0;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  const int count = static_cast<int>(local.size());
-  std::vector<int> counts(rank == root ? size : 0), offsets(counts.size());
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm);
-  std::vector<double> whole;
+  counts_.assign(rank == root ? size : 0, 0);
+  offsets_.assign(counts_.size(), 0);
+  MPI_Gather(&local_count_, 1, MPI_INT, counts_.data(), 1, MPI_INT, root, comm);
   if (rank == root) {
-    std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
-    whole.resize(static_cast<std::size_t>(offsets.back()) + counts.back());
+    std::exclusive_scan(counts_.begin(), counts_.end(), offsets_.begin(), 0);
+    whole_count_ = static_cast<std::size_t>(offsets_.back()) + counts_.back();
   }
+}
+
+void RowGather::gather(std::span<const double> local, std::span<double> whole) const {
   // Processes hold consecutive slabs in rank order (FFTW's distribution).
-  MPI_Gatherv(local.data(), count, MPI_DOUBLE, whole.data(), counts.data(), offsets.data(), MPI_DOUBLE, root,
-              comm);
+  MPI_Gatherv(local.data(), local_count_, MPI_DOUBLE, whole.data(), counts_.data(), offsets_.data(), MPI_DOUBLE,
+              root_, comm_);
+}
+
+std::vector<double> gather_rows(std::span<const double> local, MPI_Comm comm, int root) {
+  const RowGather gather(local.size(), comm, root);
+  std::vector<double> whole(gather.whole_count());
+  gather.gather(local, whole);
   return whole;
 }
 

@@ -37,4 +37,24 @@ SpectralStepFactory distributed_spectral_step(MPI_Comm comm);
 // from each process's slab [row][ix] of a field of nodes_x columns.  Collective.
 std::vector<double> gather_rows(std::span<const double> local, MPI_Comm comm, int root = 0);
 
+// gather_rows for a field gathered again and again (a run's snapshots): the
+// slabs' sizes are exchanged once, at construction, and the whole field is
+// written into a buffer the caller holds, so a gather allocates nothing.
+class RowGather {
+ public:
+  // Collective.  local_count: this process's values of one field.
+  RowGather(std::size_t local_count, MPI_Comm comm, int root = 0);
+  // The values of all processes on `root` (size whole_count() there;
+  // ignored elsewhere).  Collective.
+  void gather(std::span<const double> local, std::span<double> whole) const;
+  std::size_t whole_count() const { return whole_count_; }
+
+ private:
+  MPI_Comm comm_;
+  int root_ = 0;
+  int local_count_ = 0;
+  std::size_t whole_count_ = 0;
+  std::vector<int> counts_, offsets_;
+};
+
 }  // namespace slipstrip

@@ -412,14 +412,18 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
     const double mean_stress = sim.mean_shear_stress_x();
     if (rank == 0) output->append_timeseries(sim.time(), max_rate, mean_slip, mean_stress);
   };
-  // Collective: every field gathered on rank 0, in the file's order.
+  // Collective: every field gathered on rank 0, in the file's order, into
+  // buffers held for the whole run (a snapshot allocates nothing).
+  const Interface2dFields snapshot_fields = interface_2d_fields(sim);
+  const RowGather field_gather(snapshot_fields[0].size(), comm);
+  std::vector<double> snapshot_buffer(field_gather.whole_count() * snapshot_fields.size());
   const auto write_snapshot = [&] {
     const Interface2dFields local = interface_2d_fields(sim);
-    std::array<std::vector<double>, 9> whole;
     std::array<std::span<const double>, 9> spans;
     for (std::size_t f = 0; f < local.size(); ++f) {
-      whole[f] = gather_rows(local[f], comm);
-      spans[f] = whole[f];
+      const std::span<double> whole(snapshot_buffer.data() + f * field_gather.whole_count(), field_gather.whole_count());
+      field_gather.gather(local[f], whole);
+      spans[f] = whole;
     }
     if (rank == 0) output->write_snapshot(sim.time(), std::span<const std::span<const double>>(spans.data(), local.size()));
   };
