@@ -24,6 +24,8 @@
 #include <span>
 #include <vector>
 
+#include "kernels/huge_pages.hpp"
+
 namespace slipstrip {
 
 // The most a body of a pair of different bodies spends on doubling its block
@@ -44,12 +46,14 @@ class BlockRows {
   BlockRows() = default;
   BlockRows(std::size_t modes, int block, int direct_block)
       : modes_(modes), block_(static_cast<std::size_t>(block)), direct_(static_cast<std::size_t>(direct_block)) {
+    // On huge pages (kernels/huge_pages.hpp): each mode's rows are on pages
+    // of their own, and the direct blocks are streamed through every step.
     for (int c = 0; c < C; ++c) {
-      input_[c].assign(modes * block_, 0.0);
-      accumulator_[c].assign(modes * block_, 0.0);
+      assign_on_huge_pages(input_[c], modes * block_, cplx(0.0));
+      assign_on_huge_pages(accumulator_[c], modes * block_, cplx(0.0));
     }
-    direct_inputs_.assign(C * modes * direct_, 0.0);
-    direct_outputs_.assign(2 * C * modes * direct_, 0.0);
+    assign_on_huge_pages(direct_inputs_, C * modes * direct_, cplx(0.0));
+    assign_on_huge_pages(direct_outputs_, 2 * C * modes * direct_, 0.0);
   }
 
   // Mode q's row of component c: the block's inputs (complete up to the last

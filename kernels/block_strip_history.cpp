@@ -10,6 +10,8 @@
 #include <string>
 #include <unordered_map>
 
+#include "kernels/huge_pages.hpp"
+
 namespace slipstrip {
 namespace {
 using cplx = std::complex<double>;
@@ -119,7 +121,10 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
     c0_.push_back(q == 0 ? 0.0 : echo_weight_ + dt_ * weight_sum);
   }
   const std::size_t n_designs = design_mode.size();
-  state_.assign(first_state_.back(), 0.0);
+  // The large arrays on huge pages (kernels/huge_pages.hpp): the states and
+  // the kernel spectra are read per mode once per block or level, each
+  // mode's on its own pages.
+  assign_on_huge_pages(state_, first_state_.back(), cplx(0.0));
   // The modes of each design, in increasing q.
   design_first_mode_.assign(n_designs + 1, 0);
   for (int q = 0; q < n_modes_; ++q) ++design_first_mode_[design_[q] + 1];
@@ -145,7 +150,7 @@ BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const Stri
                        complex_dft_plan(2 * s, FFTW_BACKWARD, "BlockStripHistory"), spectrum_size});
     spectrum_size += n_designs * (s + 1);
   }
-  spectrum_.assign(spectrum_size, 0.0);
+  assign_on_huge_pages(spectrum_, spectrum_size, cplx(0.0));
 
   // Per mode: the lag kernel O_j, j < B, by the adjoint NUFFT (O(P w + B log B)
   // instead of O(P B) cosines); its first direct_block lags are kept for the
@@ -329,19 +334,22 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
   const int p = block_done ? 0 : tau + 1;  // the output produced by this push
   const int threads = static_cast<int>(scratch_.size());
   const int D = direct_block_;
-  const int slot = p % D;  // p's place in its direct block
+  // The places in their direct blocks once per step, not an integer division
+  // per mode.
+  const int slot = p % D;          // p's place in its direct block
+  const int input_slot = tau % D;  // tau's
   // Input tau of mode q: into its direct block; when that is complete, into
   // the rows and the level convolutions whose inputs it completes, otherwise
   // its direct part into the direct block's later outputs.
   auto take_input = [&](int q, Scratch& scratch) {
     const cplx v = slip_rate_spectrum[q];
-    rows_.set_input(q, tau, 0, v);
+    rows_.set_direct_input(q, static_cast<std::size_t>(input_slot), 0, v);
     running_sum_[q] += v;
     if (slot == 0) {
       rows_.close(q, tau);
       for_completed_levels(levels_, tau, [&](std::size_t l, int start) { convolve_level(q, l, start, scratch); });
     } else {
-      add_direct_part(q, tau % D, v);
+      add_direct_part(q, input_slot, v);
     }
   };
   // Output p of mode q: at the start of a direct block (after the levels and

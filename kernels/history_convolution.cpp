@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "kernels/huge_pages.hpp"
 #include "kernels/strip_response.hpp"
 #include "simd/parallel_for.hpp"
 
@@ -141,8 +142,12 @@ StripHistory::StripHistory(const ElasticMaterial& material, const StripKernels& 
       kernels.phase.size() != weight_.size() || kernels.echo_steps < 1)
     throw std::invalid_argument("StripHistory: inconsistent kernels");
   const int n_modes = static_cast<int>(first_oscillator_.size()) - 1;
+  // The per-step arrays on huge pages (kernels/huge_pages.hpp): every step
+  // streams through all of them.
   cos_step_.reserve(weight_.size());
   sin_step_.reserve(weight_.size());
+  advise_huge_pages(cos_step_.data(), weight_.size() * sizeof(double));
+  advise_huge_pages(sin_step_.data(), weight_.size() * sizeof(double));
   for (std::size_t m = 0; m < kernels.phase.size(); ++m) {
     if ((m & 0xffff) == 0) throw_if_cancelled(cancelled, "the strip history operator");
     const double phase = kernels.phase[m];
@@ -160,10 +165,7 @@ StripHistory::StripHistory(const ElasticMaterial& material, const StripKernels& 
     for (std::size_t m = first_oscillator_[q]; m < first_oscillator_[q + 1]; ++m)
       weight_sum_[q] += weight_[m];
   const std::size_t n_osc = weight_.size();
-  c_re_.assign(n_osc, 0.0);
-  c_im_.assign(n_osc, 0.0);
-  s_re_.assign(n_osc, 0.0);
-  s_im_.assign(n_osc, 0.0);
+  for (auto* v : {&c_re_, &c_im_, &s_re_, &s_im_}) assign_on_huge_pages(*v, n_osc, 0.0);
   running_sum_.assign(n_modes, 0.0);
   history_.assign(n_modes, 0.0);
 }
