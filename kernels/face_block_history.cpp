@@ -31,6 +31,28 @@ inline void multiply_add(double kr, double ki, double xr, double xi, double& out
   out_r += kr * xr - ki * xi;
   out_i += kr * xi + ki * xr;
 }
+
+// Bin k of the length-2s spectra of the three real kernels (stored for bins
+// 0..s; bins s+1..2s-1 are the conjugates of s-1..1) times the input spectra's
+// values x[j], y[j], in place: out_x = A X + i B Y,  out_y = -i B X + D Y.
+inline void spectral_product(const double* ka, const double* kb, const double* kd, int s, int k, double* x,
+                             double* y, int j) {
+  const int bin = k <= s ? k : 2 * s - k;
+  const double sign = k <= s ? 1.0 : -1.0;
+  const double ar = ka[2 * bin], ai = sign * ka[2 * bin + 1];
+  const double br = kb[2 * bin], bi = sign * kb[2 * bin + 1];
+  const double dr = kd[2 * bin], di = sign * kd[2 * bin + 1];
+  const double xr = x[2 * j], xi = x[2 * j + 1], yr = y[2 * j], yi = y[2 * j + 1];
+  double ox_r = 0.0, ox_i = 0.0, oy_r = 0.0, oy_i = 0.0;
+  multiply_add(ar, ai, xr, xi, ox_r, ox_i);
+  multiply_add(-bi, br, yr, yi, ox_r, ox_i);  // i B
+  multiply_add(bi, -br, xr, xi, oy_r, oy_i);  // -i B
+  multiply_add(dr, di, yr, yi, oy_r, oy_i);
+  x[2 * j] = ox_r;
+  x[2 * j + 1] = ox_i;
+  y[2 * j] = oy_r;
+  y[2 * j + 1] = oy_i;
+}
 }  // namespace
 
 struct FaceBlockHistory::Scratch {
@@ -68,6 +90,9 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
     block_ = 2 * direct_block_;
     while (static_cast<std::size_t>(block_) < most) block_ *= 2;
   }
+  if (!is_power_of_two(design.split_level))
+    throw std::invalid_argument("FaceBlockHistory: split_level = " + std::to_string(design.split_level) +
+                                " must be a power of two");
   if (!is_power_of_two(block_) || block_ < 2 * direct_block_)
     throw std::invalid_argument("FaceBlockHistory: block = " + std::to_string(block_) +
                                 " must be a power of two >= 2 direct_block");
@@ -103,18 +128,31 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
     half_block_phase_im_.push_back(std::sin(theta * 0.5 * static_cast<double>(B)));
   }
 
-  nufft_ = std::make_unique<GaussianNufft>(block_, design.nufft_half_width);
+  nufft_ = std::make_unique<GaussianNufft>(block_, design.nufft_half_width, design.nufft_interleave_from);
   const int threads = std::max(1, omp_get_max_threads());
   for (int t = 0; t < threads; ++t)
     scratch_.push_back({make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
                         make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
                         nufft_->make_pass_scratch(2)});
 
-  std::size_t spectrum_size = 0;
+  // Per level: its transforms (length 2s, or s for a split level), a split
+  // level's twiddles e^{-i pi j / s}, j < s, and the length-2s forward
+  // transform that gives the kernels' spectra here (construction only).
+  std::size_t spectrum_size = 0, twiddle_size = 0;
+  std::vector<FftwPlan> kernel_plans;
   for (int s = direct_block_; s < block_; s *= 2) {
-    levels_.push_back({s, complex_dft_plan(2 * s, FFTW_FORWARD, "FaceBlockHistory"),
-                       complex_dft_plan(2 * s, FFTW_BACKWARD, "FaceBlockHistory"), spectrum_size});
+    const bool split = s >= design.split_level;
+    const int length = split ? s : 2 * s;
+    levels_.push_back({s, split, complex_dft_plan(length, FFTW_FORWARD, "FaceBlockHistory"),
+                       complex_dft_plan(length, FFTW_BACKWARD, "FaceBlockHistory"), spectrum_size, twiddle_size});
+    kernel_plans.push_back(complex_dft_plan(2 * s, FFTW_FORWARD, "FaceBlockHistory"));
     spectrum_size += static_cast<std::size_t>(n_modes_) * (s + 1);
+    if (!split) continue;
+    for (int j = 0; j < s; ++j) {
+      const double angle = -std::numbers::pi * j / s;
+      twiddle_.emplace_back(std::cos(angle), std::sin(angle));
+    }
+    twiddle_size += static_cast<std::size_t>(s);
   }
   spectrum_a_.assign(spectrum_size, 0.0);
   spectrum_b_ = spectrum_d_ = spectrum_a_;
@@ -143,11 +181,12 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
         nufft_->adjoint({theta_.data() + f0, f1 - f0}, {half_weights.data(), f1 - f0}, lag_series, lag_nufft);
       for (int j = 1; j < direct_block_; ++j)
         lags_[(3 * static_cast<std::size_t>(q) + kernel.lag) * direct_block_ + j] = lag_series[j].real();
-      for (const auto& level : levels_) {
+      for (std::size_t l = 0; l < levels_.size(); ++l) {
+        const Level& level = levels_[l];
         const int s = level.size;
         buffer[0] = 0.0;
         for (int j = 1; j < 2 * s; ++j) buffer[j] = lag_series[j].real();
-        fftw_execute_dft(level.forward.get(), work.level_x.get(), work.spectrum_x.get());
+        fftw_execute_dft(kernel_plans[l].get(), work.level_x.get(), work.spectrum_x.get());
         std::copy(transformed, transformed + s + 1,
                   kernel.spectrum->begin() + level.first_spectrum + q * (s + 1));
       }
@@ -162,16 +201,18 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
 FaceBlockHistory::~FaceBlockHistory() = default;
 
 std::size_t FaceBlockHistory::memory_bytes() const {
-  const std::size_t doubles = theta_.size() + half_a_.size() + half_b_.size() + half_d_.size() +
+  const std::size_t doubles = 2 * twiddle_.size() + theta_.size() + half_a_.size() + half_b_.size() + half_d_.size() +
                               half_block_phase_re_.size() + half_block_phase_im_.size() + c0_a_.size() +
                               c0_b_.size() + c0_d_.size() + lags_.size();
   const std::size_t complexes = spectrum_a_.size() + spectrum_b_.size() + spectrum_d_.size() + state_x_.size() +
                                 state_y_.size() + running_x_.size() + running_y_.size() +
                                 history_x_.size() + history_y_.size();
   // Per thread: the levels' 4 buffers of B points, the far field's time grid
-  // of 2B and its 4 grids of 2B + 2w points.
+  // of 2B points (of both components when interleaved) and its 4 grids of
+  // 2B + 2w points.
   const std::size_t grid = 2 * static_cast<std::size_t>(block_) + 2 * GaussianNufft::max_half_width;
-  const std::size_t scratch = scratch_.size() * sizeof(cplx) * (6 * static_cast<std::size_t>(block_) + 4 * grid);
+  const std::size_t time_grid = (nufft_->interleaves_pairs() ? 4 : 2) * static_cast<std::size_t>(block_);
+  const std::size_t scratch = scratch_.size() * sizeof(cplx) * (4 * static_cast<std::size_t>(block_) + time_grid + 4 * grid);
   return sizeof(double) * doubles + sizeof(cplx) * complexes + rows_.memory_bytes() + scratch;
 }
 
@@ -179,6 +220,7 @@ void FaceBlockHistory::convolve_level(int q, std::size_t l, int start, Scratch& 
   // Inputs start..start+s-1 to outputs start+s..start+2s-1 (lags 1..2s-1, no
   // wrap-around in a circular convolution of length 2s), both components.
   const Level& level = levels_[l];
+  if (level.split) return convolve_split_level(q, level, start, scratch);
   const int s = level.size;
   auto* bx = reinterpret_cast<cplx*>(scratch.level_x.get());
   auto* by = reinterpret_cast<cplx*>(scratch.level_y.get());
@@ -197,25 +239,7 @@ void FaceBlockHistory::convolve_level(int q, std::size_t l, int start, Scratch& 
   const auto* kd = reinterpret_cast<const double*>(spectrum_d_.data() + at);
   auto* x = reinterpret_cast<double*>(scratch.spectrum_x.get());
   auto* y = reinterpret_cast<double*>(scratch.spectrum_y.get());
-  // out_x = A X + i B Y,  out_y = -i B X + D Y; the kernels are real, so bins
-  // s+1..2s-1 of their spectra are the conjugates of bins s-1..1.
-  for (int j = 0; j < 2 * s; ++j) {
-    const int bin = j <= s ? j : 2 * s - j;
-    const double sign = j <= s ? 1.0 : -1.0;
-    const double ar = ka[2 * bin], ai = sign * ka[2 * bin + 1];
-    const double br = kb[2 * bin], bi = sign * kb[2 * bin + 1];
-    const double dr = kd[2 * bin], di = sign * kd[2 * bin + 1];
-    const double xr = x[2 * j], xi = x[2 * j + 1], yr = y[2 * j], yi = y[2 * j + 1];
-    double ox_r = 0.0, ox_i = 0.0, oy_r = 0.0, oy_i = 0.0;
-    multiply_add(ar, ai, xr, xi, ox_r, ox_i);
-    multiply_add(-bi, br, yr, yi, ox_r, ox_i);   // i B
-    multiply_add(bi, -br, xr, xi, oy_r, oy_i);   // -i B
-    multiply_add(dr, di, yr, yi, oy_r, oy_i);
-    x[2 * j] = ox_r;
-    x[2 * j + 1] = ox_i;
-    y[2 * j] = oy_r;
-    y[2 * j + 1] = oy_i;
-  }
+  for (int j = 0; j < 2 * s; ++j) spectral_product(ka, kb, kd, s, j, x, y, j);
   fftw_execute_dft(level.backward.get(), scratch.spectrum_x.get(), scratch.level_x.get());
   fftw_execute_dft(level.backward.get(), scratch.spectrum_y.get(), scratch.level_y.get());
   cplx* out_x = rows_.accumulator(0, q) + start + s;
@@ -224,6 +248,79 @@ void FaceBlockHistory::convolve_level(int q, std::size_t l, int start, Scratch& 
   for (int j = 0; j < s; ++j) {
     out_x[j] += bx[s + j] * scale;
     out_y[j] += by[s + j] * scale;
+  }
+}
+
+void FaceBlockHistory::convolve_split_level(int q, const Level& level, int start, Scratch& scratch) {
+  // As convolve_level, with each length-2s transform taken as two of length s
+  // (the inputs fill half of the length 2s and only the later half of the
+  // outputs is wanted; w = e^{-i pi / s}):
+  //   U[2m] = DFT_s(u)[m],  U[2m+1] = DFT_s(u_j w^j)[m],
+  //   z[s+j] = IDFT_s(Z[2m])[j] - conj(w^j) IDFT_s(Z[2m+1])[j].
+  // The same arithmetic but for the twiddles, and FFTW_ESTIMATE's plans of
+  // 4096 and 8192 points take ~3.5x and ~4.5x the time of those of half the
+  // length (docs/notes/2026-11-27-pair-levels.md).
+  const int s = level.size;
+  auto* bx = reinterpret_cast<cplx*>(scratch.level_x.get());
+  auto* by = reinterpret_cast<cplx*>(scratch.level_y.get());
+  const auto* w = reinterpret_cast<const double*>(twiddle_.data() + level.first_twiddle);
+  {
+    const auto* in_x = reinterpret_cast<const double*>(rows_.input(0, q) + start);
+    const auto* in_y = reinterpret_cast<const double*>(rows_.input(1, q) + start);
+    auto* ex = reinterpret_cast<double*>(bx);
+    auto* ey = reinterpret_cast<double*>(by);
+    double* ox = ex + 2 * s;
+    double* oy = ey + 2 * s;
+    for (int j = 0; j < s; ++j) {
+      const double wr = w[2 * j], wi = w[2 * j + 1];
+      const double xr = in_x[2 * j], xi = in_x[2 * j + 1], yr = in_y[2 * j], yi = in_y[2 * j + 1];
+      ex[2 * j] = xr;
+      ex[2 * j + 1] = xi;
+      ey[2 * j] = yr;
+      ey[2 * j + 1] = yi;
+      ox[2 * j] = wr * xr - wi * xi;
+      ox[2 * j + 1] = wr * xi + wi * xr;
+      oy[2 * j] = wr * yr - wi * yi;
+      oy[2 * j + 1] = wr * yi + wi * yr;
+    }
+  }
+  fftw_complex* fx = scratch.level_x.get();
+  fftw_complex* fy = scratch.level_y.get();
+  fftw_complex* sx = scratch.spectrum_x.get();
+  fftw_complex* sy = scratch.spectrum_y.get();
+  fftw_execute_dft(level.forward.get(), fx, sx);
+  fftw_execute_dft(level.forward.get(), fx + s, sx + s);
+  fftw_execute_dft(level.forward.get(), fy, sy);
+  fftw_execute_dft(level.forward.get(), fy + s, sy + s);
+  const std::size_t at = level.first_spectrum + q * (s + 1);
+  const auto* ka = reinterpret_cast<const double*>(spectrum_a_.data() + at);
+  const auto* kb = reinterpret_cast<const double*>(spectrum_b_.data() + at);
+  const auto* kd = reinterpret_cast<const double*>(spectrum_d_.data() + at);
+  auto* x = reinterpret_cast<double*>(sx);
+  auto* y = reinterpret_cast<double*>(sy);
+  // Bin k at index k/2 (even k) or s + k/2 (odd k).
+  for (int m = 0; m < s; ++m) {
+    spectral_product(ka, kb, kd, s, 2 * m, x, y, m);
+    spectral_product(ka, kb, kd, s, 2 * m + 1, x, y, s + m);
+  }
+  fftw_execute_dft(level.backward.get(), sx, fx);
+  fftw_execute_dft(level.backward.get(), sx + s, fx + s);
+  fftw_execute_dft(level.backward.get(), sy, fy);
+  fftw_execute_dft(level.backward.get(), sy + s, fy + s);
+  auto* out_x = reinterpret_cast<double*>(rows_.accumulator(0, q) + start + s);
+  auto* out_y = reinterpret_cast<double*>(rows_.accumulator(1, q) + start + s);
+  const auto* ex = reinterpret_cast<const double*>(bx);
+  const auto* ey = reinterpret_cast<const double*>(by);
+  const double* ox = ex + 2 * s;
+  const double* oy = ey + 2 * s;
+  const double scale = 1.0 / (2.0 * s);
+  for (int j = 0; j < s; ++j) {
+    // E - conj(w) O
+    const double wr = w[2 * j], wi = w[2 * j + 1];
+    out_x[2 * j] += (ex[2 * j] - (wr * ox[2 * j] + wi * ox[2 * j + 1])) * scale;
+    out_x[2 * j + 1] += (ex[2 * j + 1] - (wr * ox[2 * j + 1] - wi * ox[2 * j])) * scale;
+    out_y[2 * j] += (ey[2 * j] - (wr * oy[2 * j] + wi * oy[2 * j + 1])) * scale;
+    out_y[2 * j + 1] += (ey[2 * j + 1] - (wr * oy[2 * j + 1] - wi * oy[2 * j])) * scale;
   }
 }
 

@@ -14,7 +14,8 @@
 // convolution y is split by lag exactly as for the scalar strip:
 //   - inputs and outputs in the same aligned block of `direct_block` steps: direct sums;
 //   - first to second half of an aligned block of 2s steps (s = direct_block .. B/2):
-//     FFT convolutions (two input transforms, three kernel spectra, two output transforms);
+//     FFT convolutions (two input transforms, three kernel spectra, two output
+//     transforms; at the largest levels each transform as two of length s);
 //   - inputs of earlier blocks of B steps: the normal-mode states of both input
 //     components, moved across a block by the non-uniform FFT (kernels/nufft.hpp)
 //     and evaluated for the next B outputs by its adjoint.
@@ -41,6 +42,16 @@ struct FaceBlockDesign {
   int direct_block = 32;      // a power of two
   int block = 0;              // B, a power of two >= 2 direct_block; 0: >= the most modes of any Fourier mode
   int nufft_half_width = 12;  // NUFFT accuracy ~5e-13 (kernels/nufft.hpp)
+  // Levels of s >= split_level (a power of two) take each length-2s transform
+  // as two of length s (FaceBlockHistory::convolve_split_level).  Below 2048
+  // the twiddles this needs cost more than FFTW_ESTIMATE's plans of length 2s
+  // lose against those of s; at 2s = 4096 and 8192 those plans take ~3.5x and
+  // ~4.5x the time of the half-length ones (one body at N = 2048, H = 1 m,
+  // docs/notes/2026-11-27-pair-levels.md).
+  int split_level = 2048;
+  // The far field's two components share one interleaved grid from this many
+  // grid points (2B) on (GaussianNufft::PassScratch).
+  int nufft_interleave_from = GaussianNufft::interleaved_grid;
 };
 
 // The B Simulation gives a body of a pair of different bodies: the power of
@@ -91,6 +102,8 @@ class FaceBlockHistory final : public FaceHistory {
  private:
   struct Scratch;
   void convolve_level(int q, std::size_t level, int start, Scratch& scratch);
+  struct Level;
+  void convolve_split_level(int q, const Level& level, int start, Scratch& scratch);
   void advance_far_field(int q, Scratch& scratch);
   // One push: input `input` (tau) of the block, output `output`, and their
   // places in their direct blocks.
@@ -115,10 +128,14 @@ class FaceBlockHistory final : public FaceHistory {
   std::vector<double> lags_;
 
   struct Level {
-    int size;  // s: inputs per convolution; FFT length 2s
+    int size;    // s: inputs per convolution, a circular convolution of length 2s
+    bool split;  // transforms of length s (convolve_split_level), else 2s
     FftwPlan forward, backward;
     std::size_t first_spectrum;  // into the spectra, (s + 1) per mode q
+    std::size_t first_twiddle;   // into twiddle_, s values
   };
+  // Per split level, e^{-i pi j / s} for j < s.
+  std::vector<std::complex<double>> twiddle_;
   std::vector<Level> levels_;
   // Spectra of [0, K_1, .., K_{2s-1}] for K = A, B, D, bins 0..s (real kernels).
   std::vector<std::complex<double>> spectrum_a_, spectrum_b_, spectrum_d_;

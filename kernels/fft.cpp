@@ -17,6 +17,14 @@ FftwPlan complex_dft_plan(int n, int sign, const char* who) {
   return owned_plan(fftw_plan_dft_1d(n, in.get(), out.get(), sign, FFTW_ESTIMATE), who);
 }
 
+FftwPlan interleaved_dft_plan(int n, int howmany, int sign, const char* who) {
+  auto in = make_fftw_buffer<fftw_complex>(static_cast<std::size_t>(n) * howmany);
+  auto out = make_fftw_buffer<fftw_complex>(static_cast<std::size_t>(n) * howmany);
+  return owned_plan(fftw_plan_many_dft(1, &n, howmany, in.get(), nullptr, howmany, 1, out.get(), nullptr, howmany, 1,
+                                       sign, FFTW_ESTIMATE),
+                    who);
+}
+
 RealFft::RealFft(int nodes)
     : nodes_(nodes),
       real_(make_fftw_buffer<double>(nodes)),

@@ -47,6 +47,9 @@ FftwPlan owned_plan(fftw_plan plan, const char* who);
 // own: FFTW_ESTIMATE does not touch them, and any two fftw_malloc'd buffers
 // have the alignment the plan was made for.
 FftwPlan complex_dft_plan(int n, int sign, const char* who);
+// The same for `howmany` transforms of length n interleaved point by point
+// (value j of transform c at j howmany + c), in and out.
+FftwPlan interleaved_dft_plan(int n, int howmany, int sign, const char* who);
 
 class RealFft {
  public:

@@ -12,7 +12,7 @@ constexpr double pi = std::numbers::pi;
 using cplx = std::complex<double>;
 }  // namespace
 
-GaussianNufft::GaussianNufft(int samples, int half_width)
+GaussianNufft::GaussianNufft(int samples, int half_width, int interleave_from)
     : samples_(samples), grid_(2 * samples), half_width_(half_width) {
   if (samples < 2 || samples % 2 != 0)
     throw std::invalid_argument("GaussianNufft: samples = " + std::to_string(samples) +
@@ -36,6 +36,11 @@ GaussianNufft::GaussianNufft(int samples, int half_width)
   for (int j = 0; j <= half_width_; ++j) tail_[j] = std::exp(-(j * dx) * (j * dx) / (4.0 * variance_));
   forward_plan_ = complex_dft_plan(grid_, FFTW_FORWARD, "GaussianNufft");
   backward_plan_ = complex_dft_plan(grid_, FFTW_BACKWARD, "GaussianNufft");
+  interleaved_ = grid_ >= interleave_from;
+  if (interleaved_) {
+    pair_forward_plan_ = interleaved_dft_plan(grid_, 2, FFTW_FORWARD, "GaussianNufft");
+    pair_backward_plan_ = interleaved_dft_plan(grid_, 2, FFTW_BACKWARD, "GaussianNufft");
+  }
 }
 
 GaussianNufft::Scratch GaussianNufft::make_scratch(std::size_t frequencies) const {
@@ -111,9 +116,47 @@ void GaussianNufft::gaussian_windows(const double* theta, std::size_t n, long* s
 }
 
 GaussianNufft::PassScratch GaussianNufft::make_pass_scratch(int series) const {
-  PassScratch scratch{make_fftw_buffer<fftw_complex>(grid_), {}};
-  for (int c = 0; c < 2 * series; ++c) scratch.grid.push_back(make_fftw_buffer<fftw_complex>(grid_ + 2 * half_width_));
+  if (series < 1 || series > 2)
+    throw std::invalid_argument("GaussianNufft: a pass of " + std::to_string(series) + " series (1 or 2)");
+  if (series == 1 || !interleaved_) {
+    PassScratch scratch{make_fftw_buffer<fftw_complex>(grid_), {}};
+    for (int c = 0; c < 2 * series; ++c)
+      scratch.grid.push_back(make_fftw_buffer<fftw_complex>(grid_ + 2 * half_width_));
+    return scratch;
+  }
+  const std::size_t C = static_cast<std::size_t>(series);
+  PassScratch scratch{make_fftw_buffer<fftw_complex>(C * grid_), {}};
+  for (int g = 0; g < 2; ++g) scratch.grid.push_back(make_fftw_buffer<fftw_complex>(C * (grid_ + 2 * half_width_)));
   return scratch;
+}
+
+void GaussianNufft::to_grids(const cplx* const* in, int series, fftw_complex* samples_buffer,
+                             fftw_complex* grid_buffer) const {
+  auto* samples = reinterpret_cast<cplx*>(samples_buffer);
+  auto* grid = reinterpret_cast<cplx*>(grid_buffer);
+  const int G = grid_, B = samples_, half = samples_ / 2, w = half_width_, C = series;
+  for (int l = 0; l < C * G; ++l) samples[l] = 0.0;
+  for (int t = 0; t < B; ++t) {
+    const int shifted = t - half;
+    const int at = C * (shifted < 0 ? shifted + G : shifted);
+    for (int c = 0; c < C; ++c) samples[at + c] = in[c][t] * deconvolution_[t];
+  }
+  fftw_execute_dft(C == 1 ? forward_plan_.get() : pair_forward_plan_.get(), samples_buffer, grid_buffer);
+  for (int j = 0; j < C * 2 * w; ++j) grid[C * G + j] = grid[j];
+}
+
+void GaussianNufft::from_grids(fftw_complex* grid_buffer, int series, fftw_complex* samples_buffer,
+                               cplx* const* out) const {
+  auto* grid = reinterpret_cast<cplx*>(grid_buffer);
+  const int G = grid_, B = samples_, half = samples_ / 2, w = half_width_, C = series;
+  for (int j = 0; j < C * 2 * w; ++j) grid[j] += grid[C * G + j];  // fold the periodic copy back
+  fftw_execute_dft(C == 1 ? backward_plan_.get() : pair_backward_plan_.get(), grid_buffer, samples_buffer);
+  const auto* samples = reinterpret_cast<const cplx*>(samples_buffer);
+  for (int t = 0; t < B; ++t) {
+    const int shifted = t - half;
+    const int at = C * (shifted < 0 ? shifted + G : shifted);
+    for (int c = 0; c < C; ++c) out[c][t] += samples[at + c] * deconvolution_[t];
+  }
 }
 
 void GaussianNufft::to_grid(const cplx* in, fftw_complex* samples_buffer, fftw_complex* grid_buffer) const {

@@ -34,12 +34,17 @@ class GaussianNufft {
  public:
   // samples: B (even, >= 2).  half_width: grid points on each side of a frequency.
   static constexpr int max_half_width = 32;
-  explicit GaussianNufft(int samples, int half_width = 12);
+  // Grids of at least this many points (G = 2B) are interleaved in a pass of
+  // two series (PassScratch).
+  static constexpr int interleaved_grid = 8192;
+  explicit GaussianNufft(int samples, int half_width = 12, int interleave_from = interleaved_grid);
   GaussianNufft(const GaussianNufft&) = delete;
   GaussianNufft& operator=(const GaussianNufft&) = delete;
 
   int samples() const { return samples_; }
   int grid_size() const { return grid_; }
+  // A pass of two series interleaves their grids (PassScratch).
+  bool interleaves_pairs() const { return interleaved_; }
 
   // Working memory of one caller (one per thread): the oversampled grid and
   // the Gaussian weights of up to `frequencies` frequencies.
@@ -74,9 +79,20 @@ class GaussianNufft {
   // Equal to locate + forward_centred + map + adjoint_centred to rounding (the
   // forward sums are reassociated into vector lanes).  The frequencies need no
   // locate() beforehand.
+  // C = 1 or 2.  With two series and a grid of G >= interleave_from points
+  // (the constructor's; interleaved_grid unless a test sets it), their grids
+  // are interleaved point by point ([point][series]) and transformed as one
+  // FFTW plan of two strided transforms: FFTW_ESTIMATE's plan of one
+  // contiguous transform of 8192, 16384 or 32768 points takes ~2, 1.7 and
+  // 1.5x the time per transform of its plan for two interleaved ones, and a
+  // frequency's window is then one contiguous run of 2w points of both series
+  // both ways.  At 2048 and 4096 points the interleaved plan is the slower
+  // (1.6x, 1.1x; docs/notes/2026-11-27-pair-levels.md), and each series keeps
+  // its own grid.
   struct PassScratch {
-    FftwBuffer<fftw_complex> samples;            // time side, G points
-    std::vector<FftwBuffer<fftw_complex>> grid;  // per series: forward grid, then adjoint grid, G + 2w points each
+    FftwBuffer<fftw_complex> samples;            // time side, G points (interleaved: 2G)
+    std::vector<FftwBuffer<fftw_complex>> grid;  // per series: forward grid, then adjoint grid, G + 2w points
+                                                 // each (interleaved: the two, 2 (G + 2w) points each)
   };
   PassScratch make_pass_scratch(int series) const;
   template <int C, class Map>
@@ -100,6 +116,19 @@ class GaussianNufft {
   // `grid` (G + 2w points, its tail folded back here) transformed and
   // deconvolved into out (B samples), assigned or added.
   void from_grid(fftw_complex* grid, fftw_complex* samples, std::complex<double>* out, bool add) const;
+  // forward_map_adjoint on each series' own grid, and on the C series' grids
+  // interleaved point by point (PassScratch).
+  template <int C, class Map>
+  void pass_separate(std::span<const double> theta, const std::array<const std::complex<double>*, C>& in,
+                     const std::array<std::complex<double>*, C>& add_out, PassScratch& scratch, Map&& map) const;
+  template <int C, class Map>
+  void pass_interleaved(std::span<const double> theta, const std::array<const std::complex<double>*, C>& in,
+                        const std::array<std::complex<double>*, C>& add_out, PassScratch& scratch, Map&& map) const;
+  // The same for `series` (1 or 2) series interleaved point by point in
+  // samples (series G points) and grid (series (G + 2w) points); from_grids adds.
+  void to_grids(const std::complex<double>* const* in, int series, fftw_complex* samples,
+                fftw_complex* grid) const;
+  void from_grids(fftw_complex* grid, int series, fftw_complex* samples, std::complex<double>* const* out) const;
 
   int samples_, grid_, half_width_;
   double variance_;                   // T in exp(-x^2 / (4 T))
@@ -107,10 +136,24 @@ class GaussianNufft {
   std::vector<double> tail_;          // exp(-(j dx)^2 / (4T)), j = 0..half_width
   FftwPlan forward_plan_;   // samples -> grid, e^{-i} (out of place: complex_dft_plan)
   FftwPlan backward_plan_;  // grid -> samples, e^{+i}
+  bool interleaved_;  // a pass of two series interleaves their grids
+  FftwPlan pair_forward_plan_, pair_backward_plan_;  // then: as above, for two series interleaved
 };
 
 template <int C, class Map>
 void GaussianNufft::forward_map_adjoint(std::span<const double> theta,
+                                        const std::array<const std::complex<double>*, C>& in,
+                                        const std::array<std::complex<double>*, C>& add_out, PassScratch& scratch,
+                                        Map&& map) const {
+  static_assert(C == 1 || C == 2, "GaussianNufft::forward_map_adjoint: one or two series");
+  if (C > 1 && interleaved_)
+    pass_interleaved<C>(theta, in, add_out, scratch, map);
+  else
+    pass_separate<C>(theta, in, add_out, scratch, map);
+}
+
+template <int C, class Map>
+void GaussianNufft::pass_separate(std::span<const double> theta,
                                         const std::array<const std::complex<double>*, C>& in,
                                         const std::array<std::complex<double>*, C>& add_out, PassScratch& scratch,
                                         Map&& map) const {
@@ -168,6 +211,70 @@ void GaussianNufft::forward_map_adjoint(std::span<const double> theta,
     }
   }
   for (int c = 0; c < C; ++c) from_grid(scratch.grid[2 * c + 1].get(), scratch.samples.get(), add_out[c], true);
+}
+
+template <int C, class Map>
+void GaussianNufft::pass_interleaved(std::span<const double> theta,
+                                        const std::array<const std::complex<double>*, C>& in,
+                                        const std::array<std::complex<double>*, C>& add_out, PassScratch& scratch,
+                                        Map&& map) const {
+  constexpr int lanes = 8;
+  static_assert(lanes % (2 * C) == 0, "a lane holds one series' Re or Im");
+  const int G = grid_, w = half_width_;
+  to_grids(in.data(), C, scratch.samples.get(), scratch.grid[0].get());
+  const auto* forward = reinterpret_cast<const double*>(scratch.grid[0].get());
+  auto* adjoint = reinterpret_cast<double*>(scratch.grid[1].get());
+  for (int l = 0; l < 2 * C * (G + 2 * w); ++l) adjoint[l] = 0.0;
+  // Windows a batch of frequencies at a time: their exponentials and
+  // weight recurrences are independent chains that overlap.
+  constexpr std::size_t batch = 16;
+  double weight[batch * 2 * max_half_width];
+  long start[batch];
+  // One frequency's weights each 2C times (re, im of every series), so that
+  // its window of 2w grid points is one contiguous run of 4Cw doubles both ways.
+  alignas(64) double tap[4 * C * max_half_width];
+  alignas(64) double value[4 * C * max_half_width];
+  const int run = 4 * C * w, whole = run - run % lanes;
+  std::array<std::complex<double>, C> values;
+  for (std::size_t k0 = 0; k0 < theta.size(); k0 += batch) {
+    const std::size_t n = std::min(batch, theta.size() - k0);
+    gaussian_windows(theta.data() + k0, n, start, weight);
+    for (std::size_t i = 0; i < n; ++i) {
+      const long at = 2 * C * start[i];
+      const double* wi = weight + i * 2 * w;
+      for (int j = 0; j < 2 * w; ++j) {
+        const double g = wi[j];
+        for (int l = 0; l < 2 * C; ++l) tap[2 * C * j + l] = g;
+      }
+      // Partial sums in `lanes` lanes, lane l holding series (l / 2) % C, Re
+      // for even l and Im for odd (reassociated: the in-order sum is a chain
+      // of 2w dependent additions).
+      const double* window = forward + at;
+      double part[lanes] = {};
+      for (int l0 = 0; l0 < whole; l0 += lanes)
+        for (int l = 0; l < lanes; ++l) part[l] += window[l0 + l] * tap[l0 + l];
+      for (int l = 0; l < run - whole; ++l) part[l] += window[whole + l] * tap[whole + l];
+      for (int c = 0; c < C; ++c) {
+        double re = 0.0, im = 0.0;
+        for (int l = 2 * c; l < lanes; l += 2 * C) {
+          re += part[l];
+          im += part[l + 1];
+        }
+        values[c] = {re, im};
+      }
+      map(k0 + i, values);
+      double* out = adjoint + at;
+      double point[2 * C];
+      for (int c = 0; c < C; ++c) {
+        point[2 * c] = values[c].real();
+        point[2 * c + 1] = values[c].imag();
+      }
+      for (int j = 0; j < 2 * w; ++j)
+        for (int l = 0; l < 2 * C; ++l) value[2 * C * j + l] = point[l];
+      for (int l = 0; l < run; ++l) out[l] += value[l] * tap[l];
+    }
+  }
+  from_grids(scratch.grid[1].get(), C, scratch.samples.get(), add_out.data());
 }
 
 }  // namespace slipstrip

@@ -11,6 +11,7 @@
 #include <memory>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "kernels/face_block_history.hpp"
@@ -92,6 +93,70 @@ TEST_CASE("block face history: a block shorter than the modes and a different ma
   const double error = block_vs_modal(m, 0.75, OuterFace::driven, 0.3, 16, 400, design);
   MESSAGE("block vs modal (B = 64): ", error);
   CHECK(error < 1e-11);  // as above
+}
+
+TEST_CASE("block face history: levels split into transforms of half length equal the modal face history") {
+  // The levels of s >= split_level take each length-2s transform as two of
+  // length s (even and odd bins, twiddles); every level split (32) and some
+  // (64: s = 64, 128 split, s = 32 whole), against the modal operator with the
+  // tolerance of the unsplit test above, and against the unsplit block
+  // operator to rounding.
+  ElasticMaterial m;
+  for (int split : {32, 64}) {
+    slipstrip::FaceBlockDesign design;
+    design.split_level = split;
+    int block = 0;
+    const double error = block_vs_modal(m, 1.5, OuterFace::driven, 0.25, 16, 700, design, &block);
+    CAPTURE(split);
+    CHECK(block == 256);
+    CHECK(error < 1e-11);
+    MESSAGE("split levels s >= ", split, ", block vs modal: ", error);
+  }
+  const double length = 1.0, dt = 0.25 * (length / 16) / m.shear_wave_speed();
+  slipstrip::FaceBlockDesign whole, split;
+  split.split_level = 32;
+  slipstrip::FaceBlockHistory a(m, 1.5, OuterFace::driven, length, 16, dt, whole);
+  slipstrip::FaceBlockHistory b(m, 1.5, OuterFace::driven, length, 16, dt, split);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<cd> vx(a.modes()), vy(a.modes());
+  double diff = 0.0, scale = 0.0;
+  for (int n = 0; n < 600; ++n) {
+    for (int q = 0; q < a.modes(); ++q) {
+      vx[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
+      vy[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
+    }
+    a.push(vx, vy);
+    b.push(vx, vy);
+    for (int q = 0; q < a.modes(); ++q) {
+      diff = std::max({diff, std::abs(a.history_x()[q] - b.history_x()[q]),
+                       std::abs(a.history_y()[q] - b.history_y()[q])});
+      scale = std::max({scale, std::abs(a.history_x()[q]), std::abs(a.history_y()[q])});
+    }
+  }
+  MESSAGE("split against whole levels: ", diff / scale);
+  CHECK(diff < 1e-13 * scale);
+  slipstrip::FaceBlockDesign odd;
+  odd.split_level = 48;
+  CHECK_THROWS_AS(slipstrip::FaceBlockHistory(m, 1.5, OuterFace::driven, length, 16, dt, odd),
+                  std::invalid_argument);
+}
+
+TEST_CASE("block face history with the far field's grids interleaved equals the modal face history") {
+  // The layout of B >= 4096 (GaussianNufft::interleaved_grid), forced at B = 256,
+  // with and without split levels; the tolerance of the tests above.
+  ElasticMaterial m;
+  for (int split : {2048, 32}) {
+    slipstrip::FaceBlockDesign design;
+    design.nufft_interleave_from = 0;
+    design.split_level = split;
+    int block = 0;
+    const double error = block_vs_modal(m, 1.5, OuterFace::clamped, 0.25, 16, 700, design, &block);
+    CAPTURE(split);
+    CHECK(block == 256);
+    CHECK(error < 1e-11);
+    MESSAGE("interleaved grids, split levels s >= ", split, ": block vs modal ", error);
+  }
 }
 
 TEST_CASE("block face history: save and restore continue bit for bit") {
