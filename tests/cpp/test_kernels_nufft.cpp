@@ -95,51 +95,62 @@ TEST_CASE("NUFFT rejects sizes it cannot handle") {
   CHECK_THROWS_AS(GaussianNufft(64, 100), std::invalid_argument);
 }
 
-TEST_CASE("NUFFT one-pass forward, map and adjoint equals its two halves to round-off") {
-  // forward_map_adjoint (the block face operator's far field) against locate +
-  // forward_centred, the same map, adjoint_centred: it computes the same
-  // weights and reassociates only the forward sums, so the two agree to
-  // rounding.  Odd and even half-widths (the gather's lane tail), two series
-  // mixed by the map as the 2x2 operator mixes its components.
-  for (int half_width : {7, 12})
-  for (int samples : {16, 256}) {
-    const int frequencies = 3 * samples / 2 + 7;
-    const auto p = random_problem(samples, frequencies, 99u + samples);
-    const auto q = random_problem(samples, frequencies, 7u + samples);
-    GaussianNufft nufft(samples, half_width);
-    const cplx m00(0.5, 0.1), m01(-0.2, 0.7), m10(0.3, -0.4), m11(1.1, 0.2);
-    const auto mix = [&](std::size_t k, std::array<cplx, 2>& v) {
-      const double g = 1.0 + 0.01 * static_cast<double>(k);
-      v = {g * (m00 * v[0] + m01 * v[1]), g * (m10 * v[0] + m11 * v[1])};
-    };
+namespace {
 
-    auto scratch = nufft.make_scratch(frequencies);
-    nufft.locate(p.theta, scratch);
-    std::vector<cplx> fx(frequencies), fy(frequencies), ox(samples), oy(samples);
-    nufft.forward_centred(p.samples, fx, scratch);
-    nufft.forward_centred(q.samples, fy, scratch);
-    for (int k = 0; k < frequencies; ++k) {
-      std::array<cplx, 2> v{fx[k], fy[k]};
-      mix(k, v);
-      fx[k] = v[0];
-      fy[k] = v[1];
-    }
-    nufft.adjoint_centred(fx, ox, scratch);
-    nufft.adjoint_centred(fy, oy, scratch);
+// forward_map_adjoint of two random series, mixed per frequency as the 2x2
+// operator mixes its components, against locate + forward_centred, the same
+// map, adjoint_centred: the largest difference relative to the largest output.
+double one_pass_against_two_halves(GaussianNufft& nufft, int samples) {
+  const int frequencies = 3 * samples / 2 + 7;
+  const auto p = random_problem(samples, frequencies, 99u + samples);
+  const auto q = random_problem(samples, frequencies, 7u + samples);
+  const cplx m00(0.5, 0.1), m01(-0.2, 0.7), m10(0.3, -0.4), m11(1.1, 0.2);
+  const auto mix = [&](std::size_t k, std::array<cplx, 2>& v) {
+    const double g = 1.0 + 0.01 * static_cast<double>(k);
+    v = {g * (m00 * v[0] + m01 * v[1]), g * (m10 * v[0] + m11 * v[1])};
+  };
 
-    // The one pass adds into its outputs: start them from a known value.
-    std::vector<cplx> px(samples, cplx(1.0, -2.0)), py(samples, cplx(-0.5, 0.25));
-    auto pass = nufft.make_pass_scratch(2);
-    nufft.forward_map_adjoint<2>(p.theta, {p.samples.data(), q.samples.data()}, {px.data(), py.data()}, pass, mix);
-    double worst = 0, scale = 0;
-    for (int t = 0; t < samples; ++t) {
-      worst = std::max({worst, std::abs(px[t] - cplx(1.0, -2.0) - ox[t]), std::abs(py[t] - cplx(-0.5, 0.25) - oy[t])});
-      scale = std::max({scale, std::abs(ox[t]), std::abs(oy[t])});
-    }
-    MESSAGE("w = " << half_width << ", B = " << samples << ": one pass against two halves " << worst / scale
-                   << " of the largest output");
-    CHECK(worst < 1e-13 * scale);
+  auto scratch = nufft.make_scratch(frequencies);
+  nufft.locate(p.theta, scratch);
+  std::vector<cplx> fx(frequencies), fy(frequencies), ox(samples), oy(samples);
+  nufft.forward_centred(p.samples, fx, scratch);
+  nufft.forward_centred(q.samples, fy, scratch);
+  for (int k = 0; k < frequencies; ++k) {
+    std::array<cplx, 2> v{fx[k], fy[k]};
+    mix(k, v);
+    fx[k] = v[0];
+    fy[k] = v[1];
   }
+  nufft.adjoint_centred(fx, ox, scratch);
+  nufft.adjoint_centred(fy, oy, scratch);
+
+  // The one pass adds into its outputs: start them from a known value.
+  std::vector<cplx> px(samples, cplx(1.0, -2.0)), py(samples, cplx(-0.5, 0.25));
+  auto pass = nufft.make_pass_scratch(2);
+  nufft.forward_map_adjoint<2>(p.theta, {p.samples.data(), q.samples.data()}, {px.data(), py.data()}, pass, mix);
+  double worst = 0, scale = 0;
+  for (int t = 0; t < samples; ++t) {
+    worst = std::max({worst, std::abs(px[t] - cplx(1.0, -2.0) - ox[t]), std::abs(py[t] - cplx(-0.5, 0.25) - oy[t])});
+    scale = std::max({scale, std::abs(ox[t]), std::abs(oy[t])});
+  }
+  return worst / scale;
+}
+
+}  // namespace
+
+TEST_CASE("NUFFT one-pass forward, map and adjoint equals its two halves to round-off") {
+  // forward_map_adjoint (the block face operator's far field) computes the
+  // same weights as the two halves and reassociates only the forward sums, so
+  // the two agree to rounding.  Odd and even half-widths (the gather's lane
+  // tail), two series mixed by the map as the 2x2 operator mixes its components.
+  for (int half_width : {7, 12})
+    for (int samples : {16, 256}) {
+      GaussianNufft nufft(samples, half_width);
+      const double relative = one_pass_against_two_halves(nufft, samples);
+      MESSAGE("w = " << half_width << ", B = " << samples << ": one pass against two halves " << relative
+                     << " of the largest output");
+      CHECK(relative < 1e-13);
+    }
 }
 
 TEST_CASE("NUFFT one pass of two series on interleaved grids equals its two halves to round-off") {
@@ -147,43 +158,16 @@ TEST_CASE("NUFFT one pass of two series on interleaved grids equals its two halv
   // transformed by one plan of two strided transforms (the layout of grids of
   // GaussianNufft::interleaved_grid points and more, here forced at every size).
   for (int half_width : {7, 12})
-  for (int samples : {16, 256}) {
-    const int frequencies = 3 * samples / 2 + 7;
-    const auto p = random_problem(samples, frequencies, 99u + samples);
-    const auto q = random_problem(samples, frequencies, 7u + samples);
-    GaussianNufft nufft(samples, half_width, 0);
-    REQUIRE(nufft.interleaves_pairs());
-    const cplx m00(0.5, 0.1), m01(-0.2, 0.7), m10(0.3, -0.4), m11(1.1, 0.2);
-    const auto mix = [&](std::size_t k, std::array<cplx, 2>& v) {
-      const double g = 1.0 + 0.01 * static_cast<double>(k);
-      v = {g * (m00 * v[0] + m01 * v[1]), g * (m10 * v[0] + m11 * v[1])};
-    };
-    auto scratch = nufft.make_scratch(frequencies);
-    nufft.locate(p.theta, scratch);
-    std::vector<cplx> fx(frequencies), fy(frequencies), ox(samples), oy(samples);
-    nufft.forward_centred(p.samples, fx, scratch);
-    nufft.forward_centred(q.samples, fy, scratch);
-    for (int k = 0; k < frequencies; ++k) {
-      std::array<cplx, 2> v{fx[k], fy[k]};
-      mix(k, v);
-      fx[k] = v[0];
-      fy[k] = v[1];
+    for (int samples : {16, 256}) {
+      GaussianNufft nufft(samples, half_width, 0);
+      REQUIRE(nufft.interleaves_pairs());
+      const double relative = one_pass_against_two_halves(nufft, samples);
+      MESSAGE("interleaved, w = " << half_width << ", B = " << samples << ": one pass against two halves "
+                                  << relative << " of the largest output");
+      CHECK(relative < 1e-13);
     }
-    nufft.adjoint_centred(fx, ox, scratch);
-    nufft.adjoint_centred(fy, oy, scratch);
-    std::vector<cplx> px(samples, cplx(1.0, -2.0)), py(samples, cplx(-0.5, 0.25));
-    auto pass = nufft.make_pass_scratch(2);
-    nufft.forward_map_adjoint<2>(p.theta, {p.samples.data(), q.samples.data()}, {px.data(), py.data()}, pass, mix);
-    double worst = 0, scale = 0;
-    for (int t = 0; t < samples; ++t) {
-      worst = std::max({worst, std::abs(px[t] - cplx(1.0, -2.0) - ox[t]), std::abs(py[t] - cplx(-0.5, 0.25) - oy[t])});
-      scale = std::max({scale, std::abs(ox[t]), std::abs(oy[t])});
-    }
-    MESSAGE("interleaved, w = " << half_width << ", B = " << samples << ": one pass against two halves "
-                                << worst / scale << " of the largest output");
-    CHECK(worst < 1e-13 * scale);
-  }
   CHECK_FALSE(GaussianNufft(256).interleaves_pairs());
   CHECK(GaussianNufft(4096).interleaves_pairs());
   CHECK_THROWS_AS(GaussianNufft(16).make_pass_scratch(3), std::invalid_argument);
 }
+
