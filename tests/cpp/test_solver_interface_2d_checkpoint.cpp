@@ -16,6 +16,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <utility>
 
 #include "config/config.hpp"
 #include "solver/checkpoint.hpp"
@@ -59,6 +60,18 @@ SimulationConfig small_config(const std::string& height, int nodes_z, const std:
       "[time]\nbeta = 0.24\nhistory = \"" + history + "\"\n");
 }
 
+// The restart point of `saved` (with `config`'s TOML) written beside a
+// stand-in run file at `run_path` and read back: {written, read}.
+std::pair<RunCheckpoint, RunCheckpoint> write_and_read_back(const std::string& run_path, const SimulationConfig& config,
+                                                            const SimulationState& saved) {
+  std::ofstream(run_path) << "stand-in for the run file (write_checkpoint syncs it)";
+  RunCheckpoint checkpoint;
+  checkpoint.config_toml = to_toml(config);
+  checkpoint.simulation = saved;
+  write_checkpoint(run_path, checkpoint);
+  return {checkpoint, read_checkpoint(run_path)};
+}
+
 }  // namespace
 
 TEST_CASE("a restored 2D-interface simulation steps bit for bit as the one it was saved from") {
@@ -89,12 +102,7 @@ TEST_CASE("a restored 2D-interface simulation steps bit for bit as the one it wa
     // Through the restart-point file as well: the HDF5 round trip is exact,
     // and the checksum covers the 2D-interface fields.
     const std::string run_path = temp_path("run.h5");
-    std::ofstream(run_path) << "stand-in for the run file (write_checkpoint syncs it)";
-    RunCheckpoint checkpoint;
-    checkpoint.config_toml = to_toml(config);
-    checkpoint.simulation = saved;
-    write_checkpoint(run_path, checkpoint);
-    const RunCheckpoint read = read_checkpoint(run_path);
+    const auto [checkpoint, read] = write_and_read_back(run_path, config, saved);
     CHECK(read.checksum_verified);
     CHECK(checkpoint_checksum(read) == checkpoint_checksum(checkpoint));
     RunCheckpoint changed = checkpoint;
@@ -145,12 +153,7 @@ TEST_CASE("a restored 2D-interface simulation with a half-space in a dissimilar 
     for (int n = 0; n < 43; ++n) original.step();
     const SimulationState saved = original.save_state();
     const std::string run_path = temp_path("pair_run.h5");
-    std::ofstream(run_path) << "stand-in for the run file (write_checkpoint syncs it)";
-    RunCheckpoint checkpoint;
-    checkpoint.config_toml = to_toml(config);
-    checkpoint.simulation = saved;
-    write_checkpoint(run_path, checkpoint);
-    const RunCheckpoint read = read_checkpoint(run_path);
+    const RunCheckpoint read = write_and_read_back(run_path, config, saved).second;
     CHECK(read.checksum_verified);
     remove_checkpoint(run_path);
     std::filesystem::remove(run_path);
