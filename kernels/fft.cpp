@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "simd/parallel_for.hpp"
+
 namespace slipstrip {
 
 FftwPlan owned_plan(fftw_plan plan, const char* who) {
@@ -55,34 +57,60 @@ void RealFft::inverse(std::span<const std::complex<double>> in, std::span<double
   for (int j = 0; j < nodes_; ++j) out[j] = real_[j] * scale;
 }
 
-RealFft2d::RealFft2d(int nodes_x, int nodes_z)
-    : nodes_x_(nodes_x), nodes_z_(nodes_z),
-      real_(make_fftw_buffer<double>(static_cast<std::size_t>(nodes_x) * std::max(nodes_z, 1))),
-      spectral_(make_fftw_buffer<fftw_complex>(static_cast<std::size_t>(nodes_x / 2 + 1) *
-                                               std::max(nodes_z, 1))) {
+RealFft2d::RealFft2d(int nodes_x, int nodes_z) : nodes_x_(nodes_x), nodes_z_(nodes_z) {
   if (nodes_x < 1 || nodes_z < 1)
     throw std::invalid_argument("RealFft2d: nodes_x = " + std::to_string(nodes_x) + ", nodes_z = " +
                                 std::to_string(nodes_z) + " must both be >= 1");
+  for (int k = 0; k < 2; ++k) {
+    real_[k] = make_fftw_buffer<double>(static_cast<std::size_t>(nodes_x) * nodes_z);
+    spectral_[k] = make_fftw_buffer<fftw_complex>(static_cast<std::size_t>(nodes_x / 2 + 1) * nodes_z);
+  }
   // FFTW_ESTIMATE for reproducible plans (see RealFft).
   forward_plan_ = owned_plan(
-      fftw_plan_dft_r2c_2d(nodes_z, nodes_x, real_.get(), spectral_.get(), FFTW_ESTIMATE), "RealFft2d");
+      fftw_plan_dft_r2c_2d(nodes_z, nodes_x, real_[0].get(), spectral_[0].get(), FFTW_ESTIMATE), "RealFft2d");
   inverse_plan_ = owned_plan(
-      fftw_plan_dft_c2r_2d(nodes_z, nodes_x, spectral_.get(), real_.get(), FFTW_ESTIMATE), "RealFft2d");
+      fftw_plan_dft_c2r_2d(nodes_z, nodes_x, spectral_[0].get(), real_[0].get(), FFTW_ESTIMATE), "RealFft2d");
 }
 
-void RealFft2d::forward(std::span<const double> in, std::span<std::complex<double>> out) {
-  std::copy(in.begin(), in.end(), real_.get());
-  fftw_execute(forward_plan_.get());
-  const auto* s = reinterpret_cast<const std::complex<double>*>(spectral_.get());
+void RealFft2d::forward_with(int buffers, std::span<const double> in, std::span<std::complex<double>> out) {
+  double* real = real_[buffers].get();
+  fftw_complex* spectral = spectral_[buffers].get();
+  std::copy(in.begin(), in.end(), real);
+  // The new-array execute: both sets are fftw_malloc'd, so they have the
+  // alignment the plan was made for.
+  fftw_execute_dft_r2c(forward_plan_.get(), real, spectral);
+  const auto* s = reinterpret_cast<const std::complex<double>*>(spectral);
   std::copy(s, s + modes(), out.begin());
 }
 
-void RealFft2d::inverse(std::span<const std::complex<double>> in, std::span<double> out) {
+void RealFft2d::inverse_with(int buffers, std::span<const std::complex<double>> in, std::span<double> out) {
+  double* real = real_[buffers].get();
+  fftw_complex* spectral = spectral_[buffers].get();
   // c2r destroys its input: transform a copy in our own buffer.
-  std::copy(in.begin(), in.end(), reinterpret_cast<std::complex<double>*>(spectral_.get()));
-  fftw_execute(inverse_plan_.get());
+  std::copy(in.begin(), in.end(), reinterpret_cast<std::complex<double>*>(spectral));
+  fftw_execute_dft_c2r(inverse_plan_.get(), spectral, real);
   const double scale = 1.0 / static_cast<double>(nodes());
-  for (std::size_t j = 0; j < nodes(); ++j) out[j] = real_[j] * scale;
+  for (std::size_t j = 0; j < nodes(); ++j) out[j] = real[j] * scale;
+}
+
+void RealFft2d::forward(std::span<const double> in, std::span<std::complex<double>> out) {
+  forward_with(0, in, out);
+}
+
+void RealFft2d::inverse(std::span<const std::complex<double>> in, std::span<double> out) {
+  inverse_with(0, in, out);
+}
+
+void RealFft2d::forward_pair(std::span<const double> in_a, std::span<std::complex<double>> out_a,
+                             std::span<const double> in_b, std::span<std::complex<double>> out_b) {
+  simd::parallel_for(
+      2, [&](long long k) { forward_with(static_cast<int>(k), k == 0 ? in_a : in_b, k == 0 ? out_a : out_b); }, 1);
+}
+
+void RealFft2d::inverse_pair(std::span<const std::complex<double>> in_a, std::span<double> out_a,
+                             std::span<const std::complex<double>> in_b, std::span<double> out_b) {
+  simd::parallel_for(
+      2, [&](long long k) { inverse_with(static_cast<int>(k), k == 0 ? in_a : in_b, k == 0 ? out_a : out_b); }, 1);
 }
 
 }  // namespace slipstrip

@@ -91,11 +91,27 @@ class RealFft2d {
   void forward(std::span<const double> in, std::span<std::complex<double>> out);
   // Inverse including the 1/(nodes_x nodes_z) factor.
   void inverse(std::span<const std::complex<double>> in, std::span<double> out);
+  // Two transforms at once (the interface's x and z components), each on an
+  // OpenMP thread of its own when there are two or more.  Each runs the same
+  // plan as forward() / inverse() on buffers of its own (FFTW's execute is
+  // thread-safe for one plan on distinct arrays), so the results are theirs
+  // bit for bit whatever the thread count.  Why: the 2D transforms are a third
+  // of a 3D step's floor and FFTW_ESTIMATE plans are single-threaded, so
+  // without this two threads leave them serial.
+  void forward_pair(std::span<const double> in_a, std::span<std::complex<double>> out_a,
+                    std::span<const double> in_b, std::span<std::complex<double>> out_b);
+  void inverse_pair(std::span<const std::complex<double>> in_a, std::span<double> out_a,
+                    std::span<const std::complex<double>> in_b, std::span<double> out_b);
 
  private:
+  void forward_with(int buffers, std::span<const double> in, std::span<std::complex<double>> out);
+  void inverse_with(int buffers, std::span<const std::complex<double>> in, std::span<double> out);
+
   int nodes_x_, nodes_z_;
-  FftwBuffer<double> real_;
-  FftwBuffer<fftw_complex> spectral_;
+  // Two sets of transform buffers: set 0 for forward() / inverse() and the
+  // first of a pair, set 1 for the second.
+  FftwBuffer<double> real_[2];
+  FftwBuffer<fftw_complex> spectral_[2];
   FftwPlan forward_plan_;
   FftwPlan inverse_plan_;
 };

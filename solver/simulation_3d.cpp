@@ -1,6 +1,7 @@
 #include "solver/simulation_3d.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -14,10 +15,30 @@
 #include "kernels/face_half_space.hpp"
 #include "kernels/two_body_history.hpp"
 #include "laws/initial_state.hpp"
+#include "simd/parallel_for.hpp"
 #include "solver/half_space_time_step.hpp"
 #include "solver/interface_contact.hpp"
 
 namespace slipstrip {
+
+namespace {
+
+// The node loops of a step run on the OpenMP threads (simd::parallel_for, one
+// contiguous share each) from this many nodes up: below it a loop costs less
+// than waking the other threads.  Every loop is node by node, so the results
+// do not depend on the thread count.
+constexpr std::size_t parallel_nodes = 8192;
+
+template <class Body>
+void for_each_node(std::size_t n, Body&& body) {
+  if (n < parallel_nodes) {
+    for (std::size_t i = 0; i < n; ++i) body(i);
+    return;
+  }
+  simd::parallel_for(static_cast<long long>(n), [&](long long i) { body(static_cast<std::size_t>(i)); });
+}
+
+}  // namespace
 
 InterfaceGrid2d interface_grid(const SimulationConfig& config) {
   const auto& g = config.geometry;
@@ -311,7 +332,7 @@ void Simulation3d::solve(bool initial) {
 
 void Simulation3d::directions() {
   const std::size_t n = nodes();
-  for (std::size_t i = 0; i < n; ++i) {
+  for_each_node(n, [&](std::size_t i) {
     // v parallel to the load; a load of zero has no direction and sticks.
     const double m = load_magnitude_[i];
     const double along_x = m > 0.0 ? load_x_[i] / m : 0.0, along_z = m > 0.0 ? load_z_[i] / m : 0.0;
@@ -319,7 +340,7 @@ void Simulation3d::directions() {
     slip_rate_z_[i] = speed_[i] * along_z;
     shear_stress_x_[i] = load_x_[i] - eta_ * slip_rate_x_[i];
     shear_stress_z_[i] = load_z_[i] - eta_ * slip_rate_z_[i];
-  }
+  });
 }
 
 // The batch predictor-corrector with a normal stress per node
@@ -401,10 +422,10 @@ void Simulation3d::step() {
   // History at t_{n+1} from the slip-rate perturbations up to t_n; the first
   // sample enters at half weight, as in the 2D solver (solver/simulation.cpp).
   const double first_sample_weight = step_index_ == 0 ? 0.5 : 1.0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for_each_node(n, [&](std::size_t i) {
     rate_perturbation_x_[i] = first_sample_weight * (slip_rate_x_[i] - v0_);
     rate_perturbation_z_[i] = first_sample_weight * slip_rate_z_[i];
-  }
+  });
   if (variable_normal_stress()) {
     // Some node open or closing at t_n: its faces move apart (docs/bodies.md §4).
     spectral_->history(rate_perturbation_x_, rate_perturbation_z_,
@@ -413,10 +434,6 @@ void Simulation3d::step() {
     update_normal_stress();
   } else {
     spectral_->history(rate_perturbation_x_, rate_perturbation_z_, load_x_, load_z_);
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    load_x_[i] = drive_[i] - load_x_[i];
-    load_z_[i] = -load_z_[i];
   }
   // The step's slip rate at t_n, as the friction step sees it: the slip-rate
   // vector at t_n projected on the new load direction, signed.  The scheme
@@ -429,32 +446,59 @@ void Simulation3d::step() {
   // without load keeps its speed: it has no new direction.  The unit vector is
   // formed as directions() forms it, so that a load along x projects exactly
   // (v * 1, not v * tau / tau) and a field independent of z keeps the 1D
-  // arithmetic.
-  for (std::size_t i = 0; i < n; ++i) {
-    const double m = std::sqrt(load_x_[i] * load_x_[i] + load_z_[i] * load_z_[i]);
+  // arithmetic.  One pass for the load, its direction and the copies of t_n
+  // (the loop is bound by memory traffic).
+  for_each_node(n, [&](std::size_t i) {
+    const double lx = drive_[i] - load_x_[i], lz = -load_z_[i];
+    load_x_[i] = lx;
+    load_z_[i] = lz;
+    const double m = std::sqrt(lx * lx + lz * lz);
     load_magnitude_[i] = m;
-    previous_speed_[i] =
-        m > 0.0 ? slip_rate_x_[i] * (load_x_[i] / m) + slip_rate_z_[i] * (load_z_[i] / m) : speed_[i];
-  }
-  std::copy(state_.begin(), state_.end(), previous_state_.begin());
-  std::copy(slip_rate_x_.begin(), slip_rate_x_.end(), previous_rate_x_.begin());
-  std::copy(slip_rate_z_.begin(), slip_rate_z_.end(), previous_rate_z_.begin());
+    previous_speed_[i] = m > 0.0 ? slip_rate_x_[i] * (lx / m) + slip_rate_z_[i] * (lz / m) : speed_[i];
+    previous_state_[i] = state_[i];
+    previous_rate_x_[i] = slip_rate_x_[i];
+    previous_rate_z_[i] = slip_rate_z_[i];
+  });
   solve(/*initial=*/false);
-  for (std::size_t i = 0; i < n; ++i) {
+  for_each_node(n, [&](std::size_t i) {
     slip_x_[i] += 0.5 * dt_ * (previous_rate_x_[i] + slip_rate_x_[i]);
     slip_z_[i] += 0.5 * dt_ * (previous_rate_z_[i] + slip_rate_z_[i]);
-  }
+  });
   time_ += dt_;
   ++step_index_;
   check_finite("interface fields");
 }
 
 void Simulation3d::check_finite(const char* what) const {
-  for (std::size_t i = 0; i < nodes(); ++i) {
-    if (std::isfinite(speed_[i]) && std::isfinite(state_[i]) && std::isfinite(slip_x_[i]) &&
-        std::isfinite(slip_z_[i]) && std::isfinite(shear_stress_x_[i]) && std::isfinite(shear_stress_z_[i]) &&
-        (!variable_normal_stress() || std::isfinite(effective_normal_stress_[i])))
-      continue;
+  const std::size_t n = nodes();
+  const bool normal = variable_normal_stress();
+  const auto finite_at = [&](std::size_t i) {
+    return std::isfinite(speed_[i]) && std::isfinite(state_[i]) && std::isfinite(slip_x_[i]) &&
+           std::isfinite(slip_z_[i]) && std::isfinite(shear_stress_x_[i]) && std::isfinite(shear_stress_z_[i]) &&
+           (!normal || std::isfinite(effective_normal_stress_[i]));
+  };
+  // Every step checks every node: in parallel, and the first bad node is
+  // looked for (serially, for a message that does not depend on the thread
+  // count) only when there is one.
+  constexpr std::size_t shares = 16;
+  std::array<bool, shares> share_finite;
+  share_finite.fill(true);
+  const std::size_t share = (n + shares - 1) / shares;
+  const auto check_share = [&](std::size_t k) {
+    for (std::size_t i = k * share; i < std::min(n, (k + 1) * share); ++i)
+      if (!finite_at(i)) {
+        share_finite[k] = false;
+        return;
+      }
+  };
+  if (n < parallel_nodes) {
+    for (std::size_t k = 0; k < shares; ++k) check_share(k);
+  } else {
+    simd::parallel_for(static_cast<long long>(shares), [&](long long k) { check_share(static_cast<std::size_t>(k)); });
+  }
+  if (std::all_of(share_finite.begin(), share_finite.end(), [](bool b) { return b; })) return;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (finite_at(i)) continue;
     std::ostringstream msg;
     msg << "non-finite " << what << " at node (ix, iz) = (" << i % nodes_x_ << ", "
         << i / nodes_x_ + spectral_->slab().first_row << "), t = " << time_ << " s, step " << step_index_ << ": slip_rate = (" << slip_rate_x_[i] << ", "

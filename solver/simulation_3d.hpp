@@ -74,6 +74,31 @@ class InterfaceSpectralStep {
   virtual double max(double local) const = 0;
 };
 
+// The x and z components' transforms: as a pair on threads of their own
+// where the transform offers it (RealFft2d), else one after the other (the
+// distributed transform, whose messages are not made from two threads).
+template <class Fft>
+void forward_components(Fft& fft, std::span<const double> rate_x, std::span<std::complex<double>> spectrum_x,
+                        std::span<const double> rate_z, std::span<std::complex<double>> spectrum_z) {
+  if constexpr (requires { fft.forward_pair(rate_x, spectrum_x, rate_z, spectrum_z); }) {
+    fft.forward_pair(rate_x, spectrum_x, rate_z, spectrum_z);
+  } else {
+    fft.forward(rate_x, spectrum_x);
+    fft.forward(rate_z, spectrum_z);
+  }
+}
+
+template <class Fft>
+void inverse_components(Fft& fft, std::span<const std::complex<double>> spectrum_x, std::span<double> history_x,
+                        std::span<const std::complex<double>> spectrum_z, std::span<double> history_z) {
+  if constexpr (requires { fft.inverse_pair(spectrum_x, history_x, spectrum_z, history_z); }) {
+    fft.inverse_pair(spectrum_x, history_x, spectrum_z, history_z);
+  } else {
+    fft.inverse(spectrum_x, history_x);
+    fft.inverse(spectrum_z, history_z);
+  }
+}
+
 // The spectral step through `fft` (RealFft2d or a distributed transform with
 // the same forward / inverse) and `history` (over the transform's modes):
 // rates -> spectra -> history -> history part of the traction.  No allocation.
@@ -81,11 +106,9 @@ template <class Fft>
 void transform_push_invert(Fft& fft, InterfaceHistory2d& history, std::span<std::complex<double>> spectrum_x,
                            std::span<std::complex<double>> spectrum_z, std::span<const double> rate_x,
                            std::span<const double> rate_z, std::span<double> history_x, std::span<double> history_z) {
-  fft.forward(rate_x, spectrum_x);
-  fft.forward(rate_z, spectrum_z);
+  forward_components(fft, rate_x, spectrum_x, rate_z, spectrum_z);
   history.push(spectrum_x, spectrum_z);
-  fft.inverse(history.history_x(), history_x);
-  fft.inverse(history.history_z(), history_z);
+  inverse_components(fft, history.history_x(), history_x, history.history_z(), history_z);
 }
 
 // The same for dissimilar bodies: rates and the opening stress (empty: none)
@@ -100,16 +123,14 @@ void transform_push_invert(Fft& fft, InterfaceHistory2d& history, std::span<std:
                            std::span<const double> rate_z, std::span<const double> opening_stress,
                            std::span<double> history_x, std::span<double> history_z,
                            std::span<double> normal_stress) {
-  fft.forward(rate_x, spectrum_x);
-  fft.forward(rate_z, spectrum_z);
+  forward_components(fft, rate_x, spectrum_x, rate_z, spectrum_z);
   if (opening_stress.empty()) {
     history.push(spectrum_x, spectrum_z, {});
   } else {
     fft.forward(opening_stress, spectrum_opening);
     history.push(spectrum_x, spectrum_z, spectrum_opening);
   }
-  fft.inverse(history.history_x(), history_x);
-  fft.inverse(history.history_z(), history_z);
+  inverse_components(fft, history.history_x(), history_x, history.history_z(), history_z);
   // The inverse transform may overwrite its input: a copy of the operator's output.
   std::copy(history.normal_stress().begin(), history.normal_stress().end(), spectrum_normal.begin());
   fft.inverse(spectrum_normal, normal_stress);

@@ -257,3 +257,16 @@ TEST_CASE("2D interface: a step does not allocate (identical and dissimilar bodi
     check_no_allocation(dissimilar, window(1), "2D interface, dissimilar bodies");
   });
 }
+
+TEST_CASE("2D interface of 8192 nodes (node loops on the threads): a step does not allocate") {
+  // 32 x 256 nodes: at or above the count from which Simulation3d's node
+  // loops and RealFft2d's paired transforms run on the OpenMP threads.
+  with_one_and_two_threads([] {
+    SimulationConfig c = strip_pair();
+    c.geometry.nodes_z = 256;
+    c.geometry.width = 0.64;  // dz = 2.5 mm
+    Simulation3d sim(c);
+    REQUIRE(sim.nodes() == 8192);
+    check_no_allocation(sim, window(1), "2D interface, 32 x 256 nodes");
+  });
+}

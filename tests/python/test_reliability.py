@@ -412,6 +412,21 @@ def test_one_and_two_threads_are_bitwise_identical(cli, repo, tmp_path, extra):
     _assert_bitwise_equal(*outs)
 
 
+def test_2d_interface_one_and_two_threads_are_bitwise_identical(cli, repo, tmp_path):
+    # The demo's 128 x 64 = 8192 nodes: the node loops and the paired 2D
+    # transforms run on the threads (from 8192 nodes, solver/simulation_3d.cpp),
+    # node by node and transform by transform, so the run files are identical.
+    outs = []
+    for threads in ("1", "2"):
+        out = tmp_path / f"t{threads}.h5"
+        r = run(cli, "run", repo / "configs/3d/demo.toml", "--set", "time.duration_transits=0.5",
+                "--set", "output.snapshot_interval=2e-5", "--quiet", "--out", out,
+                env={"OMP_NUM_THREADS": threads, "OMP_WAIT_POLICY": "passive"}, timeout=600)
+        assert r.returncode == 0, r.stderr
+        outs.append(out)
+    _assert_bitwise_equal(*outs)
+
+
 def test_python_run_ctrl_c_during_setup_raises_keyboard_interrupt(slipstrip_module, repo, tmp_path):
     out = tmp_path / "py_setup.h5"
     script = (
