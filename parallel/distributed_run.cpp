@@ -22,6 +22,7 @@
 #include "solver/run_output.hpp"
 #include "solver/simulation_3d.hpp"
 #include "solver/slip_sampler.hpp"
+#include "solver/stations.hpp"
 #include "slipstrip/version.hpp"
 
 namespace slipstrip {
@@ -35,9 +36,6 @@ void check_distributed_run(const SimulationConfig& config) {
   if (config.geometry.nodes_z < 2)
     refuse("geometry.nodes_z = " + std::to_string(config.geometry.nodes_z) +
            ": a run split over processes is a 2D interface only (nodes_z > 1); a line runs with `slipstrip run`");
-  if (!config.output.stations.empty())
-    refuse("output.stations is not allowed on several processes: expected [] (stations are recorded by "
-           "`slipstrip run` on one process)");
 }
 
 namespace {
@@ -203,6 +201,106 @@ class RecordGather {
   std::vector<int> counts_, offsets_;
   std::vector<hsize_t> coordinates_;
   std::vector<double> values_;
+};
+
+// The stations of a run split over processes by rows: each process takes
+// the row terms (StationSampler2d) of the rows it holds, of every field;
+// rank 0 gathers them and combines each station's two, so a station between
+// two rows held by two processes (or between the last row and row 0) is
+// taken as one process takes it, bit for bit.  The moment rate's sum of
+// v_x is taken in the order of one process: rank 0 sums its rows and passes
+// the partial sum to rank 1, which adds its own, and so on (one message per
+// process and station row), the last process sending the total to rank 0.
+// Every buffer is sized at construction: a station row allocates nothing.
+class DistributedStations {
+ public:
+  // Collective.
+  DistributedStations(const SimulationConfig& config, const Simulation3d& sim, MPI_Comm comm)
+      : comm_(comm), rank_(mpi_rank(comm)), size_(mpi_size(comm)),
+        sampler_(config.output.stations, config.output.stations_z, sim.dx(), sim.dz(),
+                 static_cast<std::size_t>(sim.nodes_x()), static_cast<std::size_t>(sim.nodes_z())),
+        first_row_(static_cast<std::size_t>(sim.slab().first_row)), fields_(interface_2d_fields(sim).size()),
+        mu_dxdz_(config.material.shear_modulus * sim.dx() * sim.dz()) {
+    const std::size_t rows = static_cast<std::size_t>(sim.slab().rows);
+    std::vector<int> own;  // this process's row terms, in increasing order
+    for (std::size_t t = 0; t < sampler_.terms(); ++t)
+      if (sampler_.term_row(t) >= first_row_ && sampler_.term_row(t) < first_row_ + rows)
+        own.push_back(static_cast<int>(t));
+    own_terms_.assign(own.begin(), own.end());
+    local_.resize(fields_ * own_terms_.size());
+    // Rank 0: where each (field, term) lands in the gathered values.
+    const int own_count = static_cast<int>(own.size());
+    std::vector<int> term_counts(rank_ == 0 ? size_ : 0), term_offsets(term_counts.size());
+    MPI_Gather(&own_count, 1, MPI_INT, term_counts.data(), 1, MPI_INT, 0, comm_);
+    if (rank_ == 0) std::exclusive_scan(term_counts.begin(), term_counts.end(), term_offsets.begin(), 0);
+    std::vector<int> all_terms(rank_ == 0 ? sampler_.terms() : 0);
+    MPI_Gatherv(own.data(), own_count, MPI_INT, all_terms.data(), term_counts.data(), term_offsets.data(), MPI_INT,
+                0, comm_);
+    if (rank_ == 0) {
+      counts_.resize(size_);
+      offsets_.resize(size_);
+      position_.resize(fields_ * sampler_.terms());
+      int offset = 0;
+      for (int r = 0; r < size_; ++r) {
+        counts_[r] = term_counts[r] * static_cast<int>(fields_);
+        offsets_[r] = offset;
+        for (int k = 0; k < term_counts[r]; ++k) {
+          const std::size_t term = static_cast<std::size_t>(all_terms[term_offsets[r] + k]);
+          for (std::size_t f = 0; f < fields_; ++f)
+            position_[f * sampler_.terms() + term] = static_cast<std::size_t>(offset) + f * term_counts[r] + k;
+        }
+        offset += counts_[r];
+      }
+      gathered_.resize(fields_ * sampler_.terms());
+      values_.resize(fields_ * sampler_.size());
+    }
+  }
+
+  // One station row of the current state, appended by rank 0 (`output`,
+  // null elsewhere).  Collective.
+  void record(const Simulation3d& sim, RunOutput* output) {
+    const Interface2dFields fields = interface_2d_fields(sim);
+    const std::size_t own = own_terms_.size();
+    for (std::size_t f = 0; f < fields_; ++f)
+      for (std::size_t k = 0; k < own; ++k)
+        local_[f * own + k] = sampler_.row_term(fields[f], first_row_, own_terms_[k]);
+    MPI_Gatherv(local_.data(), static_cast<int>(local_.size()), MPI_DOUBLE, gathered_.data(), counts_.data(),
+                offsets_.data(), MPI_DOUBLE, 0, comm_);
+    const double max_slip_rate = sim.max_slip_rate();  // collective
+    double sum_rate = 0.0;
+    if (rank_ > 0) MPI_Recv(&sum_rate, 1, MPI_DOUBLE, rank_ - 1, kSumTag, comm_, MPI_STATUS_IGNORE);
+    for (double v : sim.slip_rate_x()) sum_rate += v;
+    if (size_ > 1) {
+      if (rank_ + 1 < size_) MPI_Send(&sum_rate, 1, MPI_DOUBLE, rank_ + 1, kSumTag, comm_);
+      else MPI_Send(&sum_rate, 1, MPI_DOUBLE, 0, kSumTag, comm_);
+      if (rank_ == 0) MPI_Recv(&sum_rate, 1, MPI_DOUBLE, size_ - 1, kSumTag, comm_, MPI_STATUS_IGNORE);
+    }
+    if (rank_ != 0) return;
+    const std::size_t stations = sampler_.size(), terms = sampler_.terms();
+    std::array<std::span<const double>, 9> at_stations;
+    for (std::size_t f = 0; f < fields_; ++f) {
+      const std::size_t* at = position_.data() + f * terms;
+      for (std::size_t s = 0; s < stations; ++s)
+        values_[f * stations + s] = sampler_.combine(s, gathered_[at[2 * s]], gathered_[at[2 * s + 1]]);
+      at_stations[f] = std::span<const double>(values_).subspan(f * stations, stations);
+    }
+    output->append_stations(sim.time(), std::span<const std::span<const double>>(at_stations.data(), fields_),
+                            max_slip_rate, mu_dxdz_ * sum_rate);
+  }
+
+ private:
+  static constexpr int kSumTag = 1;  // the moment rate's partial sums
+  MPI_Comm comm_;
+  int rank_, size_;
+  StationSampler2d sampler_;
+  std::size_t first_row_, fields_;
+  double mu_dxdz_;
+  std::vector<std::size_t> own_terms_;
+  std::vector<double> local_;     // fields x own terms, field-major
+  std::vector<int> counts_, offsets_;  // rank 0: of the gather
+  std::vector<std::size_t> position_;  // rank 0: fields x terms -> index in gathered_
+  std::vector<double> gathered_;       // rank 0: every process's local_, in rank order
+  std::vector<double> values_;         // rank 0: fields x stations, field-major
 };
 
 // The per-step control reduction (MPI_MAX over the processes): whether some
@@ -389,6 +487,8 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
       }
   };
   RecordGather gathered(comm);
+  std::optional<DistributedStations> stations;
+  if (!out_cfg.stations.empty()) stations.emplace(config, sim, comm);
   const auto pass_crossings = [&] {
     const auto local = sampler->pending_coordinates();
     crossing_coordinates.assign(local.begin(), local.end());
@@ -435,20 +535,25 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   RunResult result;
   result.time_step = sim.time_step();
   std::vector<double> previous_slip(sim.slip_x().begin(), sim.slip_x().end());
+  double next_station = out_cfg.station_interval;
   double next_timeseries = out_cfg.timeseries_interval;
   double next_snapshot = out_cfg.snapshot_interval;
   double next_snapshot_slip = out_cfg.snapshot_slip_increment;  // rank 0's decides
   if (resuming) {
     // The records of t = 0 are in the file already; the triggers continue.
-    std::array<double, 3> next{};
-    if (rank == 0) next = {resume_from->next_timeseries, resume_from->next_snapshot, resume_from->next_snapshot_slip};
-    MPI_Bcast(next.data(), 3, MPI_DOUBLE, 0, comm);
-    next_timeseries = next[0];
-    next_snapshot = next[1];
-    next_snapshot_slip = next[2];
+    std::array<double, 4> next{};
+    if (rank == 0)
+      next = {resume_from->next_station, resume_from->next_timeseries, resume_from->next_snapshot,
+              resume_from->next_snapshot_slip};
+    MPI_Bcast(next.data(), static_cast<int>(next.size()), MPI_DOUBLE, 0, comm);
+    next_station = next[0];
+    next_timeseries = next[1];
+    next_snapshot = next[2];
+    next_snapshot_slip = next[3];
     result.resumed_from_step = sim.step_index();
   } else {
     // t = 0, as run_simulation records it.
+    if (stations) stations->record(sim, output.get());
     find_front();
     control = {};
     control[kFront] = front_nodes.empty() ? 0.0 : 1.0;
@@ -506,7 +611,7 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
     checkpoint.next_timeseries = next_timeseries;
     checkpoint.next_snapshot = next_snapshot;
     checkpoint.next_snapshot_slip = next_snapshot_slip;
-    checkpoint.next_station = out_cfg.station_interval;  // no stations
+    checkpoint.next_station = next_station;
     write_checkpoint(output_path, checkpoint);
     result.restart_point = restart_path;
     return true;
@@ -555,6 +660,12 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
       break;
     }
     if (control[kCrossings] > 0.0) pass_crossings();
+    // Every process has the same time (the same steps of dt), so every one
+    // takes part in the same station rows.
+    if (stations && sim.time() >= next_station * (1 - 1e-12)) {
+      stations->record(sim, output.get());
+      next_station += out_cfg.station_interval;
+    }
     if (control[kFront] > 0.0) pass_front();
     if (sim.time() >= next_timeseries * (1 - 1e-12)) {
       append_timeseries();

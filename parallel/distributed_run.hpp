@@ -9,6 +9,11 @@
 //     part, rank 0 appends the row);
 //   * slip sampling and rupture front: each process dates the crossings of its
 //     own nodes and passes them to rank 0 in the step they happen;
+//   * stations: each process interpolates along x in the stations' rows it
+//     holds, rank 0 gathers these row terms and combines each station's two
+//     along z (a station between rows of two processes is taken as on one
+//     process); the moment rate's sum runs through the processes in row
+//     order, as one process adds;
 //   * stopping: one reduction per step carries rank 0's stop request (SIGTERM,
 //     --stop-after-steps), whether any process diverged and whether any has
 //     crossings to pass, so every process leaves the time loop in the same step.
@@ -19,8 +24,8 @@
 //     operator state is sent to rank 0 as its own (kSplitHistoryKind), and
 //     rank 0 writes the one file with run_simulation's writer (temporary
 //     file, fsync, rename).  Such a restart point is resumed on as many
-//     processes (resume_distributed).
-// Stations are refused.
+//     processes (resume_distributed); it carries the station trigger
+//     (next_station) as run_simulation's does.
 #include <mpi.h>
 
 #include <optional>
@@ -48,8 +53,7 @@ struct CollectiveError : std::invalid_argument {
 void throw_if_any_failed(const std::string& error, const std::string& context, MPI_Comm comm);
 
 // Throws CollectiveError (on every process, origin 0) naming the key of what a
-// run split over processes does not do: a line (geometry.nodes_z = 1),
-// stations.
+// run split over processes does not do: a line (geometry.nodes_z = 1).
 void check_distributed_run(const SimulationConfig& config);
 
 // Runs `config` split over `comm` and writes `output_path` on rank 0.

@@ -63,6 +63,12 @@ class StationSampler {
 
 // Stations at points (x[s], z[s]) of a 2D interface of nodes_x x nodes_z
 // nodes, fields flattened with x fastest (node (ix, iz) at ix + nodes_x iz).
+// A station's value is taken in two stages: the value along x in each of its
+// two rows (a row term, from that row's nodes only), then the two row terms
+// combined along z.  A run split over processes by rows
+// (parallel/distributed_run.cpp) takes each row term on the process that
+// holds the row and combines them on rank 0 with the same two functions, so
+// it records the numbers of one process, bit for bit.
 class StationSampler2d {
  public:
   StationSampler2d(std::span<const double> x, std::span<const double> z, double dx, double dz, std::size_t nodes_x,
@@ -80,16 +86,33 @@ class StationSampler2d {
   std::size_t size() const { return cells_x_.size(); }
   bool empty() const { return cells_x_.empty(); }
 
+  // Row terms: 2 per station, term 2s in station s's row below (or on) it,
+  // term 2s + 1 in the row above (the next row, periodically: row 0 after
+  // the last).  The above row's term is taken even for a station on a row
+  // (weight 0 along z), as one product of the sum.
+  std::size_t terms() const { return 2 * cells_z_.size(); }
+  std::size_t term_row(std::size_t term) const {
+    const StationCell& cz = cells_z_[term / 2];
+    return term % 2 == 0 ? cz.left : cz.right;
+  }
+  // Row term `term` of a field given for the rows first_row, first_row + 1,
+  // ... (x fastest); its row must be among them.
+  double row_term(std::span<const double> rows, std::size_t first_row, std::size_t term) const {
+    const StationCell& cx = cells_x_[term / 2];
+    const std::size_t base = (term_row(term) - first_row) * nodes_x_;
+    return (1.0 - cx.weight) * rows[base + cx.left] + cx.weight * rows[base + cx.right];
+  }
+  // Station s's value from its row terms below (2s) and above (2s + 1).
+  double combine(std::size_t s, double below, double above) const {
+    const StationCell& cz = cells_z_[s];
+    return (1.0 - cz.weight) * below + cz.weight * above;
+  }
+
+  // Values of a field of the whole interface at the stations (a view of an
+  // internal buffer, valid until the next call).
   std::span<const double> sample(std::span<const double> field) {
-    for (std::size_t s = 0; s < cells_x_.size(); ++s) {
-      const StationCell& cx = cells_x_[s];
-      const StationCell& cz = cells_z_[s];
-      const auto along_x = [&](std::size_t row) {
-        const std::size_t base = row * nodes_x_;
-        return (1.0 - cx.weight) * field[base + cx.left] + cx.weight * field[base + cx.right];
-      };
-      values_[s] = (1.0 - cz.weight) * along_x(cz.left) + cz.weight * along_x(cz.right);
-    }
+    for (std::size_t s = 0; s < cells_x_.size(); ++s)
+      values_[s] = combine(s, row_term(field, 0, 2 * s), row_term(field, 0, 2 * s + 1));
     return values_;
   }
 

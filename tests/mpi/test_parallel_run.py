@@ -19,6 +19,13 @@ allows 1e-11 for its fields; this test would report a change of FFTW's order
 as a failure to look at).  Not compared: start_time and end_time (wall clock),
 and `processes`, which only the MPI file has (2).
 
+Stations: each process interpolates along x in the stations' rows it holds
+and rank 0 combines the two rows of each station along z, so a station
+between rows held by two processes is taken as on one process; the moment
+rate's sum of v_x runs through the processes in row order.  Expected: the
+station records of two processes, of one process through MPI and of
+`slipstrip run` bit for bit.
+
 Restart points: a run of two processes stopped (--stop-after-steps, SIGTERM
 to both processes) and resumed with `slipstrip-mpi run --resume` on two
 processes writes the file of the uninterrupted run of two processes, bit for
@@ -207,6 +214,102 @@ def test_dissimilar_bodies(tmp_path, config):
     assert one.with_suffix(".xdmf").read_text() == two.with_suffix(".xdmf").read_text()
 
 
+def station_args(x, z, interval):
+    return ["--set", "output.stations=[" + ", ".join(repr(v) for v in x) + "]",
+            "--set", "output.stations_z=[" + ", ".join(repr(v) for v in z) + "]",
+            "--set", f"output.station_interval={interval!r}"]
+
+
+# Stations on the 32 x 32 demo (dx = dz = L/32; on two processes rows 0-15 and
+# 16-31): on node (0, 0); between rows 15 and 16 (one process each); between
+# row 31 and row 0 (the periodic wrap: the last process and the first); on row
+# 16 at the last column; on row 15 (weight 0 along z, row 16 on the other
+# process still read, as one process reads it); mid-cell inside rank 1's rows.
+D = 0.25 / 32
+STATIONS = station_args([0.0, 0.1, 2.5 * D, 31 * D, 9 * D, 0.13],
+                        [0.0, 15.5 * D, 31.5 * D, 16 * D, 15 * D, 0.2], 1e-6)
+# 32 x 15 nodes (slabs of 8 and 7 rows, dz = W/15): between rows 7 and 8, and
+# between row 14 and row 0.
+DZ15 = 0.1171875 / 15
+STATIONS_15 = ["--set", "geometry.nodes_z=15", "--set", "geometry.width=0.1171875",
+               *station_args([0.05, 0.2], [7.25 * DZ15, 14.5 * DZ15], 2e-6)]
+
+
+def assert_stations_identical(reference, other):
+    """/stations of two run files: every dataset and attribute bit for bit."""
+    with h5py.File(reference, "r") as a, h5py.File(other, "r") as b:
+        x, y = a["stations"], b["stations"]
+        assert sorted(x) == sorted(y)
+        assert_attributes_equal(x, y, "stations")
+        for name in x:
+            assert_attributes_equal(x[name], y[name], name)
+            assert x[name].dtype == y[name].dtype and x[name][()].tobytes() == y[name][()].tobytes(), name
+
+
+STATION_CASES = {
+    # 3 transits: 390 steps, 274 station rows.
+    "strips": (TINY, ["--set", "time.duration_transits=3", *STATIONS]),
+    "uneven slabs": (TINY, ["--set", "time.duration_transits=3", *STATIONS_15]),
+    # 320 steps; nine fields (the normal stress and the opening).
+    "dissimilar bodies": (REPO / "configs" / "3d" / "tiny_bodies.toml", STATIONS),
+}
+
+
+@pytest.mark.parametrize("case", list(STATION_CASES))
+def test_stations_on_two_processes_equal_one_process(tmp_path, case):
+    config, args = STATION_CASES[case]
+    runs = {name: tmp_path / name / "run.h5" for name in ("serial", "one", "two")}
+    for path in runs.values():
+        path.parent.mkdir()
+    subprocess.run([SERIAL, "run", str(config), "--out", str(runs["serial"]), "--quiet", *args], env=mpi_env(),
+                   capture_output=True, text=True, check=True, timeout=300)
+    run_mpi(runs["one"], *args, processes=1, config=config)
+    run_mpi(runs["two"], *args, config=config)
+    # The whole file of two processes as `slipstrip run`'s (the stations
+    # bit for bit among the rest), and the stations of one process through MPI.
+    nodes_z = 15 if case == "uneven slabs" else 32
+    assert_runs_equal(runs["serial"], runs["two"], 32 * nodes_z)
+    assert_stations_identical(runs["serial"], runs["one"])
+    assert_stations_identical(runs["serial"], runs["two"])
+    with h5py.File(runs["two"], "r") as f:
+        g = f["stations"]
+        fields = 9 if case == "dissimilar bodies" else 7
+        assert len(g) == 5 + fields and g["slip_x"].attrs["units"] == "m"
+        assert g["time"].shape[0] > 100 and g["slip_rate_x"].shape == (g["time"].shape[0], g["x"].shape[0])
+        # The fields vary from station to station (the comparison is not of constants).
+        assert np.all(np.ptp(g["state"][-1:], axis=1) > 0)
+
+
+def test_stations_stopped_and_resumed_equal_uninterrupted(tmp_path):
+    # Station rows every 3 us (about every 4.3 steps of dt = 0.70 us), so the
+    # trigger at the stop (step 133) lies between steps: the restart point
+    # carries it (run/next_station) and the resumed run takes the rows the
+    # uninterrupted one takes.  Also against `slipstrip run` uninterrupted.
+    args = ["--set", "time.duration_transits=6", *station_args(
+        [0.0, 0.1, 2.5 * D, 0.13], [0.0, 15.5 * D, 31.5 * D, 0.2], 3e-6)]
+    (tmp_path / "serial").mkdir()
+    serial = tmp_path / "serial" / "reference.h5"
+    reference, resumed = tmp_path / "reference.h5", tmp_path / "resumed.h5"
+    run_serial(serial, *args)
+    run_mpi(reference, *args)
+    stopped = run_mpi(resumed, *args, "--stop-after-steps", "133", check=False)
+    assert stopped.returncode == 143, stopped.stderr
+    restart = Path(str(resumed) + ".restart")
+    with h5py.File(restart, "r") as f:
+        rows = int(f["output"].attrs["station_rows"])
+        next_station = float(f["run"].attrs["next_station"])
+    with h5py.File(resumed, "r") as f:
+        assert f["stations/time"].shape[0] == rows
+        assert rows == 32  # t = 0 and every 3 us up to step 133
+        assert f["stations/time"][-1] < next_station <= f["stations/time"][-1] + 3e-6 * (1 + 1e-9)
+    done = run_mpi(None, "--resume", str(resumed))
+    assert "resumed from step 133" in done.stderr and "completed after" in done.stderr
+    assert_files_identical(reference, resumed)
+    assert_stations_identical(serial, resumed)
+    with h5py.File(resumed, "r") as f:
+        assert f["stations/time"].shape[0] > 2 * rows
+
+
 # 6 transits (780 steps) of the demo; the block operator, half-spaces and
 # dissimilar bodies (tiny_bodies.toml, tiny_half_space.toml: 320 steps; the
 # normal stress, its opening and the pair operators) restore their own states.
@@ -276,7 +379,6 @@ def test_restart_points_resume_on_as_many_processes_only(tmp_path):
 
 
 @pytest.mark.parametrize("args, names", [
-    (["--set", "output.stations=[0.1]", "--set", "output.stations_z=[0.1]"], "output.stations"),
     (["--set", "geometry.nodes_z=1", "--set", "geometry.width=0.25"], "geometry.nodes_z = 1"),
 ])
 def test_refused_in_one_line_by_rank_0(tmp_path, args, names):
