@@ -93,6 +93,9 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
   if (!is_power_of_two(design.split_level))
     throw std::invalid_argument("FaceBlockHistory: split_level = " + std::to_string(design.split_level) +
                                 " must be a power of two");
+  if (!is_power_of_two(design.bin_order_level))
+    throw std::invalid_argument("FaceBlockHistory: bin_order_level = " + std::to_string(design.bin_order_level) +
+                                " must be a power of two");
   if (!is_power_of_two(block_) || block_ < 2 * direct_block_)
     throw std::invalid_argument("FaceBlockHistory: block = " + std::to_string(block_) +
                                 " must be a power of two >= 2 direct_block");
@@ -142,9 +145,20 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
   std::vector<FftwPlan> kernel_plans;
   for (int s = direct_block_; s < block_; s *= 2) {
     const bool split = s >= design.split_level;
+    const bool bin_order = split && s >= design.bin_order_level;
     const int length = split ? s : 2 * s;
-    levels_.push_back({s, split, complex_dft_plan(length, FFTW_FORWARD, "FaceBlockHistory"),
-                       complex_dft_plan(length, FFTW_BACKWARD, "FaceBlockHistory"), spectrum_size, twiddle_size});
+    if (bin_order)
+      // Forward: the two halves (even and odd bins, contiguous inputs s apart)
+      // into one spectrum of 2s points in bin order (stride 2); backward: from
+      // it into the two halves' outputs interleaved (stride 2 both sides).
+      levels_.push_back({s, true, true,
+                         strided_pair_dft_plan(s, 1, s, 2, 1, FFTW_FORWARD, "FaceBlockHistory"),
+                         strided_pair_dft_plan(s, 2, 1, 2, 1, FFTW_BACKWARD, "FaceBlockHistory"), spectrum_size,
+                         twiddle_size});
+    else
+      levels_.push_back({s, split, false, complex_dft_plan(length, FFTW_FORWARD, "FaceBlockHistory"),
+                         complex_dft_plan(length, FFTW_BACKWARD, "FaceBlockHistory"), spectrum_size,
+                         twiddle_size});
     kernel_plans.push_back(complex_dft_plan(2 * s, FFTW_FORWARD, "FaceBlockHistory"));
     spectrum_size += static_cast<std::size_t>(n_modes_) * (s + 1);
     if (!split) continue;
@@ -288,16 +302,42 @@ void FaceBlockHistory::convolve_split_level(int q, const Level& level, int start
   fftw_complex* fy = scratch.level_y.get();
   fftw_complex* sx = scratch.spectrum_x.get();
   fftw_complex* sy = scratch.spectrum_y.get();
-  fftw_execute_dft(level.forward.get(), fx, sx);
-  fftw_execute_dft(level.forward.get(), fx + s, sx + s);
-  fftw_execute_dft(level.forward.get(), fy, sy);
-  fftw_execute_dft(level.forward.get(), fy + s, sy + s);
   const std::size_t at = level.first_spectrum + q * (s + 1);
   const auto* ka = reinterpret_cast<const double*>(spectrum_a_.data() + at);
   const auto* kb = reinterpret_cast<const double*>(spectrum_b_.data() + at);
   const auto* kd = reinterpret_cast<const double*>(spectrum_d_.data() + at);
   auto* x = reinterpret_cast<double*>(sx);
   auto* y = reinterpret_cast<double*>(sy);
+  const double scale = 1.0 / (2.0 * s);
+  if (level.bin_order) {
+    // The same sums through the stride-2 plans: bin k of the length-2s
+    // spectrum at index k, and each half's output j at 2j (even bins) and
+    // 2j + 1 (odd bins).
+    fftw_execute_dft(level.forward.get(), fx, sx);
+    fftw_execute_dft(level.forward.get(), fy, sy);
+    for (int k = 0; k < 2 * s; ++k) spectral_product(ka, kb, kd, s, k, x, y, k);
+    fftw_execute_dft(level.backward.get(), sx, fx);
+    fftw_execute_dft(level.backward.get(), sy, fy);
+    auto* out_x = reinterpret_cast<double*>(rows_.accumulator(0, q) + start + s);
+    auto* out_y = reinterpret_cast<double*>(rows_.accumulator(1, q) + start + s);
+    const auto* zx = reinterpret_cast<const double*>(bx);
+    const auto* zy = reinterpret_cast<const double*>(by);
+    for (int j = 0; j < s; ++j) {
+      // E - conj(w) O
+      const double wr = w[2 * j], wi = w[2 * j + 1];
+      const double* ex = zx + 4 * j;
+      const double* ey = zy + 4 * j;
+      out_x[2 * j] += (ex[0] - (wr * ex[2] + wi * ex[3])) * scale;
+      out_x[2 * j + 1] += (ex[1] - (wr * ex[3] - wi * ex[2])) * scale;
+      out_y[2 * j] += (ey[0] - (wr * ey[2] + wi * ey[3])) * scale;
+      out_y[2 * j + 1] += (ey[1] - (wr * ey[3] - wi * ey[2])) * scale;
+    }
+    return;
+  }
+  fftw_execute_dft(level.forward.get(), fx, sx);
+  fftw_execute_dft(level.forward.get(), fx + s, sx + s);
+  fftw_execute_dft(level.forward.get(), fy, sy);
+  fftw_execute_dft(level.forward.get(), fy + s, sy + s);
   // Bin k at index k/2 (even k) or s + k/2 (odd k).
   for (int m = 0; m < s; ++m) {
     spectral_product(ka, kb, kd, s, 2 * m, x, y, m);
@@ -313,7 +353,6 @@ void FaceBlockHistory::convolve_split_level(int q, const Level& level, int start
   const auto* ey = reinterpret_cast<const double*>(by);
   const double* ox = ex + 2 * s;
   const double* oy = ey + 2 * s;
-  const double scale = 1.0 / (2.0 * s);
   for (int j = 0; j < s; ++j) {
     // E - conj(w) O
     const double wr = w[2 * j], wi = w[2 * j + 1];

@@ -49,6 +49,13 @@ struct FaceBlockDesign {
   // ~4.5x the time of the half-length ones (one body at N = 2048, H = 1 m,
   // docs/notes/2026-11-27-pair-levels.md).
   int split_level = 2048;
+  // Split levels of s >= bin_order_level (a power of two) write their two
+  // half-length spectra interleaved, in bin order, and read them back so:
+  // FFTW_ESTIMATE's plan of a contiguous transform of 8192 points takes ~38
+  // us, the same transform written (or read and written) with stride 2
+  // ~17-19 us; at 4096 points the two are equal and at 2048 the strided one is
+  // the slower (docs/notes/2026-11-27-pair-bin-order.md).
+  int bin_order_level = 8192;
   // The far field's two components share one interleaved grid from this many
   // grid points (2B) on (GaussianNufft::PassScratch).
   int nufft_interleave_from = GaussianNufft::interleaved_grid;
@@ -130,6 +137,7 @@ class FaceBlockHistory final : public FaceHistory {
   struct Level {
     int size;    // s: inputs per convolution, a circular convolution of length 2s
     bool split;  // transforms of length s (convolve_split_level), else 2s
+    bool bin_order;  // split, both halves' spectra interleaved in bin order (stride-2 plans of two)
     FftwPlan forward, backward;
     std::size_t first_spectrum;  // into the spectra, (s + 1) per mode q
     std::size_t first_twiddle;   // into twiddle_, s values

@@ -27,6 +27,18 @@ FftwPlan interleaved_dft_plan(int n, int howmany, int sign, const char* who) {
                     who);
 }
 
+FftwPlan strided_pair_dft_plan(int n, int in_stride, int in_dist, int out_stride, int out_dist, int sign,
+                               const char* who) {
+  const auto extent = [n](int stride, int dist) {
+    return static_cast<std::size_t>(n - 1) * stride + static_cast<std::size_t>(dist) + 1;
+  };
+  auto in = make_fftw_buffer<fftw_complex>(extent(in_stride, in_dist));
+  auto out = make_fftw_buffer<fftw_complex>(extent(out_stride, out_dist));
+  return owned_plan(fftw_plan_many_dft(1, &n, 2, in.get(), nullptr, in_stride, in_dist, out.get(), nullptr,
+                                       out_stride, out_dist, sign, FFTW_ESTIMATE),
+                    who);
+}
+
 RealFft::RealFft(int nodes)
     : nodes_(nodes),
       real_(make_fftw_buffer<double>(nodes)),

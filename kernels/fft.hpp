@@ -50,6 +50,15 @@ FftwPlan complex_dft_plan(int n, int sign, const char* who);
 // The same for `howmany` transforms of length n interleaved point by point
 // (value j of transform c at j howmany + c), in and out.
 FftwPlan interleaved_dft_plan(int n, int howmany, int sign, const char* who);
+// Two transforms of length n with any strides and distances (FFTW's
+// "advanced" layout: value j of transform c at c dist + j stride), in and out.
+// At 8192 and 16384 points FFTW_ESTIMATE plans a contiguous transform written
+// or read with stride 2 in ~0.45x and ~0.6x the time of the all-contiguous
+// one (its contiguous plan of these lengths is the slow one;
+// docs/notes/2026-11-27-pair-bin-order.md), which FaceBlockHistory's largest
+// levels use.
+FftwPlan strided_pair_dft_plan(int n, int in_stride, int in_dist, int out_stride, int out_dist, int sign,
+                               const char* who);
 
 class RealFft {
  public:

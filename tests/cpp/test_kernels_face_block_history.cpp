@@ -142,6 +142,55 @@ TEST_CASE("block face history: levels split into transforms of half length equal
                   std::invalid_argument);
 }
 
+TEST_CASE("block face history: split levels with spectra in bin order equal the modal face history") {
+  // Split levels of s >= bin_order_level write both halves' spectra
+  // interleaved in bin order and read them back with stride 2 (the layout of
+  // s >= 8192 at full size), forced here at B = 256: every split level so (32)
+  // and some (64), against the modal operator with the tolerance of the tests
+  // above, and against the same split levels in halves to rounding.
+  ElasticMaterial m;
+  for (int from : {32, 64}) {
+    slipstrip::FaceBlockDesign design;
+    design.split_level = 32;
+    design.bin_order_level = from;
+    int block = 0;
+    const double error = block_vs_modal(m, 1.5, OuterFace::driven, 0.25, 16, 700, design, &block);
+    CAPTURE(from);
+    CHECK(block == 256);
+    CHECK(error < 1e-11);
+    MESSAGE("split levels in bin order from s = ", from, ", block vs modal: ", error);
+  }
+  const double length = 1.0, dt = 0.25 * (length / 16) / m.shear_wave_speed();
+  slipstrip::FaceBlockDesign halves, ordered;
+  halves.split_level = ordered.split_level = 32;
+  ordered.bin_order_level = 32;
+  slipstrip::FaceBlockHistory a(m, 1.5, OuterFace::clamped, length, 16, dt, halves);
+  slipstrip::FaceBlockHistory b(m, 1.5, OuterFace::clamped, length, 16, dt, ordered);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<cd> vx(a.modes()), vy(a.modes());
+  double diff = 0.0, scale = 0.0;
+  for (int n = 0; n < 600; ++n) {
+    for (int q = 0; q < a.modes(); ++q) {
+      vx[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
+      vy[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
+    }
+    a.push(vx, vy);
+    b.push(vx, vy);
+    for (int q = 0; q < a.modes(); ++q) {
+      diff = std::max({diff, std::abs(a.history_x()[q] - b.history_x()[q]),
+                       std::abs(a.history_y()[q] - b.history_y()[q])});
+      scale = std::max({scale, std::abs(a.history_x()[q]), std::abs(a.history_y()[q])});
+    }
+  }
+  MESSAGE("bin order against halves: ", diff / scale);
+  CHECK(diff < 1e-13 * scale);
+  slipstrip::FaceBlockDesign odd;
+  odd.bin_order_level = 96;
+  CHECK_THROWS_AS(slipstrip::FaceBlockHistory(m, 1.5, OuterFace::driven, length, 16, dt, odd),
+                  std::invalid_argument);
+}
+
 TEST_CASE("block face history with the far field's grids interleaved equals the modal face history") {
   // The layout of B >= 4096 (GaussianNufft::interleaved_grid), forced at B = 256,
   // with and without split levels; the tolerance of the tests above.

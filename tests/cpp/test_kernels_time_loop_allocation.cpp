@@ -166,3 +166,29 @@ TEST_CASE("a block body operator with split levels and interleaved far-field gri
     });
   }
 }
+
+TEST_CASE("a block body operator with split levels in bin order does not allocate in push") {
+  // The split levels of s >= bin_order_level through FFTW plans of two
+  // transforms with stride 2 (at full size from s = 8192 on), forced here at
+  // B = 2048 (levels s = 512, 1024).
+  ElasticMaterial m;
+  const double length = 0.1;
+  const int nodes = 16;
+  const double dt = slipstrip::strip_time_step(m, 0.05, length / nodes, 0.25);
+  slipstrip::FaceBlockDesign design{32, kBlock, 12};
+  design.split_level = 512;
+  design.bin_order_level = 512;
+  for (int threads : {1, 2}) {
+    with_threads(threads, [&] {
+      slipstrip::FaceBlockHistory body(m, 0.05, slipstrip::OuterFace::driven, length, nodes, dt, design);
+      REQUIRE(body.period() == kBlock);
+      const auto vx = white_noise(body.modes(), 16);
+      const auto vy = white_noise(body.modes(), 17);
+      const long before = allocations();
+      for (int n = 0; n < kSteps; ++n) body.push(vx[n], vy[n]);
+      const long during = allocations() - before;
+      MESSAGE(threads << " thread(s): allocations in " << kSteps << " pushes: " << during);
+      CHECK(during == 0);
+    });
+  }
+}
