@@ -233,7 +233,6 @@ void GaussianNufft::pass_interleaved(std::span<const double> theta,
   // One frequency's weights each 2C times (re, im of every series), so that
   // its window of 2w grid points is one contiguous run of 4Cw doubles both ways.
   alignas(64) double tap[4 * C * max_half_width];
-  alignas(64) double value[4 * C * max_half_width];
   const int run = 4 * C * w, whole = run - run % lanes;
   std::array<std::complex<double>, C> values;
   for (std::size_t k0 = 0; k0 < theta.size(); k0 += batch) {
@@ -248,12 +247,21 @@ void GaussianNufft::pass_interleaved(std::span<const double> theta,
       }
       // Partial sums in `lanes` lanes, lane l holding series (l / 2) % C, Re
       // for even l and Im for odd (reassociated: the in-order sum is a chain
-      // of 2w dependent additions).
+      // of 2w dependent additions), in two sets taking alternate runs of
+      // `lanes` values: two dependent chains of half the length, which
+      // overlap (with one set, the chain of 12 additions at w = 12, C = 2 was
+      // the forward sum's cost).
       const double* window = forward + at;
-      double part[lanes] = {};
-      for (int l0 = 0; l0 < whole; l0 += lanes)
+      double part[lanes] = {}, other[lanes] = {};
+      int l0 = 0;
+      for (; l0 + 2 * lanes <= whole; l0 += 2 * lanes) {
+        for (int l = 0; l < lanes; ++l) part[l] += window[l0 + l] * tap[l0 + l];
+        for (int l = 0; l < lanes; ++l) other[l] += window[l0 + lanes + l] * tap[l0 + lanes + l];
+      }
+      for (; l0 < whole; l0 += lanes)
         for (int l = 0; l < lanes; ++l) part[l] += window[l0 + l] * tap[l0 + l];
       for (int l = 0; l < run - whole; ++l) part[l] += window[whole + l] * tap[whole + l];
+      for (int l = 0; l < lanes; ++l) part[l] += other[l];
       for (int c = 0; c < C; ++c) {
         double re = 0.0, im = 0.0;
         for (int l = 2 * c; l < lanes; l += 2 * C) {
@@ -263,15 +271,20 @@ void GaussianNufft::pass_interleaved(std::span<const double> theta,
         values[c] = {re, im};
       }
       map(k0 + i, values);
+      // The coefficients of every series repeated over the lanes once (a
+      // register), instead of written over the whole run of 4Cw doubles and
+      // read back: the window's stores are then its own additions alone (the
+      // stores were where this loop waited; one body's push at N = 512,
+      // H = 4 m ~4 % faster, docs/notes/2026-11-27-pair-bin-order.md).
       double* out = adjoint + at;
-      double point[2 * C];
-      for (int c = 0; c < C; ++c) {
-        point[2 * c] = values[c].real();
-        point[2 * c + 1] = values[c].imag();
+      double repeated[lanes];
+      for (int l = 0; l < lanes; ++l) {
+        const std::complex<double>& v = values[(l / 2) % C];
+        repeated[l] = l % 2 == 0 ? v.real() : v.imag();
       }
-      for (int j = 0; j < 2 * w; ++j)
-        for (int l = 0; l < 2 * C; ++l) value[2 * C * j + l] = point[l];
-      for (int l = 0; l < run; ++l) out[l] += value[l] * tap[l];
+      for (int m0 = 0; m0 < whole; m0 += lanes)
+        for (int l = 0; l < lanes; ++l) out[m0 + l] += repeated[l] * tap[m0 + l];
+      for (int l = 0; l < run - whole; ++l) out[whole + l] += repeated[l] * tap[whole + l];
     }
   }
   from_grids(scratch.grid[1].get(), C, scratch.samples.get(), add_out.data());
