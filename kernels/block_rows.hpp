@@ -60,6 +60,7 @@ class BlockRows {
   // closed direct block) and its outputs so far.
   const cplx* input(int c, std::size_t q) const { return input_[c].data() + q * block_; }
   cplx* accumulator(int c, std::size_t q) { return accumulator_[c].data() + q * block_; }
+  const cplx* accumulator(int c, std::size_t q) const { return accumulator_[c].data() + q * block_; }
 
   // Input `tau` (of the block) of mode q, component c, into its direct block.
   void set_input(std::size_t q, int tau, int c, cplx v) {

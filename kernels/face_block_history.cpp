@@ -423,6 +423,45 @@ std::array<double, 4> FaceBlockHistory::direct_part(int q, int slot) const {
   return {xr, xi, yr, yi};
 }
 
+void FaceBlockHistory::prefetch_levels(int q, int tau) const {
+  // Each level's convolution streams its rows (inputs start..start+s-1,
+  // outputs start+s..start+2s-1, both components) and the mode's three
+  // kernel spectra (s + 1 bins each), untouched since long before (rows of
+  // B steps per mode, spectra of every mode): at s <= kPrefetchLevel each
+  // stream is a few cache lines, too short for the hardware prefetcher, so
+  // the convolution waits on every line.  Asked during the previous mode's
+  // work, the lines arrive meanwhile.  close()'s rows (the direct block's
+  // inputs, its used outputs) are among them.
+  constexpr int kPrefetchLevel = 256;
+  constexpr std::size_t per_line = 64 / sizeof(cplx);
+  const auto ahead = [](const void* p, std::size_t values, bool write) {
+    const auto* c = static_cast<const cplx*>(p);
+    for (std::size_t j = 0; j < values; j += per_line)
+      if (write)
+        __builtin_prefetch(c + j, 1, 2);
+      else
+        __builtin_prefetch(c + j, 0, 2);
+  };
+  const int done = tau + 1 - direct_block_;
+  for (int c = 0; c < 2; ++c) {
+    ahead(rows_.input(c, q) + done, direct_block_, true);
+    ahead(rows_.accumulator(c, q) + done, direct_block_, true);
+  }
+  for (const Level& level : levels_) {
+    const int s = level.size;
+    if (s > kPrefetchLevel) break;
+    if ((tau + 1) % (2 * s) != s) continue;
+    const int start = tau + 1 - s;
+    for (int c = 0; c < 2; ++c) {
+      ahead(rows_.input(c, q) + start, static_cast<std::size_t>(s - direct_block_), false);
+      ahead(rows_.accumulator(c, q) + start + s, static_cast<std::size_t>(s), true);
+    }
+    const std::size_t at = level.first_spectrum + static_cast<std::size_t>(q) * (s + 1);
+    for (const auto* spectrum : {&spectrum_a_, &spectrum_b_, &spectrum_d_})
+      ahead(spectrum->data() + at, static_cast<std::size_t>(s) + 1, false);
+  }
+}
+
 void FaceBlockHistory::push_mode(int q, const Step& step, cplx vx, cplx vy, Scratch& scratch) {
   const int tau = step.input, p = step.output, slot = step.output_slot, D = direct_block_;
   rows_.set_direct_input(q, step.input_slot, 0, vx);
@@ -430,6 +469,7 @@ void FaceBlockHistory::push_mode(int q, const Step& step, cplx vx, cplx vy, Scra
   running_x_[q] += vx;
   running_y_[q] += vy;
   if (slot == 0) {
+    if (q + 1 < n_modes_) prefetch_levels(q + 1, tau);
     rows_.close(q, tau);
     for_completed_levels(levels_, tau, [&](std::size_t l, int start) { convolve_level(q, l, start, scratch); });
     if (step.block_done) advance_far_field(q, scratch);

@@ -118,6 +118,9 @@ class FaceBlockHistory final : public FaceHistory {
     int input, output, input_slot, output_slot;
     bool block_done;
   };
+  // The memory mode q's direct block end at input tau will read and write
+  // (close's rows, the short levels' rows and kernel spectra), requested ahead.
+  void prefetch_levels(int q, int tau) const;
   // Input tau (v_x, v_y) of mode q and its output for the next step.
   void push_mode(int q, const Step& step, std::complex<double> vx, std::complex<double> vy, Scratch& scratch);
 
