@@ -53,6 +53,35 @@ double block_vs_modal(const ElasticMaterial& m, double height, OuterFace face, d
   return diff / scale;
 }
 
+// Two operators fed the same random slip and opening rates for `steps` steps
+// (seeded): the largest difference of their histories, and the largest
+// history, over every step and mode.
+struct HistoryDifference {
+  double diff = 0.0, scale = 0.0;
+};
+
+HistoryDifference same_inputs_difference(slipstrip::FaceBlockHistory& a, slipstrip::FaceBlockHistory& b,
+                                         unsigned seed, int steps) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<cd> vx(a.modes()), vy(a.modes());
+  HistoryDifference d;
+  for (int n = 0; n < steps; ++n) {
+    for (int q = 0; q < a.modes(); ++q) {
+      vx[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
+      vy[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
+    }
+    a.push(vx, vy);
+    b.push(vx, vy);
+    for (int q = 0; q < a.modes(); ++q) {
+      d.diff = std::max({d.diff, std::abs(a.history_x()[q] - b.history_x()[q]),
+                         std::abs(a.history_y()[q] - b.history_y()[q])});
+      d.scale = std::max({d.scale, std::abs(a.history_x()[q]), std::abs(a.history_y()[q])});
+    }
+  }
+  return d;
+}
+
 }  // namespace
 
 TEST_CASE("block face history equals the modal face history (strain, stress; driven, clamped)") {
@@ -117,23 +146,7 @@ TEST_CASE("block face history: levels split into transforms of half length equal
   split.split_level = 32;
   slipstrip::FaceBlockHistory a(m, 1.5, OuterFace::driven, length, 16, dt, whole);
   slipstrip::FaceBlockHistory b(m, 1.5, OuterFace::driven, length, 16, dt, split);
-  std::mt19937 rng(3);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  std::vector<cd> vx(a.modes()), vy(a.modes());
-  double diff = 0.0, scale = 0.0;
-  for (int n = 0; n < 600; ++n) {
-    for (int q = 0; q < a.modes(); ++q) {
-      vx[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
-      vy[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
-    }
-    a.push(vx, vy);
-    b.push(vx, vy);
-    for (int q = 0; q < a.modes(); ++q) {
-      diff = std::max({diff, std::abs(a.history_x()[q] - b.history_x()[q]),
-                       std::abs(a.history_y()[q] - b.history_y()[q])});
-      scale = std::max({scale, std::abs(a.history_x()[q]), std::abs(a.history_y()[q])});
-    }
-  }
+  const auto [diff, scale] = same_inputs_difference(a, b, 3, 600);
   MESSAGE("split against whole levels: ", diff / scale);
   CHECK(diff < 1e-13 * scale);
   slipstrip::FaceBlockDesign odd;
@@ -166,23 +179,7 @@ TEST_CASE("block face history: split levels with spectra in bin order equal the 
   ordered.bin_order_level = 32;
   slipstrip::FaceBlockHistory a(m, 1.5, OuterFace::clamped, length, 16, dt, halves);
   slipstrip::FaceBlockHistory b(m, 1.5, OuterFace::clamped, length, 16, dt, ordered);
-  std::mt19937 rng(5);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  std::vector<cd> vx(a.modes()), vy(a.modes());
-  double diff = 0.0, scale = 0.0;
-  for (int n = 0; n < 600; ++n) {
-    for (int q = 0; q < a.modes(); ++q) {
-      vx[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
-      vy[q] = cd(noise(rng), q == 0 ? 0.0 : noise(rng));
-    }
-    a.push(vx, vy);
-    b.push(vx, vy);
-    for (int q = 0; q < a.modes(); ++q) {
-      diff = std::max({diff, std::abs(a.history_x()[q] - b.history_x()[q]),
-                       std::abs(a.history_y()[q] - b.history_y()[q])});
-      scale = std::max({scale, std::abs(a.history_x()[q]), std::abs(a.history_y()[q])});
-    }
-  }
+  const auto [diff, scale] = same_inputs_difference(a, b, 5, 600);
   MESSAGE("bin order against halves: ", diff / scale);
   CHECK(diff < 1e-13 * scale);
   slipstrip::FaceBlockDesign odd;
