@@ -136,7 +136,7 @@ std::vector<std::string> read_string_array_attribute(hid_t object, const std::st
 
 // A damaged or hand-made file may hold an array, a string or a bool (an HDF5
 // enum) where a number belongs: reading it into one value would overrun the
-// buffer (issue 15: a segfault), so shape and type are checked first.
+// buffer (measured: a segfault), so shape and type are checked first.
 void read_number_attribute(hid_t object, const std::string& name, hid_t memory_type, void* value) {
   const Handle attribute = open_attribute(object, name);
   const Handle space = adopt(H5Aget_space(attribute), "H5Aget_space", object, "@" + name);

@@ -1,4 +1,4 @@
-"""Seeded fuzz corpus of the slipstrip CLI (issue 15, item 5; run by
+"""Seeded fuzz corpus of the slipstrip CLI (run by
 tests/python/test_fuzz.py, described in docs/reliability.md, "Fuzz corpus").
 
 The generator is pure: `generate(repo, layout, seed)` returns the same list of

@@ -1,5 +1,5 @@
-"""[output] stations, /rupture_front and `slipstrip export --seas` (issue 13
-item 1): a tiny run records stations on nodes and between nodes at every
+"""[output] stations, /rupture_front and `slipstrip export --seas`
+(docs/output.md): a tiny run records stations on nodes and between nodes at every
 step; node stations equal the snapshot values exactly, a mid-cell station is
 the mean of its two nodes, the global series are consistent with the fields,
 and the exported text files have the SEAS layout (# header, field-name line,
