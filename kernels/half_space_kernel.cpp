@@ -193,6 +193,101 @@ ExponentialSum in_plane_exponential_sum(double r2, double static_value, const In
                              });
 }
 
+std::vector<ExponentialSum> branch_cut_exponential_sums(std::span<const double> heights,
+                                                        std::span<const double> static_values,
+                                                        const CutTransform& on_cut, double tau_min, double tau_max,
+                                                        int nodes_per_panel, double tolerance) {
+  if (!(tau_min > 0.0 && tau_max > tau_min))
+    throw std::invalid_argument("branch_cut_exponential_sums: need 0 < tau_min < tau_max");
+  if (nodes_per_panel < 2 || nodes_per_panel > 32)
+    throw std::invalid_argument("branch_cut_exponential_sums: nodes_per_panel must be in [2, 32]");
+  if (!(tolerance > 0.0)) throw std::invalid_argument("branch_cut_exponential_sums: need tolerance > 0");
+  if (heights.empty() || static_values.empty())
+    throw std::invalid_argument("branch_cut_exponential_sums: need at least one branch point and one transform");
+  for (std::size_t k = 0; k < heights.size(); ++k) {
+    if (!(heights[k] > 0.0 && std::isfinite(heights[k])))
+      throw std::invalid_argument("branch_cut_exponential_sums: branch heights must be positive and finite");
+    for (std::size_t l = 0; l < k; ++l)
+      if (heights[l] == heights[k])
+        throw std::invalid_argument("branch_cut_exponential_sums: branch heights must be distinct");
+  }
+  const std::size_t entries = static_values.size(), branches = heights.size();
+  const double u_min = 1.0 / std::sqrt(tau_max);
+  const double u_max = std::sqrt(36.0 / tau_min);
+  std::vector<double> edges{0.0, u_min};
+  while (edges.back() < u_max) edges.push_back(2.0 * edges.back());
+  std::vector<double> taus;
+  for (double tau = tau_min; tau < tau_max; tau *= 2.0) taus.push_back(tau);
+  taus.push_back(tau_max);
+  const auto rule = gauss_legendre(nodes_per_panel);
+
+  // One panel's rule on cut j: per node x = u^2 and the entries' amplitudes
+  // w 2u (-jump / (2 pi i)).
+  struct PanelRule {
+    std::vector<double> x;
+    std::vector<complex> amplitude;  // node-major, `entries` per node
+  };
+  std::vector<complex> factor(branches), upper(entries), lower(entries);
+  const auto panel_rule = [&](std::size_t j, double a, double c) {
+    PanelRule out;
+    for (int n = 0; n < nodes_per_panel; ++n) {
+      const double u = 0.5 * (c - a) * rule.node[n] + 0.5 * (c + a);
+      const double w = 0.5 * (c - a) * rule.weight[n];
+      const double x = u * u;
+      const complex zeta(-x, heights[j]);
+      for (int side : {+1, -1}) {
+        for (std::size_t k = 0; k < branches; ++k)
+          factor[k] = k == j ? complex(0.0, side * std::sqrt(x)) : std::sqrt(zeta - complex(0.0, heights[k]));
+        on_cut(zeta, factor, side > 0 ? std::span<complex>(upper) : std::span<complex>(lower));
+      }
+      out.x.push_back(x);
+      for (std::size_t e = 0; e < entries; ++e)
+        out.amplitude.push_back(w * 2.0 * u * (-(upper[e] - lower[e]) / complex(0.0, 2.0 * pi)));
+    }
+    return out;
+  };
+  // The panel's contribution to entry e at tau (the cut's common factor
+  // e^{i b tau} left out).
+  const auto moment = [&](const PanelRule& r, std::size_t e, double tau) {
+    complex acc = 0.0;
+    for (std::size_t n = 0; n < r.x.size(); ++n) acc += r.amplitude[n * entries + e] * std::exp(-r.x[n] * tau);
+    return acc;
+  };
+  std::vector<ExponentialSum> sums(entries);
+  for (std::size_t e = 0; e < entries; ++e) sums[e].static_value = static_values[e];
+  const auto append = [&](std::size_t j, const PanelRule& r) {
+    for (std::size_t n = 0; n < r.x.size(); ++n)
+      for (std::size_t e = 0; e < entries; ++e) {
+        sums[e].rate.emplace_back(-r.x[n], heights[j]);
+        sums[e].amplitude.push_back(r.amplitude[n * entries + e]);
+      }
+  };
+  constexpr int kMaxSplits = 12;
+  const auto refine = [&](auto&& self, std::size_t j, double a, double c, int depth, const PanelRule& coarse) -> void {
+    if (depth < kMaxSplits) {
+      const double m = 0.5 * (a + c);
+      const PanelRule left = panel_rule(j, a, m), right = panel_rule(j, m, c);
+      bool agree = true;
+      for (std::size_t e = 0; e < entries && agree; ++e)
+        for (double tau : taus)
+          if (std::abs(moment(coarse, e, tau) - moment(left, e, tau) - moment(right, e, tau)) > tolerance) {
+            agree = false;
+            break;
+          }
+      if (!agree) {
+        self(self, j, a, m, depth + 1, left);
+        self(self, j, m, c, depth + 1, right);
+        return;
+      }
+    }
+    append(j, coarse);
+  };
+  for (std::size_t j = 0; j < branches; ++j)
+    for (std::size_t p = 0; p + 1 < edges.size(); ++p)
+      refine(refine, j, edges[p], edges[p + 1], 0, panel_rule(j, edges[p], edges[p + 1]));
+  return sums;
+}
+
 double evaluate(const ExponentialSum& sum, double tau) {
   complex acc = 0.0;
   for (std::size_t j = 0; j < sum.rate.size(); ++j) acc += sum.amplitude[j] * std::exp(sum.rate[j] * tau);

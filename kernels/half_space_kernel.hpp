@@ -18,6 +18,7 @@
 // any interval [tau_min, tau_max].
 #include <complex>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
@@ -80,6 +81,31 @@ ExponentialSum in_plane_exponential_sum(double speed_ratio_squared, double stati
                                         int nodes_per_panel = 10);
 
 double evaluate(const ExponentialSum& sum, double tau);
+
+// The same construction for several transforms G_e(p) (e = 0..entries-1) that
+// share any set of branch points p = +-i b_k (b_k > 0, distinct) and are real
+// on the real axis: each singular only through the factors sqrt(zeta - i b_k)
+// (and the regular sqrt(zeta + i b_k)), with a simple pole at p = 0 of residue
+// static_values[e] = g_e(inf), no other singularity in the plane cut
+// horizontally from each i b_k into Re p < 0 (and its mirror image), and
+// bounded as |p| -> inf there.  `on_cut(zeta, factor, out)` writes G_e(zeta)
+// into out[e] given factor[k] = sqrt(zeta - i b_k) continued as
+// roots_on_cut does for one body: on the cut leaving i b_j, factor[j] =
+// +i sqrt(x) on the upper side and -i sqrt(x) on the lower, every other factor
+// principal (only the root that branches at b_j jumps there).  The panels in
+// u = sqrt(x) are those of in_plane_exponential_sum, each split in halves
+// (recursively, up to 12 times) while its rule and its halves' rules differ by
+// more than `tolerance` in any entry's contribution e^{-x tau} at tau =
+// tau_min 2^m <= tau_max and at tau_max: a transform of several bodies has
+// singular points near its cuts on the other sheets (the continuation of one
+// side of a cut), which one rule per panel does not resolve.  Every sum gets
+// the same rates.
+using CutTransform = std::function<void(std::complex<double> zeta, std::span<const std::complex<double>> factor,
+                                        std::span<std::complex<double>> out)>;
+std::vector<ExponentialSum> branch_cut_exponential_sums(std::span<const double> branch_heights,
+                                                        std::span<const double> static_values,
+                                                        const CutTransform& on_cut, double tau_min, double tau_max,
+                                                        int nodes_per_panel, double tolerance);
 
 // g'(0) = 7/4 - 2 r: the initial slope that makes the high-frequency tail of
 // G(i w) ~ -g'(0) / w^2 (the source of aliasing when g is sampled).
