@@ -1,6 +1,6 @@
 """python3 -m slipstrip <command> [...]
 
-  plot     RUN.h5 [--out spacetime.png] [--kind spacetime|timeseries|maps] [--times T1,T2,...]
+  plot     RUN.h5 [--out spacetime.png] [--kind spacetime|timeseries|maps] [--times T1,T2,...] [--z Z]
   plot-stability  TABLE.csv --out FIG.png   (the CSV of `slipstrip stability --out`)
   analyze  ...  (slipstrip.analysis.main)
   scan     ...  (slipstrip.scan.main)
@@ -42,8 +42,13 @@ def plot_main(argv: list[str]) -> int:
     parser.add_argument("--out", default=None,
                         help="output PNG (default: spacetime.png or timeseries.png in the current directory)")
     parser.add_argument("--kind", choices=("spacetime", "timeseries", "maps"), default=None,
-                        help="spacetime (a line; the default there), maps (a 2D interface: slip-rate maps over "
+                        help="spacetime (a line: log10(v/v0) over x and t, the default there; a 2D interface: "
+                             "three panels over t, |v| along x on one row of nodes, the largest |v| across z "
+                             "at each x and along x at each z), maps (a 2D interface: slip-rate maps over "
                              "(x, z) with the rupture front; the default there), timeseries (both)")
+    parser.add_argument("--z", type=float, default=None,
+                        help="spacetime of a 2D interface: the row of nodes nearest to this z [m] in the first "
+                             "panel (default: the row that holds the largest slip rate)")
     parser.add_argument("--times", default=None,
                         help="maps: comma-separated times [s] of the maps (default: four snapshots spread "
                              "over the run)")
@@ -61,9 +66,9 @@ def plot_main(argv: list[str]) -> int:
         print(f"error: {one_line(e)}", file=sys.stderr)
         return 2
     kind = args.kind or ("maps" if plane else "spacetime")
-    if kind == "spacetime" and plane:
-        print(f"error: {args.run} is a 2D interface (geometry.nodes_z > 1): it has no space-time map of a line; "
-              "use --kind maps (slip-rate maps over (x, z)) or --kind timeseries", file=sys.stderr)
+    if args.z is not None and not (kind == "spacetime" and plane):
+        print("error: --z applies to --kind spacetime of a 2D interface (geometry.nodes_z > 1) only",
+              file=sys.stderr)
         return 2
     if kind == "maps" and not plane:
         print(f"error: --kind maps draws a 2D interface (geometry.nodes_z > 1); {args.run} is a line: "
@@ -90,6 +95,8 @@ def plot_main(argv: list[str]) -> int:
     try:
         if kind == "maps":
             plots.interface_2d_maps(args.run, out, times=times, dpi=args.dpi)
+        elif kind == "spacetime" and plane:
+            plots.interface_2d_spacetime(args.run, out, z=args.z, vmin=args.vmin, vmax=args.vmax, dpi=args.dpi)
         elif kind == "spacetime":
             plots.spacetime(args.run, out, vmin=args.vmin, vmax=args.vmax, dpi=args.dpi)
         else:

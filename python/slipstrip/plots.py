@@ -10,6 +10,9 @@ timeseries(run, out_png): max slip rate and mean shear stress against time.
 interface_2d_maps(run, out_png, times): a 2D interface (docs/3d.md): maps of
 log10(|v|/v0) over (x, z) at chosen times with the rupture front drawn as
 contours.
+interface_2d_spacetime(run, out_png, z=None): a 2D interface's space-time
+view: |v| along x on one row of nodes, the largest |v| across z at each x,
+and the largest |v| along x at each z, each against t c_s / L.
 """
 from __future__ import annotations
 
@@ -25,8 +28,8 @@ import numpy as np  # noqa: E402
 
 from .runfile import RunFile, open_run  # noqa: E402
 
-__all__ = ["SPACETIME_CMAP", "draw_log_rate", "interface_2d_maps", "interface_2d_map_axes", "spacetime",
-           "spacetime_axes", "timeseries"]
+__all__ = ["SPACETIME_CMAP", "draw_log_rate", "interface_2d_maps", "interface_2d_map_axes",
+           "interface_2d_spacetime", "interface_2d_spacetime_axes", "spacetime", "spacetime_axes", "timeseries"]
 
 # Upper bound of cells drawn per axis: a longer run is subsampled (every k-th
 # snapshot / node) so memory and drawing time stay bounded whatever the run size.
@@ -273,6 +276,104 @@ def interface_2d_map_axes(run, axes, times, front_slip_rate: float | None = None
         maps.append({"time": float(t[k]), "index": k, "speed": speed, "mesh": mesh, "front": front,
                      "front_slip_rate": front_slip_rate})
     return maps
+
+
+def interface_2d_spacetime_axes(run, axes, z: float | None = None, max_cells: int = MAX_CELLS,
+                                vmin: float | None = None, vmax: float | None = None) -> dict:
+    """A 2D interface (docs/3d.md) in space and time, on three axes, each
+    log10(|v|/v0) against t c_s / L with one colour scale (default: the range
+    of the three fields):
+
+    axes[0]: |v| along x on the row of nodes nearest to `z` [m] (default: the
+             row that holds the largest |v| of the drawn snapshots), the
+             paper's space-time map of one line of the interface;
+    axes[1]: the largest |v| across z at each x: every front that crosses x,
+             wherever it is in z (a front confined to other rows than
+             axes[0]'s shows here and not there);
+    axes[2]: the largest |v| along x at each z: how far across the width each
+             event reaches.
+
+    |v| is the slip speed hypot(v_x, v_z).  More than max_cells snapshots are
+    subsampled (every k-th); each drawn snapshot is read once, so memory stays
+    at one map plus the three fields whatever the run's length.  Returns the
+    fields ("row" [n, N], "max_over_z" [n, N], "max_over_x" [n, N_z]), the
+    snapshot indices and times drawn, the row index and its z, and the three
+    QuadMeshes."""
+    run = _as_run(run)
+    if not run.interface_2d:
+        raise ValueError(f"run file '{run.path}' is not a 2D interface (geometry.nodes_z = 1): "
+                         "use spacetime() for its space-time map")
+    snaps = run.snapshots
+    t = snaps.time
+    if len(t) == 0:
+        raise ValueError(f"run file '{run.path}' has no snapshots: set [output] snapshot_interval > 0")
+    x, zs = snaps.x, snaps.z
+    if z is not None and not (0.0 <= z <= run.width):
+        raise ValueError(f"z = {z:g} m lies outside the interface's width [0, {run.width:g}] m")
+    indices = np.arange(0, len(t), max(1, math.ceil(len(t) / max_cells)))
+    n_z, n_x = len(zs), len(x)
+    max_over_z = np.empty((len(indices), n_x))
+    max_over_x = np.empty((len(indices), n_z))
+    fixed_row = None if z is None else int(np.argmin(np.abs(zs - z)))
+    row = np.empty((len(indices), n_x))
+    best_row, best_speed = 0, -np.inf
+    from .runfile import open_h5
+    with open_h5(run.path) as f:
+        vx, vz = f["snapshots/slip_rate_x"], f["snapshots/slip_rate_z"]
+        for i, k in enumerate(indices):
+            speed = np.hypot(vx[k], vz[k])  # [N_z, N]
+            max_over_z[i] = speed.max(axis=0)
+            max_over_x[i] = speed.max(axis=1)
+            if fixed_row is not None:
+                row[i] = speed[fixed_row]
+            elif speed.max() > best_speed:
+                best_speed, best_row = float(speed.max()), int(np.argmax(speed.max(axis=1)))
+        if fixed_row is None:
+            # The row is known only after the first pass: read it across the
+            # drawn snapshots (one hyperslab per component).
+            row = np.hypot(vx[indices, best_row, :], vz[indices, best_row, :])
+    j = best_row if fixed_row is None else fixed_row
+    v0 = run.driving_velocity
+    fields = (row, max_over_z, max_over_x)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        logs = np.concatenate([np.log10(a[a > 0] / v0) for a in fields])
+    logs = logs[np.isfinite(logs)]
+    if logs.size == 0:
+        raise ValueError(f"run file '{run.path}': no positive slip rate in the drawn snapshots")
+    lo = float(logs.min()) if vmin is None else vmin
+    hi = float(logs.max()) if vmax is None else vmax
+    L = run.length
+    time_axis = t[indices] * run.shear_wave_speed / L
+    meshes = [draw_log_rate(axes[0], x, time_axis, row, v0, vmin=lo, vmax=hi, max_cells=max_cells),
+              draw_log_rate(axes[1], x, time_axis, max_over_z, v0, vmin=lo, vmax=hi, max_cells=max_cells),
+              draw_log_rate(axes[2], zs, time_axis, max_over_x, v0, vmin=lo, vmax=hi, max_cells=max_cells)]
+    titles = (f"|v| on z = {zs[j]:.4g} m", "largest |v| across z", "largest |v| along x")
+    for ax, title, label, extent in zip(axes, titles, ("x [m]", "x [m]", "z [m]"), (L, L, run.width)):
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel(label)
+        ax.set_xlim(0.0, extent)
+        ax.set_ylabel(r"t $c_s$ / L")
+    return {"row": row, "max_over_z": max_over_z, "max_over_x": max_over_x, "indices": indices,
+            "time": t[indices], "row_index": j, "row_z": float(zs[j]), "meshes": meshes}
+
+
+def interface_2d_spacetime(run, out_png: str | os.PathLike, z: float | None = None,
+                           vmin: float | None = None, vmax: float | None = None, dpi: int = 150) -> str:
+    """The space-time view of a 2D interface (interface_2d_spacetime_axes) as
+    three panels side by side and one colour bar; returns the PNG's path."""
+    run = _as_run(run)
+    fig, axes = plt.subplots(1, 3, figsize=(13.0, 6.0), constrained_layout=True)
+    try:
+        drawn = interface_2d_spacetime_axes(run, axes, z=z, vmin=vmin, vmax=vmax)
+        fig.colorbar(drawn["meshes"][0], ax=axes.tolist(), label=r"log$_{10}$(|v| / $v_0$)")
+        fig.suptitle(f"{os.path.basename(run.path)}: H = {_format_length(run.height)}, "
+                     f"L = {_format_length(run.length)}, width {_format_length(run.width)}, "
+                     f"{run.nodes} x {run.nodes_z} nodes  (status: {run.status})", fontsize=10)
+        out = os.fspath(out_png)
+        fig.savefig(out, dpi=dpi)
+    finally:
+        plt.close(fig)
+    return out
 
 
 def interface_2d_maps(run, out_png: str | os.PathLike, times=None, front_slip_rate: float | None = None,

@@ -82,7 +82,7 @@ def test_analyze_draws_maps_hypocentres_and_four_pdfs(analysed, monkeypatch):
     largest = int(np.argmax(catalog["M0"]))
     names = {os.path.basename(p) for p in summary["figures"]}
     assert names == {"hypocentres.png", "pdfs.png", "stationarity.png", "threshold_sensitivity.png",
-                     f"event_{largest}_maps.png"}
+                     f"event_{largest}_maps.png", "space_time.png"}
     # The event maps are the snapshots nearest to the start, middle and end of the event.
     with h5py.File(run, "r") as f:
         ts = f["snapshots/time"][:]
@@ -128,9 +128,13 @@ def test_plot_draws_the_maps_of_a_2d_interface(analysed, tmp_path):
     assert distinct_colours(image) > 50
     r = _module("plot", run, "--out", tmp_path / "default.png")  # maps by default
     assert r.returncode == 0 and (tmp_path / "default.png").is_file(), r.stderr
-    r = _module("plot", run, "--kind", "spacetime", "--out", tmp_path / "st.png")
-    assert r.returncode == 2 and "is a 2D interface" in r.stderr and "--kind maps" in r.stderr, r.stderr
-    assert len(r.stderr.strip().splitlines()) == 1 and not (tmp_path / "st.png").exists()
+    r = _module("plot", run, "--kind", "spacetime", "--z", "0.1", "--out", tmp_path / "st.png")
+    assert r.returncode == 0, r.stderr
+    assert distinct_colours(matplotlib.image.imread(tmp_path / "st.png")) > 50
+    for bad in (["--kind", "spacetime", "--z", "5"], ["--kind", "maps", "--z", "0.1"]):
+        r = _module("plot", run, *bad, "--out", tmp_path / "bad_z.png")
+        assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+        assert not (tmp_path / "bad_z.png").exists()
     r = _module("plot", run, "--times", "a,b", "--out", tmp_path / "bad.png")
     assert r.returncode == 2 and "--times" in r.stderr
 

@@ -164,6 +164,55 @@ def test_slip_rate_maps_with_rupture_front_contours(run_2d, slipstrip_module, tm
     assert cyan > 20
 
 
+def test_space_time_view_of_a_2d_interface(run_2d, slipstrip_module, tmp_path):
+    """The three space-time fields against a direct reading of the run file:
+    the row of nodes (chosen by z, or by default the one with the largest
+    speed), the largest speed across z at each x and along x at each z; the
+    subsampling of long runs; the PNG's pixels; a z outside the width refused."""
+    from slipstrip import plots
+    import matplotlib.pyplot as plt
+
+    run = slipstrip_module.open_run(run_2d)
+    with h5py.File(run_2d, "r") as f:
+        speed = np.hypot(f["snapshots/slip_rate_x"][:], f["snapshots/slip_rate_z"][:])  # (n, N_z, N)
+        t = f["snapshots/time"][:]
+        z = f["grid/z"][:]
+    n = len(t)
+    fig, axes = plt.subplots(1, 3)
+    drawn = plots.interface_2d_spacetime_axes(run, axes)
+    assert np.array_equal(drawn["indices"], np.arange(n)) and np.array_equal(drawn["time"], t)
+    peak_row = np.unravel_index(np.argmax(speed), speed.shape)[1]
+    assert drawn["row_index"] == peak_row and drawn["row_z"] == z[peak_row]
+    assert np.array_equal(drawn["row"], speed[:, peak_row, :])
+    assert np.array_equal(drawn["max_over_z"], speed.max(axis=1))
+    assert np.array_equal(drawn["max_over_x"], speed.max(axis=2))
+    # The fronts vary across z in this run (white noise node by node), so the
+    # largest speed across z is above one row's somewhere.
+    assert np.any(drawn["max_over_z"] > drawn["row"])
+    assert axes[0].get_xlim() == (0.0, 0.25) and axes[2].get_xlim() == (0.0, 0.125)
+    plt.close(fig)
+
+    fig, axes = plt.subplots(1, 3)
+    chosen = plots.interface_2d_spacetime_axes(run, axes, z=0.06, max_cells=7)
+    step = -(-n // 7)
+    assert np.array_equal(chosen["indices"], np.arange(0, n, step))
+    row = int(np.argmin(np.abs(z - 0.06)))
+    assert chosen["row_index"] == row
+    assert np.array_equal(chosen["row"], speed[::step, row, :])
+    assert np.array_equal(chosen["max_over_x"], speed[::step].max(axis=2))
+    with pytest.raises(ValueError, match="outside the interface's width"):
+        plots.interface_2d_spacetime_axes(run, axes, z=0.2)
+    plt.close(fig)
+
+    png = tmp_path / "spacetime_2d.png"
+    assert plots.interface_2d_spacetime(run, png) == str(png)
+    image = matplotlib.image.imread(png)
+    height, width = image.shape[:2]
+    assert width > 1.5 * height  # three panels side by side and a colour bar
+    rgb = image[..., :3].reshape(-1, 3)
+    assert len(np.unique((rgb * 255).round().astype(int), axis=0)) > 50
+
+
 def test_maps_of_a_line_are_refused(slipstrip_module, tmp_path):
     from slipstrip import plots
 

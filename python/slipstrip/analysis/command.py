@@ -18,7 +18,7 @@ from ..paths import OutputPathError, check_outputs, one_line
 from ..runfile import open_h5, unreadable_reason
 from .criteria import group_nodal_slips, periodic_pulse_of_run
 from .figures import (plot_event_fields, plot_event_map, plot_event_maps, plot_hypocentres, plot_pdf_comparison,
-                      plot_pdfs, plot_space_slip, plot_space_time)
+                      plot_pdfs, plot_space_slip, plot_space_time, plot_space_time_2d)
 from .reading import DEFAULT_ALPHA, RunInfo, _read_crossing_time, catalog_file_name, catalog_for, read_run_info
 from .statistics import _public, catalog_statistics, stationarity, stationary_part
 
@@ -114,6 +114,8 @@ def analyze(path, out_dir, pdf: bool = False, alpha: float = DEFAULT_ALPHA, even
     figures = []
     if plane:
         figures += plot_hypocentres(catalog, info, out_dir, pdf)
+    if has_snap and plane:
+        figures += plot_space_time_2d(path, info, out_dir, pdf)
     if has_snap and not plane:
         figures += plot_space_time(path, info, out_dir, pdf)
     if has_ss and not plane:

@@ -208,6 +208,18 @@ def plot_hypocentres(catalog: dict, info: RunInfo, out_dir: Path, pdf: bool = Fa
     return _save(fig, out_dir, "hypocentres", pdf)
 
 
+def plot_space_time_2d(path, info: RunInfo, out_dir: Path, pdf: bool = False) -> list[str]:
+    """A 2D interface in space and time (plots.interface_2d_spacetime_axes, the
+    figure of `plot --kind spacetime`): |v| along x on the row of the largest
+    slip rate, the largest |v| across z at each x and along x at each z."""
+    from .. import plots
+    plt = _plt()
+    fig, axes = plt.subplots(1, 3, figsize=(13, 6), constrained_layout=True)
+    drawn = plots.interface_2d_spacetime_axes(path, axes)
+    fig.colorbar(drawn["meshes"][0], ax=axes.tolist(), label=r"log$_{10}$(|v| / $v_0$)")
+    return _save(fig, out_dir, "space_time", pdf)
+
+
 def plot_event_maps(path, catalog: dict, index: int, info: RunInfo, out_dir: Path, pdf: bool = False):
     """A 2D interface: slip-rate maps with the rupture front (plots.interface_2d_map_axes)
     at the snapshots nearest to the start, the middle and the end of event
