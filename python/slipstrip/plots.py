@@ -235,6 +235,20 @@ def interface_2d_frame(ax, length: float, width: float, title: str) -> None:
     ax.set_title(title, fontsize=9)
 
 
+def _interface_2d_snapshots(run):
+    """The run, its /snapshots and their times, for the figures of a 2D
+    interface: refuses a line or a run without snapshots."""
+    run = _as_run(run)
+    if not run.interface_2d:
+        raise ValueError(f"run file '{run.path}' is not a 2D interface (geometry.nodes_z = 1): "
+                         "use spacetime() for its space-time map")
+    snaps = run.snapshots
+    t = snaps.time
+    if len(t) == 0:
+        raise ValueError(f"run file '{run.path}' has no snapshots: set [output] snapshot_interval > 0")
+    return run, snaps, t
+
+
 def interface_2d_map_axes(run, axes, times, front_slip_rate: float | None = None,
                           vmin: float | None = None, vmax: float | None = None) -> list[dict]:
     """A 2D interface (docs/3d.md): on each of `axes`, the map of
@@ -245,14 +259,7 @@ def interface_2d_map_axes(run, axes, times, front_slip_rate: float | None = None
     2 v0).  Returns per map: time (of the snapshot), index, the speed map
     [N_z, N] (z, x), the QuadMesh, the front's contour set (None if the map
     has no node on either side of the threshold) and the threshold."""
-    run = _as_run(run)
-    if not run.interface_2d:
-        raise ValueError(f"run file '{run.path}' is not a 2D interface (geometry.nodes_z = 1): "
-                         "use spacetime() for its space-time map")
-    snaps = run.snapshots
-    t = snaps.time
-    if len(t) == 0:
-        raise ValueError(f"run file '{run.path}' has no snapshots: set [output] snapshot_interval > 0")
+    run, snaps, t = _interface_2d_snapshots(run)
     x, z = snaps.x, snaps.z
     v0 = run.driving_velocity
     if front_slip_rate is None:
@@ -299,14 +306,7 @@ def interface_2d_spacetime_axes(run, axes, z: float | None = None, max_cells: in
     fields ("row" [n, N], "max_over_z" [n, N], "max_over_x" [n, N_z]), the
     snapshot indices and times drawn, the row index and its z, and the three
     QuadMeshes."""
-    run = _as_run(run)
-    if not run.interface_2d:
-        raise ValueError(f"run file '{run.path}' is not a 2D interface (geometry.nodes_z = 1): "
-                         "use spacetime() for its space-time map")
-    snaps = run.snapshots
-    t = snaps.time
-    if len(t) == 0:
-        raise ValueError(f"run file '{run.path}' has no snapshots: set [output] snapshot_interval > 0")
+    run, snaps, t = _interface_2d_snapshots(run)
     x, zs = snaps.x, snaps.z
     if z is not None and not (0.0 <= z <= run.width):
         raise ValueError(f"z = {z:g} m lies outside the interface's width [0, {run.width:g}] m")
