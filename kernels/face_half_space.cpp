@@ -87,12 +87,21 @@ struct ModeDesign {
 // one across the band up to 2.5 times the P-wave frequency, and geometric
 // clusters on both sides of the branch points theta = h and h / r (shear and P
 // frequencies), where Re Z_d has square-root kinks and its minima sit.
-std::vector<double> passivity_phases(double h, double r2) {
+// For the combined pair (FaceKernelShape::pair) the same with every branch
+// point's frequency b h and the band up to 2.5 times the highest.
+std::vector<double> passivity_phases(double h, const FaceKernelShape& shape) {
   std::vector<double> thetas;
   for (int i = 1; i <= kCircleThetas; ++i) thetas.push_back(pi * i / kCircleThetas);
-  const double band = std::min(pi, 2.5 * h / std::sqrt(r2));
+  std::vector<double> branch_frequencies;
+  if (!shape.pair) {
+    branch_frequencies = {h, h / std::sqrt(shape.r2)};
+  } else {
+    for (double b : shape.heights) branch_frequencies.push_back(b * h);
+  }
+  // (One body: written as it always was, so its grid is the same to the bit.)
+  const double band = std::min(pi, shape.pair ? 2.5 * branch_frequencies.back() : 2.5 * h / std::sqrt(shape.r2));
   for (int i = 1; i <= kBandThetas; ++i) thetas.push_back(band * (i - 0.5) / kBandThetas);
-  for (double b : {h, h / std::sqrt(r2)})
+  for (double b : branch_frequencies)
     for (int i = 0; i < kClusterThetas; ++i) {
       const double offset = b * std::pow(10.0, -8.0 + 7.7 * i / (kClusterThetas - 1));  // 1e-8 b .. 0.5 b
       for (double theta : {b - offset, b + offset})
@@ -108,7 +117,8 @@ std::vector<double> passivity_phases(double h, double r2) {
 // phases per mode, so the loops run over the phases innermost (they vectorise)
 // and a / (1 - a) is written out, (Re a - |a|^2 + i Im a) / |1 - a|^2, instead
 // of the library's complex division with its overflow handling.
-std::vector<std::array<complex, 3>> symbols_of(const ModeDesign& m, double r2, std::span<const double> thetas) {
+std::vector<std::array<complex, 3>> symbols_of(const ModeDesign& m, const FaceKernelShape& shape,
+                                               std::span<const double> thetas) {
   const std::size_t n = thetas.size();
   std::vector<double> c(n), s(n);  // rotation e^{-i theta} = c - i s
   for (std::size_t t = 0; t < n; ++t) {
@@ -175,8 +185,14 @@ std::vector<std::array<complex, 3>> symbols_of(const ModeDesign& m, double r2, s
     const complex static_sum = rotation / (1.0 - rotation);
     for (FaceEntry e : kFaceEntries) {
       const std::size_t i = index_of(e);
-      z[t][i] = instantaneous_of(r2, e) + m.static_value[i] * static_sum + complex(near_re[i][t], near_im[i][t]) +
-                power * complex(far_re[i][t], far_im[i][t]);
+      // One body: the sum written as it always was (its constants E' let the
+      // compiler fuse it differently, and the corrections' bits follow).
+      if (!shape.pair)
+        z[t][i] = instantaneous_of(shape.r2, e) + m.static_value[i] * static_sum +
+                  complex(near_re[i][t], near_im[i][t]) + power * complex(far_re[i][t], far_im[i][t]);
+      else
+        z[t][i] = shape.instantaneous[i] + m.static_value[i] * static_sum + complex(near_re[i][t], near_im[i][t]) +
+                  power * complex(far_re[i][t], far_im[i][t]);
     }
   }
   return z;
@@ -193,10 +209,40 @@ std::vector<std::array<complex, 3>> symbols_of(const ModeDesign& m, double r2, s
 // adds, at every phase where the corrected M has an eigenvalue below the
 // margin, the constraint along that eigenvector, and solves the minimum-norm
 // problem on all constraints so far.
-std::vector<double> passivity_correction(const ModeDesign& m, double r2, int lags, double margin) {
-  const std::vector<double> thetas = passivity_phases(m.h, r2);
+//
+// The combined pair's M also touches singularity at isolated frequencies
+// (between the branch frequencies of the two bodies), in parabolic minima
+// narrow enough to dip below zero between the uniform phases (measured:
+// -2.7e-5 mu_ref/c_ref, strong contrast, h = 0.2): for the pair each local
+// minimum of M's smallest eigenvalue on the uniform grids gets 16 more phases
+// across its two neighbouring intervals.
+std::vector<double> passivity_correction(const ModeDesign& m, const FaceKernelShape& shape, int lags, double margin) {
+  std::vector<double> thetas = passivity_phases(m.h, shape);
   std::vector<std::array<double, 3>> base;  // Re Z_A, Re Z_B, Re Z_D uncorrected
-  for (const auto& z : symbols_of(m, r2, thetas)) base.push_back({z[0].real(), z[1].real(), z[2].real()});
+  for (const auto& z : symbols_of(m, shape, thetas)) base.push_back({z[0].real(), z[1].real(), z[2].real()});
+  if (shape.pair) {
+    const auto lowest_of = [](const std::array<double, 3>& re) {
+      return 0.5 * (re[0] + re[2]) - std::hypot(0.5 * (re[0] - re[2]), re[1]);
+    };
+    std::vector<double> extra;
+    // The circle's phases [0, kCircleThetas), then the band's.
+    for (const auto [first, count] : {std::pair<std::size_t, std::size_t>{0, kCircleThetas},
+                                      std::pair<std::size_t, std::size_t>{kCircleThetas, kBandThetas}})
+      for (std::size_t i = first + 1; i + 1 < first + count; ++i) {
+        const double here = lowest_of(base[i]);
+        if (here > lowest_of(base[i - 1]) || here > lowest_of(base[i + 1])) continue;
+        const double spacing = thetas[i + 1] - thetas[i];
+        for (int j = -8; j <= 8; ++j)
+          if (j != 0) {
+            const double theta = thetas[i] + spacing * j / 8.0;
+            if (theta > 0.0 && theta <= pi) extra.push_back(theta);
+          }
+      }
+    if (!extra.empty()) {
+      for (const auto& z : symbols_of(m, shape, extra)) base.push_back({z[0].real(), z[1].real(), z[2].real()});
+      thetas.insert(thetas.end(), extra.begin(), extra.end());
+    }
+  }
   const int n = 3 * lags;
   // cos(j theta) of every grid phase, computed once for all rounds and entries.
   std::vector<double> cosine(thetas.size() * lags);
@@ -236,8 +282,16 @@ struct EntrySums {
   std::array<ExponentialSum, 3> near, far;
 };
 
-EntrySums entry_sums(double r2, double h_min, double tau_near_max, const HalfSpaceOperatorDesign& design) {
+EntrySums entry_sums(const FaceKernelShape& shape, double h_min, double tau_near_max,
+                     const HalfSpaceOperatorDesign& design) {
   EntrySums sums;
+  if (shape.pair) {
+    sums.near = half_space_pair_exponential_sums(shape.pair_shape, h_min, 2.0 * tau_near_max + 1.0, kNearNodesPerPanel);
+    sums.far =
+        half_space_pair_exponential_sums(shape.pair_shape, design.near_field_tau, design.horizon_tau, kFarNodesPerPanel);
+    return sums;
+  }
+  const double r2 = shape.r2;
   for (FaceEntry e : kFaceEntries) {
     sums.near[index_of(e)] = half_space_face_exponential_sum(r2, e, h_min, 2.0 * tau_near_max + 1.0, kNearNodesPerPanel);
     sums.far[index_of(e)] =
@@ -248,7 +302,7 @@ EntrySums entry_sums(double r2, double h_min, double tau_near_max, const HalfSpa
 
 // One mode's design at h = c_s |k| dt with `window` stored lags, before its
 // passivity correction.
-ModeDesign design_mode(double r2, double h, int window, const EntrySums& sums) {
+ModeDesign design_mode(const FaceKernelShape& shape, double h, int window, const EntrySums& sums) {
   ModeDesign m;
   m.h = h;
   m.window = window;
@@ -259,7 +313,7 @@ ModeDesign design_mode(double r2, double h, int window, const EntrySums& sums) {
     for (int j = 1; j <= m.window; ++j) m.lag[i][j - 1] = h * (evaluate(sums.near[i], j * h) - sums.near[i].static_value);
   }
   // The coupling's step: its trapezoidal half weight at j = 0 moves to j = 1.
-  m.lag[1][0] += 0.5 * h * half_space_face_initial_value(r2, FaceEntry::coupling);
+  m.lag[1][0] += 0.5 * h * shape.coupling_initial;
   const double shift = m.window * h;
   for (std::size_t k = 0; k < sums.far[0].rate.size(); ++k) {
     std::array<complex, 3> w;
@@ -274,6 +328,16 @@ ModeDesign design_mode(double r2, double h, int window, const EntrySums& sums) {
     for (std::size_t i = 0; i < 3; ++i) m.weight[i].push_back(w[i]);
   }
   return m;
+}
+
+FaceKernelShape one_body_shape(double r2) {
+  FaceKernelShape shape;
+  shape.r2 = r2;
+  for (FaceEntry e : kFaceEntries) shape.instantaneous[index_of(e)] = instantaneous_of(r2, e);
+  shape.coupling_initial = half_space_face_initial_value(r2, FaceEntry::coupling);
+  // As the cuts of in_plane_exponential_sum (the rates' imaginary parts).
+  shape.heights = {1.0, 1.0 / std::sqrt(r2)};
+  return shape;
 }
 
 int window_of(double h, const HalfSpaceOperatorDesign& design) {
@@ -340,9 +404,10 @@ bool face_half_space_mode_passive(double r2, const HalfSpaceOperatorDesign& desi
   if (!(h > 0.0)) throw std::invalid_argument("face_half_space_mode_passive: need h > 0, got " + number_text(h));
   const double margin = std::max(design.passivity_margin, kMatrixPassivityMargin);
   const int window = window_of(h, design);
-  const ModeDesign m = design_mode(r2, h, window, entry_sums(r2, h, window * h, design));
+  const FaceKernelShape shape = one_body_shape(r2);
+  const ModeDesign m = design_mode(shape, h, window, entry_sums(shape, h, window * h, design));
   try {
-    (void)passivity_correction(m, r2, design.corrected_lags, margin);
+    (void)passivity_correction(m, shape, design.corrected_lags, margin);
     return true;
   } catch (const std::exception&) {
     return false;
@@ -383,12 +448,52 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, doub
                                            const CancelCheck& cancelled)
     : FaceHalfSpaceHistory(material, line_wavenumbers(length, nodes, time_step), time_step, design, cancelled) {}
 
+namespace {
+FaceKernelShape body_kernel_shape(const ElasticMaterial& material) {
+  if (material.antiplane())
+    throw std::invalid_argument("FaceHalfSpaceHistory: the in-plane 2x2 operator needs an in-plane material");
+  return one_body_shape(1.0 / material.wave_speed_ratio_squared());
+}
+
+FaceKernelShape pair_kernel_shape(const ElasticMaterial& top, const ElasticMaterial& bottom) {
+  if (top.antiplane() || bottom.antiplane())
+    throw std::invalid_argument("FaceHalfSpaceHistory: the combined pair operator needs two in-plane materials");
+  FaceKernelShape shape;
+  shape.pair = true;
+  shape.pair_shape = half_space_pair_shape(top, bottom);
+  const auto e = half_space_pair_impedances(shape.pair_shape);
+  shape.instantaneous = {e[0], 0.0, e[1]};
+  shape.coupling_initial = half_space_pair_initial_values(shape.pair_shape)[1];
+  shape.heights = shape.pair_shape.branch_heights;
+  // The kernels are universal functions of tau for the pair: the check that
+  // no pole was missed runs once, before any mode is designed.
+  verify_half_space_pair_sums(shape.pair_shape);
+  return shape;
+}
+
+double reference_unit(const ElasticMaterial& top, const ElasticMaterial& bottom) {
+  const ElasticMaterial& ref = bottom.shear_wave_speed() < top.shear_wave_speed() ? bottom : top;
+  return ref.shear_modulus / ref.shear_wave_speed();
+}
+}  // namespace
+
 FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, std::span<const double> wavenumbers,
                                            double time_step, const HalfSpaceOperatorDesign& design,
                                            const CancelCheck& cancelled)
-    : dt_(time_step), lags_(design.corrected_lags) {
-  if (material.antiplane())
-    throw std::invalid_argument("FaceHalfSpaceHistory: the in-plane 2x2 operator needs an in-plane material");
+    : FaceHalfSpaceHistory(body_kernel_shape(material), material.shear_modulus / material.shear_wave_speed(),
+                           material.shear_wave_speed(), wavenumbers, time_step, design, cancelled) {}
+
+FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& top, const ElasticMaterial& bottom, double length,
+                                           int nodes, double time_step, const HalfSpaceOperatorDesign& design,
+                                           const CancelCheck& cancelled)
+    : FaceHalfSpaceHistory(pair_kernel_shape(top, bottom), reference_unit(top, bottom),
+                           std::min(top.shear_wave_speed(), bottom.shear_wave_speed()),
+                           line_wavenumbers(length, nodes, time_step), time_step, design, cancelled) {}
+
+FaceHalfSpaceHistory::FaceHalfSpaceHistory(FaceKernelShape shape, double unit, double cs,
+                                           std::span<const double> wavenumbers, double time_step,
+                                           const HalfSpaceOperatorDesign& design, const CancelCheck& cancelled)
+    : shape_(std::move(shape)), dt_(time_step), lags_(design.corrected_lags) {
   if (!(time_step > 0.0))
     throw std::invalid_argument("FaceHalfSpaceHistory: need time_step > 0, got " + number_text(time_step) + " s");
   if (wavenumbers.size() < 2 || wavenumbers[0] != 0.0)
@@ -401,11 +506,11 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, std:
       throw std::invalid_argument("FaceHalfSpaceHistory: need |k| > 0 at every mode but the first; got |k| = " +
                                   number_text(wavenumbers[q]) + " 1/m at mode " + std::to_string(q));
   check_half_space_design(design);
-  const double mu = material.shear_modulus, cs = material.shear_wave_speed();
-  const double r2 = 1.0 / material.wave_speed_ratio_squared();
-  const double unit = mu / cs;
-  impedance_x_ = unit;
-  impedance_y_ = unit / std::sqrt(r2);
+  // One body: E' = diag(1, 1/r) in units mu/c_s; the pair: the series
+  // impedances in units mu_ref/c_ref.
+  unit_ = unit;
+  impedance_x_ = shape_.pair ? unit * shape_.instantaneous[0] : unit;
+  impedance_y_ = shape_.pair ? unit * shape_.instantaneous[2] : unit / std::sqrt(shape_.r2);
   const int n_modes = static_cast<int>(wavenumbers.size());
   wavenumber_.assign(wavenumbers.begin(), wavenumbers.end());
   h_.resize(n_modes);
@@ -421,7 +526,7 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, std:
     tau_near_max = std::max(tau_near_max, window[q] * h_[q]);
     h_min = std::min(h_min, h_[q]);
   }
-  const EntrySums sums = entry_sums(r2, h_min, tau_near_max, design);
+  const EntrySums sums = entry_sums(shape_, h_min, tau_near_max, design);
   // Modes of equal h (the modes +-kz of a 2D interface) share one design:
   // design_of[q] is the first mode with q's h; only those are designed.
   std::vector<int> design_of(n_modes, 0), distinct;
@@ -443,12 +548,13 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, std:
       0, static_cast<int>(distinct.size()), cancelled, "the half-space body's operator", [&](int d) {
     const int q = distinct[d];
     ModeDesign& m = designs[q];
-    m = design_mode(r2, h_[q], window[q], sums);
+    m = design_mode(shape_, h_[q], window[q], sums);
     try {
-      corrections[q] = passivity_correction(m, r2, lags_, std::max(design.passivity_margin, kMatrixPassivityMargin));
+      corrections[q] =
+          passivity_correction(m, shape_, lags_, std::max(design.passivity_margin, kMatrixPassivityMargin));
     } catch (const std::exception& ex) {
       std::ostringstream msg;
-      msg << "half-space body operator (dt = " << dt_ << " s, c_s k dt = " << m.h << " at mode " << q
+      msg << (shape_.pair ? "combined half-space pair operator (dt = " : "half-space body operator (dt = ") << dt_ << " s, c_s k dt = " << m.h << " at mode " << q
           << "): no passive correction (" << ex.what() << "); refine the time step (time.beta)";
       throw std::invalid_argument(msg.str());
     }
@@ -496,7 +602,7 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, std:
   ring_y_ = ring_x_;
   running_x_.assign(n_modes, 0.0);
   running_y_ = history_x_ = history_y_ = running_x_;
-  build_exponentials(rates, design, std::sqrt(1.0 / r2));
+  build_exponentials(rates, design);
   // The far field's batch: at most design.far_batch steps, at most the
   // shortest window (its inputs, delayed by W, must be in the ring when it
   // starts), and a divisor of the slow block (no batch straddles a block end).
@@ -509,8 +615,7 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(const ElasticMaterial& material, std:
   far_batch_y_ = far_batch_x_;
 }
 
-void FaceHalfSpaceHistory::build_exponentials(std::span<const complex> rates, const HalfSpaceOperatorDesign& design,
-                                              double b_pressure) {
+void FaceHalfSpaceHistory::build_exponentials(std::span<const complex> rates, const HalfSpaceOperatorDesign& design) {
   // Fast exponentials rotate every step; slow ones (decay over a block below
   // the Taylor radius) are advanced once per block (docs/theory.md §8.7, as
   // HalfSpaceHistory).  pole_ and pole_weight_ keep every exponential in the
@@ -522,15 +627,24 @@ void FaceHalfSpaceHistory::build_exponentials(std::span<const complex> rates, co
   const double slow_limit = slow_decay_limit(block_, design.slow_taylor_radius);
   first_fast_.assign(n_modes + 1, 0);
   first_slow_.assign(n_modes + 1, 0);
-  slow_shear_end_.assign(n_modes, 0);
+  branches_ = shape_.heights.size();
+  groups_ = (branches_ + 1) / 2;
+  slow_branch_start_.assign(n_modes * (branches_ + 1), 0);
+  std::vector<std::size_t> branch_count(branches_);
   slow_lag_weight_.assign(n_modes * 3 * static_cast<std::size_t>(block_), 0.0);
   for (std::size_t q = 1; q < n_modes; ++q) {
     const double h = h_[q];
-    slow_shear_end_[q] = first_slow_[q];
+    std::fill(branch_count.begin(), branch_count.end(), 0);
+    std::size_t last_branch = 0;
     for (std::size_t k = first_pole_[q]; k < first_pole_[q + 1]; ++k) {
       const std::array<complex, 3>& w = pole_weight_[k];
       const complex rate = rates[k];
-      if (-rate.real() * h > slow_limit) {
+      // The cut an exponential lies on: its rate's imaginary part is exactly
+      // that branch height.  A pole's exponential (the pair's leaky waves) is
+      // on none and rotates every step: the block rotations are per branch.
+      const std::size_t branch = static_cast<std::size_t>(
+          std::find(shape_.heights.begin(), shape_.heights.end(), rate.imag()) - shape_.heights.begin());
+      if (-rate.real() * h > slow_limit || branch == branches_) {
         pole_re_.push_back(pole_[k].real());
         pole_im_.push_back(pole_[k].imag());
         for (std::size_t e = 0; e < 3; ++e) {
@@ -550,22 +664,41 @@ void FaceHalfSpaceHistory::build_exponentials(std::span<const complex> rates, co
         const complex power = std::exp(rate * (h * (i + 1)));
         for (std::size_t e = 0; e < 3; ++e) lag[e * block_ + (block_ - 1 - i)] += 2.0 * (w[e] * power).real();
       }
-      // Shear-branch rates have imaginary part exactly 1 and come first.
-      if (rate.imag() == 1.0) slow_shear_end_[q] = slow_decay_.size();
+      // The sums list the cuts in the order of their heights.
+      if (branch < last_branch) throw std::logic_error("FaceHalfSpaceHistory: exponentials out of branch order");
+      last_branch = branch;
+      ++branch_count[branch];
     }
     first_fast_[q + 1] = pole_re_.size();
     first_slow_[q + 1] = slow_decay_.size();
+    std::size_t* start = slow_branch_start_.data() + q * (branches_ + 1);
+    start[0] = first_slow_[q];
+    for (std::size_t b = 0; b < branches_; ++b) start[b + 1] = start[b] + branch_count[b];
   }
   first_fast_[1] = first_fast_[0] = 0;
   first_slow_[1] = first_slow_[0] = 0;
   for (auto& state : far_) state.assign(pole_re_.size(), 0.0);
-  rotation_ = slow_block_rotations(h_, b_pressure, block_);
+  // One rotation table per group of two branches, e^{i b h t'}: one body's
+  // (shear, P) as the table's (1, c_d/c_s); the pair's from each group's
+  // first height (a lone last branch with an unused second one).
+  rotation_.clear();
+  if (!shape_.pair) {
+    rotation_.push_back(slow_block_rotations(h_, std::sqrt(1.0 / shape_.r2), block_));
+  } else {
+    for (std::size_t g = 0; g < groups_; ++g) {
+      const double first = shape_.heights[2 * g];
+      const double second = 2 * g + 1 < branches_ ? shape_.heights[2 * g + 1] : 2.0 * first;
+      std::vector<double> scaled(h_.size());
+      for (std::size_t q = 0; q < h_.size(); ++q) scaled[q] = first * h_[q];
+      rotation_.push_back(slow_block_rotations(scaled, second / first, block_));
+    }
+  }
   for (auto& state : slow_state_) state.assign(slow_decay_.size(), 0.0);
   for (auto& input : block_input_) input.assign(n_modes * static_cast<std::size_t>(block_), 0.0);
   std::size_t most_slow = 0;
   for (std::size_t q = 1; q < n_modes; ++q) most_slow = std::max(most_slow, first_slow_[q + 1] - first_slow_[q]);
   for (auto& scratch : slow_scratch_) scratch.assign(most_slow, 0.0);
-  block_moment_.assign(n_modes * kSlowPolynomials * static_cast<std::size_t>(terms_), 0.0);
+  block_moment_.assign(n_modes * groups_ * kSlowPolynomials * static_cast<std::size_t>(terms_), 0.0);
 }
 
 void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<const complex> velocity_y) {
@@ -573,6 +706,15 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
   const std::size_t n_modes = history_x_.size();
   const int position = static_cast<int>(step_ % batch_);
   const bool batch_start = position == 0;
+  // The far field of this batch reads inputs at least W >= batch steps old,
+  // pushed before this step: an input v_y that turns nonzero here reaches it
+  // from the next batch on, whichever way this batch was worked.
+  if (!normal_active_)
+    for (std::size_t q = 1; q < n_modes; ++q)
+      if (velocity_y[q] != 0.0) {
+        normal_active_ = true;
+        break;
+      }
   // q = 0: a half-space's uniform mode is pure radiation damping (no history).
   for (std::size_t q = 1; q < n_modes; ++q) {
     // Before this step's input replaces v_{n-W} in the ring.
@@ -588,14 +730,24 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
     const auto& s = static_weight_[q];
     std::array<complex, 3> from_x{s[0] * running_x_[q], s[1] * running_x_[q], 0.0};
     std::array<complex, 3> from_y{0.0, s[1] * running_y_[q], s[2] * running_y_[q]};
-    // Stored lags j = 1..W: v_{n+1-j} sits at slot - (j - 1) (mod W).
-    for (std::size_t j = 1; j <= window; ++j) {
-      const std::size_t at = lag0 + (slot + window - (j - 1)) % window;
-      const auto& w = lag_weight_[lag0 + j - 1];
-      from_x[0] += w[0] * ring_x_[at];
-      from_x[1] += w[1] * ring_x_[at];
-      from_y[1] += w[1] * ring_y_[at];
-      from_y[2] += w[2] * ring_y_[at];
+    // Stored lags j = 1..W: v_{n+1-j} sits at slot - (j - 1) (mod W); the
+    // y ring holds zeros until the normal channel is active.
+    if (normal_active_) {
+      for (std::size_t j = 1; j <= window; ++j) {
+        const std::size_t at = lag0 + (slot + window - (j - 1)) % window;
+        const auto& w = lag_weight_[lag0 + j - 1];
+        from_x[0] += w[0] * ring_x_[at];
+        from_x[1] += w[1] * ring_x_[at];
+        from_y[1] += w[1] * ring_y_[at];
+        from_y[2] += w[2] * ring_y_[at];
+      }
+    } else {
+      for (std::size_t j = 1; j <= window; ++j) {
+        const std::size_t at = lag0 + (slot + window - (j - 1)) % window;
+        const auto& w = lag_weight_[lag0 + j - 1];
+        from_x[0] += w[0] * ring_x_[at];
+        from_x[1] += w[1] * ring_x_[at];
+      }
     }
     // [[K^0, -i K^1], [i K^1, K^2]] (k > 0), plus the lags beyond W from the batch.
     const std::size_t at = q * batch_ + position;
@@ -629,6 +781,25 @@ void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int 
     // After the batch's first step the mode's rows are in the cache.
     const double uxr = old_x.real(), uxi = old_x.imag(), uyr = old_y.real(), uyi = old_y.imag();
     double x0r = 0.0, x0i = 0.0, x1r = 0.0, x1i = 0.0, y1r = 0.0, y1i = 0.0, y2r = 0.0, y2i = 0.0;
+    if (!normal_active_) {
+      // The y states are zero and stay so: the x input's rotation and its
+      // two outputs (entries A and B) only, the same arithmetic as below.
+#pragma omp simd reduction(+ : x0r, x0i, x1r, x1i)
+      for (std::size_t k = 0; k < count; ++k) {
+        const double a = zr[k], b = zi[k];
+        const double pxr = cxr[k] + uxr, pxi = cxi[k] + uxi;
+        const double ncxr = a * pxr - b * sxr[k], ncxi = a * pxi - b * sxi[k];
+        const double nsxr = b * pxr + a * sxr[k], nsxi = b * pxi + a * sxi[k];
+        cxr[k] = ncxr;
+        cxi[k] = ncxi;
+        sxr[k] = nsxr;
+        sxi[k] = nsxi;
+        x0r += wc0[k] * ncxr + ws0[k] * nsxr;
+        x0i += wc0[k] * ncxi + ws0[k] * nsxi;
+        x1r += wc1[k] * ncxr + ws1[k] * nsxr;
+        x1i += wc1[k] * ncxi + ws1[k] * nsxi;
+      }
+    } else {
 #pragma omp simd reduction(+ : x0r, x0i, x1r, x1i, y1r, y1i, y2r, y2i)
     for (std::size_t k = 0; k < count; ++k) {
       const double a = zr[k], b = zi[k];
@@ -654,6 +825,7 @@ void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int 
       y2r += wc2[k] * ncyr + ws2[k] * nsyr;
       y2i += wc2[k] * ncyi + ws2[k] * nsyi;
     }
+    }
     // [[K^0, -i K^1], [i K^1, K^2]] (k > 0).
     complex far_x = complex(x0r, x0i) - i * complex(y1r, y1i);
     complex far_y = i * complex(x1r, x1i) + complex(y2r, y2i);
@@ -672,13 +844,29 @@ void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int 
       in_yi[t] = uyi;
       const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
       double out[4];
-      slow_block_output<4>(block_moment_.data() + q * kSlowPolynomials * terms_, terms_, (t + 1) - block_centre_,
-                           rotation_[at], rotation_[at + 1], out);
+      const complex* moments = block_moment_.data() + q * groups_ * kSlowPolynomials * terms_;
+      slow_block_output<4>(moments, terms_, (t + 1) - block_centre_, rotation_[0][at], rotation_[0][at + 1], out);
+      for (std::size_t g = 1; g < groups_; ++g) {
+        double more[4];
+        slow_block_output<4>(moments + g * kSlowPolynomials * terms_, terms_, (t + 1) - block_centre_,
+                             rotation_[g][at], rotation_[g][at + 1], more);
+        for (int o = 0; o < 4; ++o) out[o] += more[o];
+      }
       // Lag t - j of entry e sits at [e][B - 1 - t + j] (stored reversed, so
       // that this loop reads forward); the eight sums vectorise together.
       const double* lag = slow_lag_weight_.data() + q * 3 * block_ + (block_ - 1 - t);
       const double *lag0 = lag, *lag1 = lag + block_, *lag2 = lag + 2 * block_;
       double x0r = 0.0, x0i = 0.0, x1r = 0.0, x1i = 0.0, y1r = 0.0, y1i = 0.0, y2r = 0.0, y2i = 0.0;
+      if (!normal_active_) {
+#pragma omp simd reduction(+ : x0r, x0i, x1r, x1i)
+        for (int j = 0; j <= t; ++j) {
+          const double xr = in_xr[j], xi = in_xi[j];
+          x0r += lag0[j] * xr;
+          x0i += lag0[j] * xi;
+          x1r += lag1[j] * xr;
+          x1i += lag1[j] * xi;
+        }
+      } else {
 #pragma omp simd reduction(+ : x0r, x0i, x1r, x1i, y1r, y1i, y2r, y2i)
       for (int j = 0; j <= t; ++j) {
         const double xr = in_xr[j], xi = in_xi[j], yr = in_yr[j], yi = in_yi[j];
@@ -690,6 +878,7 @@ void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int 
         y1i += lag1[j] * yi;
         y2r += lag2[j] * yr;
         y2i += lag2[j] * yi;
+      }
       }
       // [[K^0, -i K^1], [i K^1, K^2]] as above.
       far_x += complex(out[0] + x0r + y1i, out[1] + x0i - y1r);
@@ -708,19 +897,27 @@ void FaceHalfSpaceHistory::push_slow_block_end(std::size_t q) {
   // arithmetic as slow_taylor_factors, advance_slow_state and add_slow_moment
   // (kernels/slow_block.hpp), arranged as loops over the exponentials (they
   // vectorise; per exponential, the loops over the terms do not).
+  // Per group of two branches (its own rotations, its own polynomials);
+  // while the normal channel is inactive its moments are zero (its inputs
+  // were), and the states it feeds stay zero.
   const std::size_t n_modes = history_x_.size();
-  std::array<complex, 4 * kMaxTaylorTerms> mu_x{}, mu_y{};
   const std::size_t row = q * block_;
-  slow_input_moments(block_input_[0].data() + row, block_input_[1].data() + row, 1, rotation_.data(), n_modes, q,
-                     block_, block_centre_, terms_, mu_x.data());
-  slow_input_moments(block_input_[2].data() + row, block_input_[3].data() + row, 1, rotation_.data(), n_modes, q,
-                     block_, block_centre_, terms_, mu_y.data());
-  complex* moment = block_moment_.data() + q * kSlowPolynomials * terms_;
-  std::fill(moment, moment + kSlowPolynomials * terms_, complex(0.0));
   const int terms = terms_;
+  const std::size_t* start = slow_branch_start_.data() + q * (branches_ + 1);
+  for (std::size_t g = 0; g < groups_; ++g) {
+  std::array<complex, 4 * kMaxTaylorTerms> mu_x{}, mu_y{};
+  slow_input_moments(block_input_[0].data() + row, block_input_[1].data() + row, 1, rotation_[g].data(), n_modes, q,
+                     block_, block_centre_, terms_, mu_x.data());
+  if (normal_active_)
+    slow_input_moments(block_input_[2].data() + row, block_input_[3].data() + row, 1, rotation_[g].data(), n_modes,
+                       q, block_, block_centre_, terms_, mu_y.data());
+  complex* moment = block_moment_.data() + (q * groups_ + g) * kSlowPolynomials * terms_;
+  std::fill(moment, moment + kSlowPolynomials * terms_, complex(0.0));
   for (int branch = 0; branch < 2; ++branch) {
-    const std::size_t m0 = branch == 0 ? first_slow_[q] : slow_shear_end_[q];
-    const std::size_t count = (branch == 0 ? slow_shear_end_[q] : first_slow_[q + 1]) - m0;
+    const std::size_t b = 2 * g + static_cast<std::size_t>(branch);
+    if (b >= branches_) continue;
+    const std::size_t m0 = start[b];
+    const std::size_t count = start[b + 1] - m0;
     if (count == 0) continue;
     // This branch's moments of Re x, Im x, Re y, Im y (each complex), term p.
     const complex* mu[4] = {mu_x.data() + 2 * branch * terms, mu_x.data() + (2 * branch + 1) * terms,
@@ -798,6 +995,7 @@ void FaceHalfSpaceHistory::push_slow_block_end(std::size_t q) {
       for (int o = 0; o < 4; ++o) moment[(branch * 4 + o) * terms + p] += complex(sum[2 * o], sum[2 * o + 1]);
     }
   }
+  }
 }
 
 FaceHalfSpaceModeKernel FaceHalfSpaceHistory::mode_kernel(int q) const {
@@ -821,19 +1019,25 @@ FaceMatrix FaceHalfSpaceHistory::symbol(int q, double theta) const {
   m.h = k.h;
   m.window = static_cast<int>(k.lag_weight[0].size());
   m.pole = k.pole;
-  const double r2 = (impedance_x_ / impedance_y_) * (impedance_x_ / impedance_y_);
-  for (std::size_t i = 0; i < 3; ++i) {
-    m.static_value[i] = k.static_weight[i] / impedance_x_;
-    for (double w : k.lag_weight[i]) m.lag[i].push_back(w / impedance_x_);
-    for (complex w : k.pole_weight[i]) m.weight[i].push_back(w / impedance_x_);
+  // One body: r^2 from the impedances (E'_D = 1/r), as the operator was designed.
+  FaceKernelShape shape = shape_;
+  if (!shape.pair) {
+    shape.r2 = (impedance_x_ / impedance_y_) * (impedance_x_ / impedance_y_);
+    shape.instantaneous[2] = 1.0 / std::sqrt(shape.r2);
   }
-  const auto z = symbols_of(m, r2, std::span<const double>(&theta, 1)).front();
+  // The coefficients' unit: mu/c_s (one body, = impedance_x_), mu_ref/c_ref (the pair).
+  for (std::size_t i = 0; i < 3; ++i) {
+    m.static_value[i] = k.static_weight[i] / unit_;
+    for (double w : k.lag_weight[i]) m.lag[i].push_back(w / unit_);
+    for (complex w : k.pole_weight[i]) m.weight[i].push_back(w / unit_);
+  }
+  const auto z = symbols_of(m, shape, std::span<const double>(&theta, 1)).front();
   const complex i(0.0, 1.0);
   FaceMatrix out;
-  out.xx = impedance_x_ * z[0];
-  out.xy = -i * impedance_x_ * z[1];
-  out.yx = i * impedance_x_ * z[1];
-  out.yy = impedance_x_ * z[2];
+  out.xx = unit_ * z[0];
+  out.xy = -i * unit_ * z[1];
+  out.yx = i * unit_ * z[1];
+  out.yy = unit_ * z[2];
   return out;
 }
 
@@ -884,6 +1088,7 @@ void FaceHalfSpaceHistory::save_into(HistoryOperatorState& state, const std::str
   state.add(prefix + "history_x", history_x_);
   state.add(prefix + "history_y", history_y_);
   state.counters.emplace_back(prefix + "step", step_);
+  state.counters.emplace_back(prefix + "normal_active", normal_active_ ? 1 : 0);
 }
 
 void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const std::string& prefix) {
@@ -917,6 +1122,11 @@ void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const
   state.copy_to(prefix + "history_x", std::span<complex>(history_x_));
   state.copy_to(prefix + "history_y", std::span<complex>(history_y_));
   step_ = state.counter(prefix + "step");
+  // A restart point without the flag (an older slipstrip) resumes with the
+  // normal channel worked in full, which is always exact.
+  const bool has_flag = std::any_of(state.counters.begin(), state.counters.end(),
+                                    [&](const auto& c) { return c.first == prefix + "normal_active"; });
+  normal_active_ = !has_flag || state.counter(prefix + "normal_active") != 0;
   if (format == kFaceStateFormat) {
     require_same(state, prefix + "far_batch", batch_, "far-field batch");
     state.copy_to(prefix + "far_batch_x", std::span<complex>(far_batch_x_));
@@ -938,9 +1148,10 @@ std::size_t FaceHalfSpaceHistory::memory_bytes() const {
          sizeof(static_weight_[0]) * static_weight_.size() + sizeof(correction_[0]) * correction_.size() +
          sizeof(double) * (wavenumber_.size() + h_.size()) +
          sizeof(std::size_t) * (first_lag_.size() + first_pole_.size() + first_fast_.size() + first_slow_.size() +
-                                slow_shear_end_.size()) +
+                                slow_branch_start_.size()) +
          sizeof(double) * (slow_decay_.size() + slow_centre_factor_.size() + slow_lag_weight_.size()) +
-         sizeof(complex) * (slow_block_pole_.size() + rotation_.size() + 4 * slow_state_[0].size() +
+         sizeof(complex) * (slow_block_pole_.size() + groups_ * (rotation_.empty() ? 0 : rotation_[0].size()) +
+                            4 * slow_state_[0].size() +
                             block_moment_.size()) +
          sizeof(double) * 4 * block_input_[0].size() +
          sizeof(complex) * (far_batch_x_.size() + far_batch_y_.size()) +

@@ -38,6 +38,7 @@
 #include "kernels/face_response.hpp"
 #include "kernels/half_space_design.hpp"
 #include "kernels/half_space_kernel.hpp"
+#include "kernels/half_space_pair_kernel.hpp"
 
 namespace slipstrip {
 
@@ -119,6 +120,19 @@ bool face_half_space_mode_passive(double speed_ratio_squared, const HalfSpaceOpe
 double face_half_space_passive_limit(double speed_ratio_squared, const HalfSpaceOperatorDesign& design,
                                      double failed);
 
+// What an operator's kernels are: one half-space body's (r^2 = c_s^2/c_d^2)
+// or the combined pair's (docs/inplane_bodies.md §7), the instantaneous
+// impedances E' and the coupling's step g_B(0+) in the kernels' units, and the
+// branch heights (the rates' imaginary parts on the cuts, units speed |k|).
+struct FaceKernelShape {
+  bool pair = false;
+  double r2 = 0.0;                   // one body
+  HalfSpacePairShape pair_shape;     // the pair
+  std::array<double, 3> instantaneous{};  // E'_A, 0, E'_D
+  double coupling_initial = 0.0;
+  std::vector<double> heights;
+};
+
 class FaceHalfSpaceHistory final : public FaceHistory {
  public:
   // The modes of a line of `length` and `nodes` nodes: |k| = 2 pi q / length,
@@ -134,6 +148,19 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   // wavenumbers this is the constructor above, bit for bit.
   FaceHalfSpaceHistory(const ElasticMaterial& material, std::span<const double> wavenumbers, double time_step,
                        const HalfSpaceOperatorDesign& design = {}, const CancelCheck& cancelled = {});
+  // The combined operator of two different half-spaces in contact
+  // (docs/inplane_bodies.md §7): its inputs are the slip rate V and the
+  // opening rate Omega (velocity_x, velocity_y), its outputs the history parts
+  // h_x, h_y of -(sigma_xy, sigma_yy) = E_c [V, Omega] + h (k > 0), with the
+  // kernels of half_space_pair_exponential_sums in units mu_ref / c_ref and
+  // h = c_ref |k| dt (the slower shear wave's).  shear_impedance() and
+  // normal_impedance() are the series impedances eta and eta_y.  Throws
+  // HalfSpacePairHasInterfaceWave for a pair with a Stoneley wave, and
+  // std::runtime_error when the set-up check against a numerical inverse
+  // Laplace transform (verify_half_space_pair_sums) fails.
+  FaceHalfSpaceHistory(const ElasticMaterial& top, const ElasticMaterial& bottom, double length, int nodes,
+                       double time_step, const HalfSpaceOperatorDesign& design = {},
+                       const CancelCheck& cancelled = {});
 
   double time_step() const override { return dt_; }
   double shear_impedance() const override { return impedance_x_; }
@@ -147,7 +174,15 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
   std::size_t memory_bytes() const override;
   std::size_t discrete_modes() const override { return pole_.size(); }
-  const char* algorithm() const override { return "half-space"; }
+  const char* algorithm() const override { return shape_.pair ? "half-space pair" : "half-space"; }
+  // Whether some input of the second component (v_y; the combined pair's
+  // opening rate) so far was nonzero.  Until then its states are exactly zero
+  // and push() neither rotates nor sums them: the same histories, bit for bit,
+  // at half the far field's work (the pair's interface while it is closed).
+  bool normal_channel_active() const { return normal_active_; }
+  // Work the second channel from the start (the reference the skipping is
+  // compared with).
+  void keep_normal_channel_active() { normal_active_ = true; }
   // Exponentials advanced once per block (0 when design.slow_block = 0), and
   // the block length B.
   std::size_t slow_exponentials() const { return slow_decay_.size(); }
@@ -164,7 +199,12 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   FaceMatrix symbol(int q, double theta) const;
 
  private:
+  FaceHalfSpaceHistory(FaceKernelShape shape, double unit, double speed, std::span<const double> wavenumbers,
+                       double time_step, const HalfSpaceOperatorDesign& design, const CancelCheck& cancelled);
+  FaceKernelShape shape_;
+  bool normal_active_ = false;
   double dt_, impedance_x_, impedance_y_;
+  double unit_ = 0.0;  // the coefficients' unit, Pa s/m: mu/c_s (one body), mu_ref/c_ref (the pair)
   long long step_ = 0;
   std::vector<double> wavenumber_, h_;
   std::vector<std::array<double, 3>> static_weight_;
@@ -192,8 +232,7 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   // [first_slow_[q], first_slow_[q+1]) of slow_decay_ ..., shear branch first
   // (up to slow_shear_end_[q]).  Set up from the exponentials' rates (units c_s |k|,
   // in pole_'s order) by build_exponentials.
-  void build_exponentials(std::span<const std::complex<double>> rates, const HalfSpaceOperatorDesign& design,
-                          double b_pressure);
+  void build_exponentials(std::span<const std::complex<double>> rates, const HalfSpaceOperatorDesign& design);
   void push_slow_block_end(std::size_t q);
   // The far field's part of mode q's history (every exponential, the slow
   // block's outputs and in-block sums, block ends) at steps batch_step + d,
@@ -204,24 +243,31 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   int batch_ = 1;
   std::vector<std::complex<double>> far_batch_x_, far_batch_y_;  // per mode, batch_ steps
   // Output channels of the slow polynomials: Re, Im of history x, then of y;
-  // per mode 2 branches x 4 channels.
+  // per mode and group of two branches (slow_block.hpp works on two), 2
+  // branches x 4 channels.  One body has one group (shear, P); the pair's up
+  // to four branch heights make two.
   static constexpr std::size_t kSlowPolynomials = 8;
+  std::size_t groups_ = 1;
+  // The slow exponentials of mode q and branch b (the index of its height) are
+  // [slow_branch_start_[q * (branches + 1) + b], ... + b + 1).
+  std::size_t branches_ = 2;
+  std::vector<std::size_t> slow_branch_start_;
   int block_ = 0, terms_ = 0;
   double block_centre_ = 0.0;  // t_c = (B + 1) / 2
-  std::vector<std::size_t> first_fast_, first_slow_, slow_shear_end_;
+  std::vector<std::size_t> first_fast_, first_slow_;
   std::vector<double> slow_decay_;                          // lambda = x h
   std::vector<double> slow_centre_factor_;                  // e^{-lambda t_c}
   std::vector<std::complex<double>> slow_block_pole_;       // z^B
   std::vector<std::array<std::complex<double>, 3>> slow_weight_;  // w per entry (Pa s/m)
   // Per mode and entry, B: 2 Re sum_slow w z^{i+1} at [B - 1 - i], i = 0..B-1.
   std::vector<double> slow_lag_weight_;
-  std::vector<std::complex<double>> rotation_;  // slow_block_rotations
+  std::vector<std::vector<std::complex<double>>> rotation_;  // slow_block_rotations, per group
   // Slow state: Y at the block start fed with Re x, Im x, Re y, Im y.
   std::array<std::vector<std::complex<double>>, 4> slow_state_;
   // This block's delayed inputs, per mode B values of Re x, Im x, Re y, Im y
   // (separate arrays: the in-block sums read them as vectors).
   std::array<std::vector<double>, 4> block_input_;
-  std::vector<std::complex<double>> block_moment_;  // per mode, kSlowPolynomials * terms
+  std::vector<std::complex<double>> block_moment_;  // per mode, groups * kSlowPolynomials * terms
   // Block end's work arrays, per slow exponential of one mode: the Taylor
   // factor of the current term and the four weighted states (Re, Im).
   std::array<std::vector<double>, 9> slow_scratch_;

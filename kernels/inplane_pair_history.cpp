@@ -56,6 +56,17 @@ InplanePairHistory::InplanePairHistory(std::unique_ptr<FaceHistory> top, std::un
   bottom_y_ = bottom_x_;
 }
 
+InplanePairHistory::InplanePairHistory(Combined, std::unique_ptr<FaceHistory> pair)
+    : top_(std::move(pair)), combined_(true) {
+  if (!top_) throw std::invalid_argument("InplanePairHistory: the combined pair needs an operator");
+  ex_top_ = ey_top_ = ex_bottom_ = ey_bottom_ = 0.0;
+  eta_ = top_->shear_impedance();
+  eta_y_ = top_->normal_impedance();
+  const auto n = static_cast<std::size_t>(top_->modes());
+  top_x_.assign(n, 0.0);
+  top_y_ = history_ = normal_ = top_x_;
+}
+
 ModeOperatorStats InplanePairHistory::stats() const {
   ModeOperatorStats s;
   s.modes = history_.size();
@@ -80,6 +91,20 @@ void InplanePairHistory::push(std::span<const std::complex<double>> slip_rate_sp
                               std::span<const std::complex<double>> opening_stress_spectrum) {
   const std::size_t n = history_.size();
   const bool opening = !opening_stress_spectrum.empty();
+  if (combined_) {
+    // The jumps themselves: V, and the gap rate d / eta_y (0 in contact).
+    for (std::size_t q = 0; q < n; ++q) {
+      top_x_[q] = slip_rate_spectrum[q];
+      top_y_[q] = opening ? opening_stress_spectrum[q] / eta_y_ : 0.0;
+    }
+    top_->push(top_x_, top_y_);
+    const auto x = top_->history_x(), y = top_->history_y();
+    for (std::size_t q = 0; q < n; ++q) {
+      history_[q] = x[q];
+      normal_[q] = y[q];
+    }
+    return;
+  }
   const auto hx_t = top_->history_x(), hy_t = top_->history_y();
   if (!bottom_) {
     // Rigid bottom: the top face carries the whole slip and does not move normally.
@@ -134,6 +159,12 @@ constexpr const char* kKind = "in-plane pair";
 HistoryOperatorState InplanePairHistory::save_state() const {
   HistoryOperatorState s;
   s.kind = kKind;
+  if (combined_) {
+    top_->save_into(s, "combined.");
+    s.add("history", history_);
+    s.add("normal_stress", normal_);
+    return s;
+  }
   top_->save_into(s, "top.");
   if (bottom_) bottom_->save_into(s, "bottom.");
   s.add("history", history_);
@@ -143,6 +174,22 @@ HistoryOperatorState InplanePairHistory::save_state() const {
 
 void InplanePairHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind(kKind);
+  // A restart point of the two bodies' operators cannot be resumed by the
+  // combined one, nor the other way round: different states.
+  const bool saved_combined = !saved_face_algorithm(state, "combined.").empty();
+  const bool saved_bodies = !saved_face_algorithm(state, "top.").empty();
+  if (combined_ ? saved_bodies : saved_combined)
+    throw std::invalid_argument(std::string("history operator state 'in-plane pair': the restart point holds ") +
+                                (saved_combined ? "the combined half-space pair operator" : "the two bodies' operators") +
+                                ", this run builds " +
+                                (combined_ ? "the combined half-space pair operator" : "the two bodies' operators") +
+                                " (time.half_space_pair); resume it with the setting that wrote it");
+  if (combined_) {
+    top_->restore_from(state, "combined.");
+    state.copy_to("history", std::span<std::complex<double>>(history_));
+    state.copy_to("normal_stress", std::span<std::complex<double>>(normal_));
+    return;
+  }
   require_same_algorithm(state, "top.", *top_, "top");
   if (bottom_) require_same_algorithm(state, "bottom.", *bottom_, "bottom");
   top_->restore_from(state, "top.");

@@ -46,6 +46,15 @@ class InplanePairHistory final : public HistoryOperator {
   // Either body's operator may be a finite body's (FaceModalHistory) or a
   // half-space's (FaceHalfSpaceHistory).
   InplanePairHistory(std::unique_ptr<FaceHistory> top, std::unique_ptr<FaceHistory> bottom);
+  // One operator of the whole pair: the combined operator of two half-spaces
+  // (FaceHalfSpaceHistory's pair constructor, docs/inplane_bodies.md §7), fed
+  // the slip rate V and the opening rate Omega = d / eta_y directly; its
+  // histories are h and the contact normal stress (-(sigma_xy, sigma_yy) =
+  // diag(eta, eta_y) [V, Omega] + (h_x, h_y)).  No face velocity is
+  // eliminated.
+  struct Combined {};
+  InplanePairHistory(Combined, std::unique_ptr<FaceHistory> pair);
+  bool combined() const { return combined_; }
 
   double time_step() const override { return top_->time_step(); }
   double radiation_damping() const override { return eta_; }
@@ -67,7 +76,8 @@ class InplanePairHistory final : public HistoryOperator {
   int period() const;
 
  private:
-  std::unique_ptr<FaceHistory> top_, bottom_;
+  std::unique_ptr<FaceHistory> top_, bottom_;  // combined: top_ is the pair's operator
+  bool combined_ = false;
   double ex_top_, ey_top_, ex_bottom_, ey_bottom_, eta_, eta_y_;
   std::vector<std::complex<double>> top_x_, top_y_, bottom_x_, bottom_y_, history_, normal_;
 };

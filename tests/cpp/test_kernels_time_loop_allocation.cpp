@@ -3,7 +3,8 @@
 // counted (allocation_counter.hpp) while the block operators of an identical
 // strip pair (BlockStripHistory) and of pairs of different bodies
 // (TwoBodyHistory over two BlockStripHistory, InplanePairHistory over two
-// FaceBlockHistory) run whole blocks of steps.
+// FaceBlockHistory; the combined operator of two half-spaces) run whole blocks
+// of steps.
 // The block length B = 2048 puts the FFT levels at up to 2048 points and the
 // NUFFT grid at 4096: the lengths at which FFTW's in-place complex plans take
 // a work buffer from the heap at every execute (FFTW 3.3.10, FFTW_ESTIMATE:
@@ -13,6 +14,7 @@
 // before counting: the OpenMP runtime's one start per process).
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <complex>
 #include <memory>
 #include <random>
@@ -22,6 +24,7 @@
 #include "white_noise.hpp"
 #include "kernels/block_strip_history.hpp"
 #include "kernels/face_block_history.hpp"
+#include "kernels/face_half_space.hpp"
 #include "kernels/fft.hpp"
 #include "kernels/history_convolution.hpp"
 #include "kernels/inplane_pair_history.hpp"
@@ -182,4 +185,30 @@ TEST_CASE("a block body operator with split levels in bin order does not allocat
   design.split_level = 512;
   design.bin_order_level = 512;
   check_body_push_does_not_allocate(design, 16);
+}
+
+TEST_CASE("the combined half-space pair operator does not allocate in push") {
+  // PMMA over Homalite (docs/inplane_bodies.md §7) through InplanePairHistory:
+  // kSteps pushes (32 slow blocks of 128), the opening stress zero for the
+  // first half (the opening channel skipped) and white noise after.
+  const ElasticMaterial top{2.1e9, 0.35, 1170.0, slipstrip::PlaneCondition::stress};
+  const ElasticMaterial bottom{1.9e9, 0.34, 1230.0, slipstrip::PlaneCondition::stress};
+  const double length = 0.1;
+  const int nodes = 16;
+  const double dt = 0.3 * (length / nodes) / top.shear_wave_speed();
+  for (int threads : {1, 2}) {
+    with_threads(threads, [&] {
+      slipstrip::InplanePairHistory pair(
+          slipstrip::InplanePairHistory::Combined{},
+          std::make_unique<slipstrip::FaceHalfSpaceHistory>(top, bottom, length, nodes, dt));
+      const auto slip_rate = white_noise(pair.modes(), 14);
+      auto opening_stress = white_noise(pair.modes(), 15);
+      for (int n = 0; n < kSteps / 2; ++n) std::fill(opening_stress[n].begin(), opening_stress[n].end(), cplx(0.0));
+      const long before = allocations();
+      for (int n = 0; n < kSteps; ++n) pair.push(slip_rate[n], opening_stress[n]);
+      const long during = allocations() - before;
+      MESSAGE(threads << " thread(s): allocations in " << kSteps << " pushes: " << during);
+      CHECK(during == 0);
+    });
+  }
 }
