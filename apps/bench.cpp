@@ -52,8 +52,11 @@ struct BenchCase {
   PlaneCondition plane = PlaneCondition::strain;
   // A pair of different bodies (in-plane: per-body 2x2 operators; antiplane:
   // one scalar operator per body, TwoBodyHistory): the bottom body has the
-  // same height (a half-space for height = inf) and wave speeds, twice mu and
-  // rho (twice the impedances).
+  // same height and wave speeds, twice mu and rho (twice the impedances).  A
+  // pair of half-spaces (height = inf) with equal wave speeds and different
+  // densities has a Stoneley wave, which the combined operator does not carry
+  // (docs/inplane_bodies.md §7): there the bottom body has four times mu and
+  // the same rho (twice the impedances again, twice the wave speeds).
   bool dissimilar = false;
 };
 
@@ -72,11 +75,13 @@ SimulationConfig bench_config(const BenchCase& c, const BenchOptions& options) {
   config.time.beta = 0.25;
   config.time.history = options.history;
   config.initial.noise_amplitude = 1e-3;
+  config.time.half_space_pair = options.half_space_pair;
   if (c.dissimilar) {
+    const bool half_spaces = std::isinf(c.height) && c.plane != PlaneCondition::antiplane;
     config.bottom.body = BodyKind::elastic;
-    config.bottom.shear_modulus = 2.0 * config.material.shear_modulus;
+    config.bottom.shear_modulus = (half_spaces ? 4.0 : 2.0) * config.material.shear_modulus;
     config.bottom.poisson_ratio = config.material.poisson_ratio;
-    config.bottom.density = 2.0 * config.material.density;
+    config.bottom.density = (half_spaces ? 1.0 : 2.0) * config.material.density;
     config.bottom.height = c.height;
   }
   // A typical statistics run (100 L/c_s), in case an operator is sized by the
@@ -146,7 +151,10 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
   const std::string height = std::isinf(c.height) ? "null" : std::to_string(c.height);
   const auto* pair = dynamic_cast<const InplanePairHistory*>(&sim.history_operator());
   const auto* bodies = dynamic_cast<const TwoBodyHistory*>(&sim.history_operator());
-  const char* algorithm = pair ? (std::isinf(c.height) ? "pair_half_space" : pair->period() > 1 ? "pair_block" : "pair_modal")
+  const char* algorithm = pair ? (pair->combined()                  ? "pair_half_space_combined"
+                                  : std::isinf(c.height)             ? "pair_half_space"
+                                  : pair->period() > 1               ? "pair_block"
+                                                                     : "pair_modal")
                           : bodies ? (std::isinf(c.height) ? "pair_half_space" : bodies->period() > 1 ? "pair_block" : "pair_modal")
                           : dynamic_cast<const BlockStripHistory*>(&sim.history_operator())
                               ? "block"

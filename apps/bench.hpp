@@ -23,6 +23,8 @@ struct BenchOptions {
   // half-spaces) and plane, the in-plane one's time per step over the
   // identical pair's and the antiplane one's over the in-plane one's.
   bool dissimilar = false;
+  // --half-space-pair: the operator of the pair of half-spaces (time.half_space_pair).
+  HalfSpacePairOperator half_space_pair = HalfSpacePairOperator::combined;
   HistoryAlgorithm history = HistoryAlgorithm::automatic;  // strip history algorithm  // cases whose estimated operator memory exceeds this are reported as skipped
 };
 

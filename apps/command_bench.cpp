@@ -62,8 +62,16 @@ Command add_bench_command(CLI::App& app) {
       ->delimiter(',');
   bench->add_flag("--pairs", o->dissimilar,
                   "Also time a pair of different bodies (bottom body: same height and wave speeds, twice mu "
-                  "and rho; at inf a pair of half-spaces) at each height and plane, its ratio to the identical "
+                  "and rho; at inf a pair of half-spaces, in-plane with four times mu and the same rho) at each "
+                  "height and plane, its ratio to the identical "
                   "in-plane pair and, with antiplane, the antiplane pair's ratio to the in-plane one");
+  bench->add_option("--half-space-pair", o->half_space_pair,
+                    "The pair of different half-spaces (--pairs at inf): combined (one operator of the interface, "
+                    "the default) or bodies (each body's own), as time.half_space_pair")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, HalfSpacePairOperator>{
+                                              {"combined", HalfSpacePairOperator::combined},
+                                              {"bodies", HalfSpacePairOperator::bodies}},
+                                          CLI::ignore_case));
   bench->add_option("--history", o->history, "Strip history algorithm: auto, modal or block (same operator)")
       ->transform(CLI::CheckedTransformer(history_algorithms_by_name(), CLI::ignore_case));
   bench->add_option("--max-gib", o->max_operator_gib,

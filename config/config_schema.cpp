@@ -756,6 +756,16 @@ constexpr ConfigKey kKeys[] = {
      .comment = "(strip history algorithm; same operator)",
      .choices = names_of<kHistoryAlgorithmNames>,
      .bind = enum_member<&C::time, &TimeConfig::history, kHistoryAlgorithmNames>()},
+    {.section = "time", .name = "half_space_pair", .type = KeyType::choice,
+     .help = "an in-plane pair of two different half-spaces (`geometry.height` and `bottom.height` "
+             "\"inf\"): `combined` carries the interface by one operator of the slip and opening rates, "
+             "whose exponentials are fed one input while the interface is closed (docs/inplane_bodies.md §7; "
+             "~0.7x the step of `bodies`, docs/performance.md); `bodies` by each body's own 2x2 operator. "
+             "A pair with a Stoneley wave (an undamped interface wave) takes `bodies` whatever this says. "
+             "Ignored for other pairs and on a 2D interface (`geometry.nodes_z` > 1)",
+     .comment = "(two different half-spaces: one operator or one per body)",
+     .choices = names_of<kHalfSpacePairOperatorNames>,
+     .bind = enum_member<&C::time, &TimeConfig::half_space_pair, kHalfSpacePairOperatorNames>()},
 
     // [output] --------------------------------------------------------------
     {.section = "output", .name = "timeseries_interval", .unit = "s", .noun = "a time",

@@ -114,8 +114,15 @@ struct InitialConfig {
 enum class HistoryAlgorithm { automatic, modal, block };
 inline constexpr std::string_view kHistoryAlgorithmNames[] = {"auto", "modal", "block"};  // index = enumerator
 
+// [time] half_space_pair: how an in-plane pair of two different half-spaces is
+// simulated (docs/bodies.md §4): one combined operator of the interface's
+// jumps (docs/inplane_bodies.md §7), or each body's own operator.
+enum class HalfSpacePairOperator { combined, bodies };
+inline constexpr std::string_view kHalfSpacePairOperatorNames[] = {"combined", "bodies"};  // index = enumerator
+
 struct TimeConfig {
   HistoryAlgorithm history = HistoryAlgorithm::automatic;  // [time] history
+  HalfSpacePairOperator half_space_pair = HalfSpacePairOperator::combined;  // [time] half_space_pair
   double beta = 0.25;       // [time] beta: dt <= beta dx / c_s (see docs: dt is adjusted so 2H/c_s is a whole number of steps)
   double duration = 1e-3;   // [time] duration [s] (or duration_transit in units of L/c_s, resolved here)
 };

@@ -226,7 +226,7 @@ std::vector<double> passivity_correction(const ModeDesign& m, const FaceKernelSh
     };
     std::vector<double> extra;
     // The circle's phases [0, kCircleThetas), then the band's.
-    for (const auto [first, count] : {std::pair<std::size_t, std::size_t>{0, kCircleThetas},
+    for (const auto& [first, count] : {std::pair<std::size_t, std::size_t>{0, kCircleThetas},
                                       std::pair<std::size_t, std::size_t>{kCircleThetas, kBandThetas}})
       for (std::size_t i = first + 1; i + 1 < first + count; ++i) {
         const double here = lowest_of(base[i]);
@@ -935,6 +935,10 @@ void FaceHalfSpaceHistory::push_slow_block_end(std::size_t q) {
     double* state[4];
     for (int c = 0; c < 4; ++c) state[c] = reinterpret_cast<double*>(slow_state_[c].data() + m0);
     // Feeds sum_p factor[p] mu_c[p], factor[p] = e^{-lambda t_c} (-lambda)^p / p!.
+    // While the normal channel is inactive its feeds and states are zero and
+    // are neither computed nor stored; its terms of the outputs are left out
+    // (the same values: they add zeros).
+    const int feeds = normal_active_ ? 8 : 4;
     for (int p = 0; p < terms; ++p) {
       double mu_p[8];
       for (int c = 0; c < 4; ++c) {
@@ -945,18 +949,43 @@ void FaceHalfSpaceHistory::push_slow_block_end(std::size_t q) {
 #pragma omp simd
         for (std::size_t k = 0; k < count; ++k) {
           factor[k] = centre_factor[k];
-          for (int c = 0; c < 8; ++c) part[c][k] = 0.0 + factor[k] * mu_p[c];
+          for (int c = 0; c < feeds; ++c) part[c][k] = 0.0 + factor[k] * mu_p[c];
         }
         continue;
       }
 #pragma omp simd
       for (std::size_t k = 0; k < count; ++k) {
         factor[k] *= -decay[k] / p;
-        for (int c = 0; c < 8; ++c) part[c][k] += factor[k] * mu_p[c];
+        for (int c = 0; c < feeds; ++c) part[c][k] += factor[k] * mu_p[c];
       }
     }
     // Y_c <- z^B Y_c + feed_c, and the four output channels' weighted states,
     // as the matrix in push().
+    if (!normal_active_) {
+#pragma omp simd
+      for (std::size_t k = 0; k < count; ++k) {
+        const double zr = block_pole[2 * k], zi = block_pole[2 * k + 1];
+        double y[4];
+        for (int c = 0; c < 2; ++c) {
+          const double sr = state[c][2 * k], si = state[c][2 * k + 1];
+          y[2 * c] = (zr * sr - zi * si) + part[2 * c][k];
+          y[2 * c + 1] = (zr * si + zi * sr) + part[2 * c + 1][k];
+          state[c][2 * k] = y[2 * c];
+          state[c][2 * k + 1] = y[2 * c + 1];
+        }
+        // As below with Y_{Re y} = Y_{Im y} = 0.
+        const double w0r = w[6 * k], w0i = w[6 * k + 1], w1r = w[6 * k + 2], w1i = w[6 * k + 3];
+        part[0][k] = w0r * y[0] - w0i * y[1];
+        part[1][k] = w0r * y[1] + w0i * y[0];
+        part[2][k] = w0r * y[2] - w0i * y[3];
+        part[3][k] = w0r * y[3] + w0i * y[2];
+        part[4][k] = -(w1r * y[2] - w1i * y[3]);
+        part[5][k] = -(w1r * y[3] + w1i * y[2]);
+        part[6][k] = w1r * y[0] - w1i * y[1];
+        part[7][k] = w1r * y[1] + w1i * y[0];
+        factor[k] = centre_factor[k];
+      }
+    } else {
 #pragma omp simd
     for (std::size_t k = 0; k < count; ++k) {
       const double zr = block_pole[2 * k], zi = block_pole[2 * k + 1];
@@ -982,6 +1011,7 @@ void FaceHalfSpaceHistory::push_slow_block_end(std::size_t q) {
       part[6][k] = (w1r * y[0] - w1i * y[1]) + (w2r * y[6] - w2i * y[7]);
       part[7][k] = (w1r * y[1] + w1i * y[0]) + (w2r * y[7] + w2i * y[6]);
       factor[k] = centre_factor[k];
+    }
     }
     // Term p of polynomial (b, o): the branch's exponentials' factor[p] times their weighted states.
     for (int p = 0; p < terms; ++p) {

@@ -156,7 +156,7 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   // h = c_ref |k| dt (the slower shear wave's).  shear_impedance() and
   // normal_impedance() are the series impedances eta and eta_y.  Throws
   // HalfSpacePairHasInterfaceWave for a pair with a Stoneley wave, and
-  // std::runtime_error when the set-up check against a numerical inverse
+  // HalfSpacePairCheckFailed when the set-up check against a numerical inverse
   // Laplace transform (verify_half_space_pair_sums) fails.
   FaceHalfSpaceHistory(const ElasticMaterial& top, const ElasticMaterial& bottom, double length, int nodes,
                        double time_step, const HalfSpaceOperatorDesign& design = {},

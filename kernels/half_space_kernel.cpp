@@ -219,18 +219,18 @@ std::vector<ExponentialSum> branch_cut_exponential_sums(std::span<const double> 
   std::vector<double> taus;
   for (double tau = tau_min; tau < tau_max; tau *= 2.0) taus.push_back(tau);
   taus.push_back(tau_max);
-  const auto rule = gauss_legendre(nodes_per_panel);
 
-  // One panel's rule on cut j: per node x = u^2 and the entries' amplitudes
-  // w 2u (-jump / (2 pi i)).
+  // One panel's rule of `nodes` nodes on cut j: per node x = u^2 and the
+  // entries' amplitudes w 2u (-jump / (2 pi i)).
   struct PanelRule {
     std::vector<double> x;
     std::vector<complex> amplitude;  // node-major, `entries` per node
   };
   std::vector<complex> factor(branches), upper(entries), lower(entries);
-  const auto panel_rule = [&](std::size_t j, double a, double c) {
+  const auto panel_rule = [&](std::size_t j, double a, double c, int nodes) {
+    const GaussRule rule = gauss_legendre(nodes);
     PanelRule out;
-    for (int n = 0; n < nodes_per_panel; ++n) {
+    for (int n = 0; n < nodes; ++n) {
       const double u = 0.5 * (c - a) * rule.node[n] + 0.5 * (c + a);
       const double w = 0.5 * (c - a) * rule.weight[n];
       const double x = u * u;
@@ -253,6 +253,12 @@ std::vector<ExponentialSum> branch_cut_exponential_sums(std::span<const double> 
     for (std::size_t n = 0; n < r.x.size(); ++n) acc += r.amplitude[n * entries + e] * std::exp(-r.x[n] * tau);
     return acc;
   };
+  const auto agree = [&](const PanelRule& a, const PanelRule& b) {
+    for (std::size_t e = 0; e < entries; ++e)
+      for (double tau : taus)
+        if (std::abs(moment(a, e, tau) - moment(b, e, tau)) > tolerance) return false;
+    return true;
+  };
   std::vector<ExponentialSum> sums(entries);
   for (std::size_t e = 0; e < entries; ++e) sums[e].static_value = static_values[e];
   const auto append = [&](std::size_t j, const PanelRule& r) {
@@ -262,29 +268,31 @@ std::vector<ExponentialSum> branch_cut_exponential_sums(std::span<const double> 
         sums[e].amplitude.push_back(r.amplitude[n * entries + e]);
       }
   };
-  constexpr int kMaxSplits = 12;
-  const auto refine = [&](auto&& self, std::size_t j, double a, double c, int depth, const PanelRule& coarse) -> void {
-    if (depth < kMaxSplits) {
-      const double m = 0.5 * (a + c);
-      const PanelRule left = panel_rule(j, a, m), right = panel_rule(j, m, c);
-      bool agree = true;
-      for (std::size_t e = 0; e < entries && agree; ++e)
-        for (double tau : taus)
-          if (std::abs(moment(coarse, e, tau) - moment(left, e, tau) - moment(right, e, tau)) > tolerance) {
-            agree = false;
-            break;
-          }
-      if (!agree) {
-        self(self, j, a, m, depth + 1, left);
-        self(self, j, m, c, depth + 1, right);
+  // A panel's rule is accepted when the rule of 4 more nodes agrees with it;
+  // else the panel takes 4 more nodes (their integrand is analytic across the
+  // panel, so more nodes converge faster than halves), up to 32, beyond which
+  // it is split in halves (up to 12 times).
+  constexpr int kMaxSplits = 12, kNodeStep = 4, kMaxNodes = 32;
+  const auto refine = [&](auto&& self, std::size_t j, double a, double c, int depth) -> void {
+    PanelRule rule = panel_rule(j, a, c, nodes_per_panel);
+    for (int nodes = nodes_per_panel; nodes + kNodeStep <= kMaxNodes; nodes += kNodeStep) {
+      PanelRule finer = panel_rule(j, a, c, nodes + kNodeStep);
+      if (agree(rule, finer)) {
+        append(j, rule);
         return;
       }
+      rule = std::move(finer);
     }
-    append(j, coarse);
+    if (depth >= kMaxSplits) {
+      append(j, rule);
+      return;
+    }
+    const double m = 0.5 * (a + c);
+    self(self, j, a, m, depth + 1);
+    self(self, j, m, c, depth + 1);
   };
   for (std::size_t j = 0; j < branches; ++j)
-    for (std::size_t p = 0; p + 1 < edges.size(); ++p)
-      refine(refine, j, edges[p], edges[p + 1], 0, panel_rule(j, edges[p], edges[p + 1]));
+    for (std::size_t p = 0; p + 1 < edges.size(); ++p) refine(refine, j, edges[p], edges[p + 1], 0);
   return sums;
 }
 

@@ -93,13 +93,13 @@ double evaluate(const ExponentialSum& sum, double tau);
 // roots_on_cut does for one body: on the cut leaving i b_j, factor[j] =
 // +i sqrt(x) on the upper side and -i sqrt(x) on the lower, every other factor
 // principal (only the root that branches at b_j jumps there).  The panels in
-// u = sqrt(x) are those of in_plane_exponential_sum, each split in halves
-// (recursively, up to 12 times) while its rule and its halves' rules differ by
-// more than `tolerance` in any entry's contribution e^{-x tau} at tau =
-// tau_min 2^m <= tau_max and at tau_max: a transform of several bodies has
-// singular points near its cuts on the other sheets (the continuation of one
-// side of a cut), which one rule per panel does not resolve.  Every sum gets
-// the same rates.
+// u = sqrt(x) are those of in_plane_exponential_sum; a panel's rule of n nodes
+// is kept when the rule of n + 4 nodes agrees with it to `tolerance` in every
+// entry's contribution e^{-x tau} at tau = tau_min 2^m <= tau_max and at
+// tau_max, else the panel takes 4 more nodes (up to 32; then it is split in
+// halves, up to 12 times): a transform of several bodies has singular points
+// near its cuts on the other sheets (the continuation of one side of a cut),
+// which nodes_per_panel nodes do not resolve.  Every sum gets the same rates.
 using CutTransform = std::function<void(std::complex<double> zeta, std::span<const std::complex<double>> factor,
                                         std::span<std::complex<double>> out)>;
 std::vector<ExponentialSum> branch_cut_exponential_sums(std::span<const double> branch_heights,

@@ -98,10 +98,11 @@ struct HalfSpacePairHasInterfaceWave : std::invalid_argument {
 
 // g_e(tau) ~= g_e(inf) + 2 Re sum amplitude e^{rate tau} for tau in
 // [tau_min, tau_max], e = A, B, D (the same rates): the branch-cut sums of
-// branch_cut_exponential_sums over the pair's cuts, panels split while they
-// differ by more than 1e-9 (absolute, units mu_ref k: the accuracy one body's
-// unsplit 8-node panels reach, tests/cpp/test_kernels_half_space_pair.cpp),
-// plus one exponential per leaky pole (rate p, amplitude its residue; half of
+// branch_cut_exponential_sums over the pair's cuts, a panel's nodes increased
+// while its rule changes by more than 1e-8 (absolute, units mu_ref k; the sums
+// then agree with a numerical inverse Laplace transform to ~2e-8,
+// tests/cpp/test_kernels_half_space_pair.cpp), plus one exponential per leaky
+// pole (rate p, amplitude its residue; half of
 // it for a real p).  Throws HalfSpacePairHasInterfaceWave for a pair with a
 // Stoneley wave.
 std::array<ExponentialSum, 3> half_space_pair_exponential_sums(const HalfSpacePairShape& shape, double tau_min,
@@ -112,10 +113,13 @@ std::array<ExponentialSum, 3> half_space_pair_exponential_sums(const HalfSpacePa
 // coupling's step g_B(0+)/p and each entry's c_e / (p^2 + 1), c_e = p^2 G_e at
 // p = 10^4, inverted in closed form) at tau = 1/2, 1, 2, 4, 8, 16.  Returns the
 // largest difference (units mu_ref k); a missed pole p_0 shows as its residue
-// times e^{Re p_0 tau}.  verify_half_space_pair_sums throws std::runtime_error
+// times e^{Re p_0 tau}.  verify_half_space_pair_sums throws HalfSpacePairCheckFailed
 // when it exceeds 1e-6 (the sums are accurate to ~1e-9, Durbin's truncation
 // here to ~1e-8).
 double half_space_pair_sum_check(const HalfSpacePairShape& shape, const std::array<ExponentialSum, 3>& sums);
+struct HalfSpacePairCheckFailed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 void verify_half_space_pair_sums(const HalfSpacePairShape& shape);
 
 }  // namespace slipstrip

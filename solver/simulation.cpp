@@ -146,8 +146,34 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
     dt_ = c_top >= c_bottom ? strip_time_step(config_.material, g.height, dx_, config_.time.beta)
                             : config_.time.beta * dx_ / c_bottom;
     if (rigid) bottom_height_used_ = std::numeric_limits<double>::quiet_NaN();
+    // Two different half-spaces: one operator of the interface's jumps
+    // (docs/inplane_bodies.md §7) unless time.half_space_pair = "bodies".  A
+    // pair it cannot carry (a Stoneley wave, a failed set-up check, no passive
+    // correction at this step) takes the bodies' operators, which carry any
+    // pair or name the time step that fails.
+    if (!rigid && is_half_space(g.height) && is_half_space(config_.bottom.height) &&
+        config_.time.half_space_pair == HalfSpacePairOperator::combined) {
+      try {
+        auto pair = std::make_unique<InplanePairHistory>(
+            InplanePairHistory::Combined{},
+            std::make_unique<FaceHalfSpaceHistory>(config_.material, bottom_body, g.length, nodes_, dt_,
+                                                   HalfSpaceOperatorDesign{}, cancelled));
+        pair_ = pair.get();
+        history_ = std::move(pair);
+      } catch (const HalfSpacePairHasInterfaceWave&) {
+      } catch (const HalfSpacePairCheckFailed&) {
+      } catch (const FaceHalfSpaceNotPassive&) {
+      }
+      throw_if_cancelled(cancelled, "the combined half-space pair's operator");
+    }
+  }
+  if (history_) {
+    // The mirror pair's operator, or the combined operator of two half-spaces.
+  } else if (inplane) {
     // Each body: its modal 2x2 operator (finite height) or the half-space's
     // (kernels/face_half_space.hpp).
+    const ElasticMaterial bottom_body = bottom_material(config_);
+    const bool rigid = config_.bottom.body == BodyKind::rigid;
     const auto body_operator = [&](const ElasticMaterial& m, double height, OuterFace face,
                                    const char* body) -> std::unique_ptr<FaceHistory> {
       if (is_half_space(height)) {

@@ -149,6 +149,10 @@ TEST_CASE("2D interface, a half-space in a dissimilar pair, field independent of
     c1.bottom.height = pc.bottom_height;
     testing::add_large_perturbation(c1, 0.3);
     c1.interface.normal_stress_slip = 0.5 * c1.friction.characteristic_slip;
+    // The 2D interface carries each half-space by its own operator: the line
+    // is asked for the same (its default for two half-spaces is the combined
+    // operator, docs/inplane_bodies.md §7).
+    c1.time.half_space_pair = HalfSpacePairOperator::bodies;
     SimulationConfig c3 = c1;
     c3.geometry.nodes_z = 4;
     c3.geometry.width = 0.1;  // dz = 0.025 = dx

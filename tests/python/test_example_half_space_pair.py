@@ -1,5 +1,5 @@
 """configs/examples/pmma_homalite_half_spaces.toml (an in-plane bimaterial pair
-of half-spaces, each body's 2x2 half-space operator) runs end to end on a tiny
+of half-spaces, the combined operator of the pair) runs end to end on a tiny
 grid: the run completes, and the normal stress, which only a dissimilar pair
 changes, moves away from sigma0 while staying compressive."""
 import subprocess
