@@ -613,6 +613,7 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(FaceKernelShape shape, double unit, d
   while (block_ > 0 && block_ % batch_ != 0) --batch_;
   far_batch_x_.assign(static_cast<std::size_t>(n_modes) * batch_, 0.0);
   far_batch_y_ = far_batch_x_;
+  slow_batch_out_.assign(4 * static_cast<std::size_t>(batch_), 0.0);
 }
 
 void FaceHalfSpaceHistory::build_exponentials(std::span<const complex> rates, const HalfSpaceOperatorDesign& design) {
@@ -759,7 +760,6 @@ void FaceHalfSpaceHistory::push(std::span<const complex> velocity_x, std::span<c
 
 void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int first, int last) {
   const complex i(0.0, 1.0);
-  const std::size_t n_modes = history_x_.size();
   const std::size_t ring0 = first_lag_[q], window = first_lag_[q + 1] - ring0;
   const std::size_t k0 = first_fast_[q], count = first_fast_[q + 1] - k0;
   const double *zr = pole_re_.data() + k0, *zi = pole_im_.data() + k0;
@@ -770,6 +770,7 @@ void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int 
          *sxi = far_[3].data() + k0;
   double *cyr = far_[4].data() + k0, *cyi = far_[5].data() + k0, *syr = far_[6].data() + k0,
          *syi = far_[7].data() + k0;
+  if (block_ > 0) slow_batch_outputs(q, batch_step, first, last);
   for (int d = first; d < last; ++d) {
     const long long n = batch_step + d;
     // v_{n-W}, still in the ring (the batch is at most W steps long).
@@ -842,16 +843,8 @@ void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int 
       in_xi[t] = uxi;
       in_yr[t] = uyr;
       in_yi[t] = uyi;
-      const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
-      double out[4];
-      const complex* moments = block_moment_.data() + q * groups_ * kSlowPolynomials * terms_;
-      slow_block_output<4>(moments, terms_, (t + 1) - block_centre_, rotation_[0][at], rotation_[0][at + 1], out);
-      for (std::size_t g = 1; g < groups_; ++g) {
-        double more[4];
-        slow_block_output<4>(moments + g * kSlowPolynomials * terms_, terms_, (t + 1) - block_centre_,
-                             rotation_[g][at], rotation_[g][at + 1], more);
-        for (int o = 0; o < 4; ++o) out[o] += more[o];
-      }
+      const double* slow = slow_batch_out_.data() + d;
+      const double out[4] = {slow[0], slow[batch_], slow[2 * batch_], slow[3 * batch_]};
       // Lag t - j of entry e sits at [e][B - 1 - t + j] (stored reversed, so
       // that this loop reads forward); the eight sums vectorise together.
       const double* lag = slow_lag_weight_.data() + q * 3 * block_ + (block_ - 1 - t);
@@ -887,6 +880,62 @@ void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int 
     }
     far_batch_x_[q * batch_ + d] = far_x;
     far_batch_y_[q * batch_ + d] = far_y;
+  }
+}
+
+void FaceHalfSpaceHistory::slow_batch_outputs(std::size_t q, long long batch_step, int first, int last) {
+  // The polynomials are those of the block's start until its last step (a
+  // batch never straddles a block end), so Horner's rule runs on kLanes steps
+  // side by side: one vector per polynomial instead of one scalar chain per
+  // polynomial and step (the pair's two groups make 16 complex polynomials per
+  // mode).  Every lane does the same arithmetic whatever the batch (unused
+  // lanes are evaluated at x = 0 and dropped), so the outputs do not depend on
+  // how the steps were batched.
+  constexpr int kLanes = 8;
+  const std::size_t n_modes = history_x_.size();
+  const int terms = terms_;
+  const complex* moments = block_moment_.data() + q * groups_ * kSlowPolynomials * terms_;
+  for (int d0 = first; d0 < last; d0 += kLanes) {
+    const int lanes = std::min(kLanes, last - d0);
+    // Block positions t0 + s (the batch lies in one block).
+    const int t0 = static_cast<int>((batch_step + d0) % block_);
+    double x[kLanes] = {};
+    for (int s = 0; s < lanes; ++s) x[s] = (t0 + s + 1) - block_centre_;
+    double out[4][kLanes] = {};
+    for (std::size_t g = 0; g < groups_; ++g) {
+      // Polynomial (b, o) of this group at moment[(b * 4 + o) * terms], b = the
+      // group's first and second branch, o = the output channel; the 16 real
+      // chains advance together (independent, so they overlap instead of
+      // waiting on each other's latency).
+      const complex* m = moments + g * kSlowPolynomials * terms;
+      double re[kSlowPolynomials][kLanes], im[kSlowPolynomials][kLanes];
+      for (std::size_t beta = 0; beta < kSlowPolynomials; ++beta)
+        for (int s = 0; s < kLanes; ++s) {
+          re[beta][s] = m[beta * terms + terms - 1].real();
+          im[beta][s] = m[beta * terms + terms - 1].imag();
+        }
+      for (int p = terms - 2; p >= 0; --p)
+        for (std::size_t beta = 0; beta < kSlowPolynomials; ++beta) {
+          const double mr = m[beta * terms + p].real(), mi = m[beta * terms + p].imag();
+#pragma omp simd
+          for (int s = 0; s < kLanes; ++s) {
+            re[beta][s] = re[beta][s] * x[s] + mr;
+            im[beta][s] = im[beta][s] * x[s] + mi;
+          }
+        }
+      // Channel o: 2 Re(rho_1^{t'} P_{1,o} + rho_2^{t'} P_{2,o}), the group's
+      // rotations at this step (real arithmetic: std::complex's products stay
+      // scalar).
+      for (int s = 0; s < lanes; ++s) {
+        const std::size_t at = (static_cast<std::size_t>(t0 + s) * n_modes + q) * 2;
+        const double r1 = rotation_[g][at].real(), i1 = rotation_[g][at].imag();
+        const double r2 = rotation_[g][at + 1].real(), i2 = rotation_[g][at + 1].imag();
+        for (int o = 0; o < 4; ++o)
+          out[o][s] += 2.0 * ((r1 * re[o][s] - i1 * im[o][s]) + (r2 * re[4 + o][s] - i2 * im[4 + o][s]));
+      }
+    }
+    for (int o = 0; o < 4; ++o)
+      for (int s = 0; s < lanes; ++s) slow_batch_out_[o * batch_ + d0 + s] = out[o][s];
   }
 }
 
@@ -1184,7 +1233,7 @@ std::size_t FaceHalfSpaceHistory::memory_bytes() const {
                             4 * slow_state_[0].size() +
                             block_moment_.size()) +
          sizeof(double) * 4 * block_input_[0].size() +
-         sizeof(complex) * (far_batch_x_.size() + far_batch_y_.size()) +
+         sizeof(complex) * (far_batch_x_.size() + far_batch_y_.size()) + sizeof(double) * slow_batch_out_.size() +
          sizeof(slow_weight_[0]) * slow_weight_.size();
 }
 
