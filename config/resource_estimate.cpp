@@ -6,11 +6,13 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "config/config.hpp"
 #include "config/config_schema.hpp"
 #include "kernels/block_strip_history.hpp"
 #include "kernels/face_block_history.hpp"
+#include "kernels/half_space_pair_kernel.hpp"
 #include "kernels/strip_response.hpp"
 
 namespace slipstrip {
@@ -48,6 +50,17 @@ constexpr double kFaceBlockBytesPerMode = 12.0 * 8.0 + 4.0 * 16.0;
 constexpr double kFaceBlockBytesPerBlockStep = 7.0 * 16.0;
 constexpr double kFaceBlockBytesPerFourierMode = 3.0 * 32.0 * 8.0 + 2.0 * 32.0 * 16.0 + 4.0 * 32.0 * 8.0;
 constexpr double kFaceHalfSpaceBytesPerFourierMode = 300.0 * 128.0 + 512.0 * 56.0;
+// The combined operator of two different half-spaces (kernels/face_half_space.hpp,
+// docs/inplane_bodies.md §7), per Fourier mode: ~700 exponentials (four cuts,
+// their refined panels, the leaky poles), each with its pole and three complex
+// weights (64 bytes) and either a fast one's eight state doubles (128) or a
+// slow one's decay, centre factor, block pole, four complex states and weights
+// (144; about two thirds are slow), ~200 bytes on average; and the slow
+// blocks' tables for two groups of branches (rotations 8 KiB, in-block lags,
+// inputs and polynomials 10 KiB).  Its sampled window is short (W h >= 1: ~10
+// lags per mode on average at N = 2048).  Built: 142, 156 and 160 KB per mode
+// at N = 16, 256 and 2048 (the bench's pair).
+constexpr double kHalfSpacePairBytesPerFourierMode = 700.0 * 200.0 + 18432.0;
 
 // Wall time per step on one core: a fixed part (bookkeeping, a time-series
 // row), the FFT pair and friction solve per node, and the history operator
@@ -66,6 +79,9 @@ constexpr double kHalfSpaceSecondsPerFourierMode = 2.4e-7;
 // states every step (no slow blocks; docs/bodies.md §4).
 constexpr double kFaceModalSecondsPerMode = 2.0 * kModalSecondsPerMode;
 constexpr double kFaceHalfSpaceSecondsPerFourierMode = 300.0 * 4.0 * 1e-9;
+// The combined half-space pair's operator: fitted to the bench (N = 2048, one
+// thread: ~800 us per step against the identical pair's ~340 us).
+constexpr double kHalfSpacePairSecondsPerFourierMode = 7e-7;
 
 // One body's history operator at the run's time step.
 struct BodyOperator {
@@ -269,7 +285,24 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
     if (elastic) add_body(bottom, c.bottom.height, false);
     e.operator_bytes += kernel_bytes;
   }
-  if (elastic_bottom) {
+  // Two different in-plane half-spaces on a line: one combined operator
+  // (Simulation, time.half_space_pair = "combined"), unless the pair has a
+  // Stoneley wave (then the bodies' operators, counted below).  The rarer
+  // fallbacks (a failed set-up check, no passive correction) also take the
+  // bodies' operators, which cost ~0.8x the combined one.
+  bool combined_pair = per_body && elastic_bottom && is_half_space(c.geometry.height) &&
+                       is_half_space(c.bottom.height) && c.time.half_space_pair == HalfSpacePairOperator::combined;
+  if (combined_pair) {
+    try {
+      combined_pair = half_space_pair_stoneley_speed(half_space_pair_shape(c.material, bottom)) == 0.0;
+    } catch (const std::invalid_argument&) {
+      combined_pair = false;  // bodies the pair's shape refuses: the run refuses them with its own reason
+    }
+  }
+  if (combined_pair) {
+    e.operator_bytes = fourier_modes * kHalfSpacePairBytesPerFourierMode;
+    history_seconds = fourier_modes * kHalfSpacePairSecondsPerFourierMode;
+  } else if (elastic_bottom) {
     const BodyOperator b =
         body_operator(bottom, c.bottom.height, e.time_step, fourier_modes, c.time.history, !per_body, true,
                       antiplane_bodies);
