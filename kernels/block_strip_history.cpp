@@ -427,6 +427,18 @@ HistoryOperatorState BlockStripHistory::save_state() const {
   return state;
 }
 
+HistoryStateLayout BlockStripHistory::state_layout() const {
+  const auto n = static_cast<std::size_t>(n_modes_), block = static_cast<std::size_t>(block_);
+  HistoryStateLayout layout;
+  layout.add("mode_state", first_state_, 2);
+  layout.add_uniform("input", n, 2 * block);
+  layout.add_uniform("accumulator", n, 2 * block);
+  layout.add_uniform("running_sum", n, 2);
+  layout.add_first_mode("echo_line", n, 2 * echo_.steps());
+  layout.add_uniform("history", n, 2);
+  return layout;
+}
+
 void BlockStripHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind("block strip");
   const long long cursor = state.counter("echo_cursor"), position = state.counter("position");

@@ -89,6 +89,7 @@ class BlockStripHistory final : public HistoryOperator {
   // the kernel spectra are not state: rebuilt from the config).
   HistoryOperatorState save_state() const override;
   void restore_state(const HistoryOperatorState& state) override;
+  HistoryStateLayout state_layout() const override;
 
   int block() const { return block_; }
   std::size_t designs() const { return c0_.size(); }  // distinct normal-mode sets (<= modes())

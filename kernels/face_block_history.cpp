@@ -527,6 +527,15 @@ void FaceBlockHistory::save_into(HistoryOperatorState& state, const std::string&
   state.add(prefix + "history_y", history_y_);
 }
 
+void FaceBlockHistory::state_layout_into(HistoryStateLayout& layout, const std::string& prefix) const {
+  const auto n = static_cast<std::size_t>(n_modes_), block = static_cast<std::size_t>(block_);
+  layout.add(prefix + "state_x", first_frequency_, 2);
+  layout.add(prefix + "state_y", first_frequency_, 2);
+  for (const char* name : {"input_x", "input_y", "accumulator_x", "accumulator_y"})
+    layout.add_uniform(prefix + name, n, 2 * block);
+  for (const char* name : {"running_x", "running_y", "history_x", "history_y"}) layout.add_uniform(prefix + name, n, 2);
+}
+
 void FaceBlockHistory::restore_from(const HistoryOperatorState& state, const std::string& prefix) {
   if (state.counter(prefix + "block") != block_)
     throw std::invalid_argument("block face history state: block = " +

@@ -101,6 +101,7 @@ class FaceBlockHistory final : public FaceHistory {
   // The state is the rows alone (BlockRows::saved_input).
   void save_into(HistoryOperatorState& state, const std::string& prefix) const override;
   void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
+  void state_layout_into(HistoryStateLayout& layout, const std::string& prefix) const override;
   std::size_t memory_bytes() const override;
   std::size_t discrete_modes() const override { return theta_.size() / 2; }
   const char* algorithm() const override { return "block"; }

@@ -1170,6 +1170,28 @@ void FaceHalfSpaceHistory::save_into(HistoryOperatorState& state, const std::str
   state.counters.emplace_back(prefix + "normal_active", normal_active_ ? 1 : 0);
 }
 
+void FaceHalfSpaceHistory::state_layout_into(HistoryStateLayout& layout, const std::string& prefix) const {
+  const std::size_t n = history_x_.size(), block = static_cast<std::size_t>(block_);
+  layout.add_uniform(prefix + "far_batch_x", n, 2 * static_cast<std::size_t>(batch_));
+  layout.add_uniform(prefix + "far_batch_y", n, 2 * static_cast<std::size_t>(batch_));
+  layout.add(prefix + "ring_x", first_lag_, 2);
+  layout.add(prefix + "ring_y", first_lag_, 2);
+  layout.add_uniform(prefix + "running_x", n, 2);
+  layout.add_uniform(prefix + "running_y", n, 2);
+  for (const char* name : kFarStateNames) layout.add(prefix + name, first_fast_, 1);
+  for (const char* name : kSlowStateNames) layout.add(prefix + name, first_slow_, 2);
+  layout.add_uniform(prefix + "block_input_x", n, 2 * block);
+  layout.add_uniform(prefix + "block_input_y", n, 2 * block);
+  layout.add_uniform(prefix + "block_moment", n, 2 * groups_ * kSlowPolynomials * static_cast<std::size_t>(terms_));
+  layout.add_uniform(prefix + "history_x", n, 2);
+  layout.add_uniform(prefix + "history_y", n, 2);
+  // Whether the second channel's inputs were ever nonzero: the parts of an
+  // operator split by mode may differ (one part's modes had nonzero inputs,
+  // another's not yet), and a channel worked while its states are zero gives
+  // the same histories, so the whole operator's is whether any part's is.
+  layout.any_counters.push_back(prefix + "normal_active");
+}
+
 void FaceHalfSpaceHistory::restore_from(const HistoryOperatorState& state, const std::string& prefix) {
   const bool has_format = std::any_of(state.counters.begin(), state.counters.end(),
                                       [&](const auto& c) { return c.first == prefix + "format"; });

@@ -172,6 +172,7 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   std::span<const std::complex<double>> history_y() const override { return history_y_; }
   void save_into(HistoryOperatorState& state, const std::string& prefix) const override;
   void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
+  void state_layout_into(HistoryStateLayout& layout, const std::string& prefix) const override;
   std::size_t memory_bytes() const override;
   std::size_t discrete_modes() const override { return pole_.size(); }
   const char* algorithm() const override { return shape_.pair ? "half-space pair" : "half-space"; }

@@ -275,6 +275,12 @@ void FaceModalHistory::restore_from(const HistoryOperatorState& state, const std
   state.copy_to(prefix + "history_y", std::span<complex>(history_y_));
 }
 
+void FaceModalHistory::state_layout_into(HistoryStateLayout& layout, const std::string& prefix) const {
+  const std::size_t n = history_x_.size();
+  for (const char* name : {"cx", "sx", "cy", "sy"}) layout.add(prefix + name, first_, 2);
+  for (const char* name : {"running_x", "running_y", "history_x", "history_y"}) layout.add_uniform(prefix + name, n, 2);
+}
+
 std::size_t FaceModalHistory::memory_bytes() const {
   return sizeof(complex) * (4 * cx_.size() + 4 * running_x_.size()) +
          sizeof(double) * (cos_.size() + sin_.size()) + sizeof(FaceMatrix) * (weight_.size() + weight_sum_.size()) +

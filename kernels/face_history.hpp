@@ -62,6 +62,9 @@ class FaceHistory {
   // continues bit for bit).  Allocates: not in the time loop.
   virtual void save_into(HistoryOperatorState& state, const std::string& prefix) const = 0;
   virtual void restore_from(const HistoryOperatorState& state, const std::string& prefix) = 0;
+  // Where each mode's values lie in save_into's arrays (HistoryStateLayout),
+  // named as save_into names them.  Allocates: not in the time loop.
+  virtual void state_layout_into(HistoryStateLayout& layout, const std::string& prefix) const = 0;
   virtual std::size_t memory_bytes() const = 0;
   // Recursions per step (modes, exponentials): the stats' "oscillators".
   virtual std::size_t discrete_modes() const = 0;
@@ -98,6 +101,7 @@ class FaceModalHistory final : public FaceHistory {
   FaceDiscreteModes mode(int q) const;
   void save_into(HistoryOperatorState& state, const std::string& prefix) const override;
   void restore_from(const HistoryOperatorState& state, const std::string& prefix) override;
+  void state_layout_into(HistoryStateLayout& layout, const std::string& prefix) const override;
   std::size_t memory_bytes() const override;
   std::size_t discrete_modes() const override { return weight_.size(); }
   const char* algorithm() const override { return "modal"; }

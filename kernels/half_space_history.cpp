@@ -327,6 +327,20 @@ HistoryOperatorState HalfSpaceHistory::save_state() const {
   return state;
 }
 
+HistoryStateLayout HalfSpaceHistory::state_layout() const {
+  const std::size_t n = history_.size();
+  HistoryStateLayout layout;
+  layout.add("ring", first_lag_, 2);
+  for (const char* name : {"c_re", "c_im", "s_re", "s_im"}) layout.add(name, first_pole_, 1);
+  layout.add_uniform("running_sum", n, 2);
+  layout.add_uniform("history", n, 2);
+  layout.add("slow_state_re", first_slow_, 2);
+  layout.add("slow_state_im", first_slow_, 2);
+  layout.add_uniform("block_input", n, 2 * static_cast<std::size_t>(block_));
+  layout.add_uniform("block_moment", n, 2 * 4 * static_cast<std::size_t>(terms_));
+  return layout;
+}
+
 void HalfSpaceHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind("half-space");
   const bool has_format = std::any_of(state.counters.begin(), state.counters.end(),

@@ -70,6 +70,7 @@ class HalfSpaceHistory final : public HistoryOperator {
   std::span<const std::complex<double>> history() const override { return history_; }
   HistoryOperatorState save_state() const override;
   void restore_state(const HistoryOperatorState& state) override;
+  HistoryStateLayout state_layout() const override;
 
   // Coefficients of mode q >= 1, as used by push() (fast exponentials first,
   // then the slow ones).

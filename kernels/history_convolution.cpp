@@ -284,6 +284,46 @@ HistoryOperatorState HistoryOperatorState::part(const std::string& prefix, const
   return part;
 }
 
+void HistoryStateLayout::add(const std::string& name, std::span<const std::size_t> first_element,
+                             std::size_t doubles_per_element) {
+  std::vector<std::size_t> first(first_element.begin(), first_element.end());
+  for (auto& f : first) f *= doubles_per_element;
+  arrays.emplace_back(name, std::move(first));
+}
+
+void HistoryStateLayout::add_uniform(const std::string& name, std::size_t modes, std::size_t values_per_mode) {
+  std::vector<std::size_t> first(modes + 1);
+  for (std::size_t q = 0; q <= modes; ++q) first[q] = q * values_per_mode;
+  arrays.emplace_back(name, std::move(first));
+}
+
+void HistoryStateLayout::add_first_mode(const std::string& name, std::size_t modes, std::size_t values) {
+  std::vector<std::size_t> first(modes + 1, values);
+  first[0] = 0;
+  arrays.emplace_back(name, std::move(first));
+}
+
+void HistoryStateLayout::add_part(const std::string& prefix, const HistoryStateLayout& part) {
+  for (const auto& [name, first] : part.arrays) arrays.emplace_back(prefix + name, first);
+  for (const auto& name : part.any_counters) any_counters.push_back(prefix + name);
+}
+
+const std::vector<std::size_t>& HistoryStateLayout::of(const std::string& name) const {
+  for (const auto& [key, first] : arrays)
+    if (key == name) return first;
+  throw std::invalid_argument("history operator state: no per-mode layout for array '" + name + "'");
+}
+
+HistoryStateLayout StripHistory::state_layout() const {
+  const std::size_t n = history_.size();
+  HistoryStateLayout layout;
+  for (const char* name : {"c_re", "c_im", "s_re", "s_im"}) layout.add(name, first_oscillator_, 1);
+  layout.add_uniform("running_sum", n, 2);
+  layout.add_first_mode("echo_line", n, 2 * echo_.steps());
+  layout.add_uniform("history", n, 2);
+  return layout;
+}
+
 HistoryOperatorState StripHistory::save_state() const {
   HistoryOperatorState state;
   state.kind = "modal strip";

@@ -121,6 +121,36 @@ struct HistoryOperatorState {
   HistoryOperatorState part(const std::string& prefix, const std::string& part_kind) const;
 };
 
+// Where each mode's values lie in the arrays of a state (save_state): for
+// each array, by name, the offsets in doubles of operator mode q's values,
+// [first[q], first[q + 1]) (first has modes() + 1 entries, starts at 0 and
+// ends at the array's size).  Every array of these operators is contiguous
+// per mode and in mode order, and a mode's values depend on that mode's input
+// alone, so a state can be regrouped by mode: the parts of an operator split
+// over processes (each over its own modes) make the whole operator's state by
+// concatenating each array's per-mode values in the whole operator's mode
+// order (kernels/interface_2d_history.hpp).  The counters (step counts,
+// cursors, block lengths) are the same for every mode, but for the flags in
+// any_counters.
+struct HistoryStateLayout {
+  std::vector<std::pair<std::string, std::vector<std::size_t>>> arrays;
+  // Counters that are flags of the whole operator which its parts over
+  // different modes may hold differently (0 or 1): the whole operator's is
+  // whether any part's is set.
+  std::vector<std::string> any_counters;
+
+  // Offsets of elements of `doubles_per_element` doubles (2: complex), from a
+  // per-mode element offset table (size modes + 1).
+  void add(const std::string& name, std::span<const std::size_t> first_element, std::size_t doubles_per_element);
+  // `values_per_mode` doubles per mode, for `modes` modes.
+  void add_uniform(const std::string& name, std::size_t modes, std::size_t values_per_mode);
+  // All `values` doubles belong to mode 0 (the uniform mode's delay line).
+  void add_first_mode(const std::string& name, std::size_t modes, std::size_t values);
+  void add_part(const std::string& prefix, const HistoryStateLayout& part);
+  // The offsets of array `name`; throws std::invalid_argument if it has none.
+  const std::vector<std::size_t>& of(const std::string& name) const;
+};
+
 // The history part of the traction per Fourier mode, as the time loop sees it:
 // feed the slip-rate perturbation spectrum at t_n, read the history part at
 // t_{n+1}.  Two implementations: StripHistory (finite H, exact) and
@@ -141,6 +171,8 @@ class HistoryOperator {
   // config: afterwards push() continues exactly as the saved operator would.
   virtual HistoryOperatorState save_state() const = 0;
   virtual void restore_state(const HistoryOperatorState& state) = 0;
+  // Where each mode's values lie in save_state()'s arrays (allocates).
+  virtual HistoryStateLayout state_layout() const = 0;
 };
 
 // The uniform mode q = 0 of a strip: exact shear echoes between the two
@@ -191,6 +223,7 @@ class StripHistory final : public HistoryOperator {
   std::span<const std::complex<double>> history() const override { return history_; }
   HistoryOperatorState save_state() const override;
   void restore_state(const HistoryOperatorState& state) override;
+  HistoryStateLayout state_layout() const override;
 
  private:
   double dt_;

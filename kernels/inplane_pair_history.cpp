@@ -172,6 +172,19 @@ HistoryOperatorState InplanePairHistory::save_state() const {
   return s;
 }
 
+HistoryStateLayout InplanePairHistory::state_layout() const {
+  HistoryStateLayout layout;
+  if (combined_) {
+    top_->state_layout_into(layout, "combined.");
+  } else {
+    top_->state_layout_into(layout, "top.");
+    if (bottom_) bottom_->state_layout_into(layout, "bottom.");
+  }
+  layout.add_uniform("history", history_.size(), 2);
+  layout.add_uniform("normal_stress", normal_.size(), 2);
+  return layout;
+}
+
 void InplanePairHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind(kKind);
   // A restart point of the two bodies' operators cannot be resumed by the

@@ -72,6 +72,7 @@ class InplanePairHistory final : public HistoryOperator {
   std::span<const std::complex<double>> normal_stress() const { return normal_; }
   HistoryOperatorState save_state() const override;
   void restore_state(const HistoryOperatorState& state) override;
+  HistoryStateLayout state_layout() const override;
   // Steps after which both bodies' per-step work repeats (FaceHistory::period).
   int period() const;
 

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "kernels/face_half_space.hpp"
 #include "kernels/face_history.hpp"
@@ -147,6 +148,14 @@ InterfaceHistory2d::InterfaceHistory2d(const InterfaceGrid2d& grid, const Interf
     if (held != 0)
       for (int qz = 0; qz <= nz / 2; ++qz) x_nyquist_pairs_.emplace_back(column[qz], column[(nz - qz) % nz]);
   }
+  {
+    const long long half_x = grid_.nodes_x / 2 + 1, grid_modes = static_cast<long long>(grid_.modes());
+    operator_modes_ = grid_modes + (grid_.nodes_z % 2 == 0 && grid_.nodes_z > 1 ? half_x : 0);
+    global_mode_.assign(n, -1);
+    for (std::size_t s = 0; s < modes.size(); ++s) global_mode_[first_ + s] = modes.qz[s] * half_x + modes.qx[s];
+    for (std::size_t j = 0; j < extra_slot_.size(); ++j)
+      global_mode_[first_ + modes.size() + j] = grid_modes + modes.qx[extra_slot_[j]];
+  }
   cos_.resize(n);
   sin_.resize(n);
   for (std::size_t m = 0; m < n; ++m) {
@@ -278,6 +287,253 @@ void InterfaceHistory2d::restore_state(const HistoryOperatorState& state) {
   // The parts carry the kinds of this run's operators; each part checks its arrays.
   inplane_->restore_state(state.part("inplane.", inplane_->save_state().kind));
   antiplane_->restore_state(state.part("antiplane.", antiplane_->save_state().kind));
+}
+
+HistoryStateLayout InterfaceHistory2d::state_layout() const {
+  HistoryStateLayout layout;
+  layout.add_part("inplane.", inplane_->state_layout());
+  layout.add_part("antiplane.", antiplane_->state_layout());
+  return layout;
+}
+
+namespace {
+
+constexpr const char* kModesArray = "@modes";
+constexpr const char* kOperatorModesCounter = "@operator_modes";
+constexpr const char* kFirstSuffix = "@first";
+// Marks a counter of HistoryStateLayout::any_counters in mode records: "@any." + name.
+constexpr const char* kAnyPrefix = "@any.";
+
+bool is_mode_array(const std::string& name) {
+  return name != kModesArray &&
+         !(name.size() > std::string_view(kFirstSuffix).size() && name.ends_with(kFirstSuffix));
+}
+
+const std::vector<double>& record_array(const HistoryOperatorState& records, const std::string& name) {
+  for (const auto& [key, values] : records.arrays)
+    if (key == name) return values;
+  throw std::invalid_argument("history operator mode records: array '" + name + "' is missing");
+}
+
+// A mode index or offset stored as a double: a whole number in range.
+std::size_t stored_index(double value, double limit, const std::string& what) {
+  if (!(value >= 0.0 && value <= limit && value == std::floor(value)))
+    throw std::invalid_argument("history operator mode records: " + what + " = " + std::to_string(value) +
+                                " is not an index in 0.." + std::to_string(static_cast<long long>(limit)));
+  return static_cast<std::size_t>(value);
+}
+
+// Which part holds each global mode, and where: (part, record), checked to
+// cover 0..operator_modes-1 once.
+std::vector<std::pair<std::size_t, std::size_t>> mode_owners(std::span<const HistoryOperatorState> parts,
+                                                             long long operator_modes) {
+  if (operator_modes < 1) throw std::invalid_argument("history operator mode records: no modes");
+  constexpr std::size_t none = static_cast<std::size_t>(-1);
+  std::vector<std::pair<std::size_t, std::size_t>> owner(static_cast<std::size_t>(operator_modes), {none, none});
+  const double limit = static_cast<double>(operator_modes - 1);
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    if (parts[p].counter(kOperatorModesCounter) != operator_modes)
+      throw std::invalid_argument("history operator mode records: the parts' operators have " +
+                                  std::to_string(parts[p].counter(kOperatorModesCounter)) + " and " +
+                                  std::to_string(operator_modes) + " modes");
+    const auto& modes = record_array(parts[p], kModesArray);
+    for (std::size_t i = 0; i < modes.size(); ++i) {
+      const std::size_t g = stored_index(modes[i], limit, "mode");
+      if (owner[g].first != none)
+        throw std::invalid_argument("history operator mode records: mode " + std::to_string(g) +
+                                    " is held by two parts");
+      owner[g] = {p, i};
+    }
+  }
+  for (std::size_t g = 0; g < owner.size(); ++g)
+    if (owner[g].first == none)
+      throw std::invalid_argument("history operator mode records: mode " + std::to_string(g) + " is held by no part");
+  return owner;
+}
+
+// The offsets of record array `name` of a part: checked to rise from 0, one
+// more than the part's modes.
+std::vector<std::size_t> record_offsets(const HistoryOperatorState& part, const std::string& name) {
+  const auto& stored = record_array(part, name + kFirstSuffix);
+  const std::size_t modes = record_array(part, kModesArray).size();
+  if (stored.size() != modes + 1 || stored[0] != 0.0)
+    throw std::invalid_argument("history operator mode records: '" + name + kFirstSuffix + "' has " +
+                                std::to_string(stored.size()) + " offsets for " + std::to_string(modes) + " modes");
+  std::vector<std::size_t> first(stored.size());
+  for (std::size_t i = 0; i < stored.size(); ++i) {
+    first[i] = stored_index(stored[i], 0x1p53, name + kFirstSuffix);
+    if (i > 0 && first[i] < first[i - 1])
+      throw std::invalid_argument("history operator mode records: '" + name + kFirstSuffix + "' decreases");
+  }
+  return first;
+}
+
+}  // namespace
+
+HistoryOperatorState InterfaceHistory2d::save_mode_records(bool with_values) const {
+  const HistoryOperatorState state = save_state();
+  const HistoryStateLayout layout = state_layout();
+  if (layout.arrays.size() != state.arrays.size())
+    throw std::logic_error("InterfaceHistory2d: the state has " + std::to_string(state.arrays.size()) +
+                           " arrays, its per-mode layout " + std::to_string(layout.arrays.size()));
+  // This operator's modes in global order (an idle uniform mode left out).
+  std::vector<std::pair<long long, std::size_t>> order;
+  for (std::size_t m = 0; m < global_mode_.size(); ++m)
+    if (global_mode_[m] >= 0) order.emplace_back(global_mode_[m], m);
+  std::sort(order.begin(), order.end());
+  HistoryOperatorState records;
+  records.kind = kModeRecordsKind;
+  records.counters = state.counters;
+  records.counters.emplace_back(kOperatorModesCounter, operator_modes_);
+  for (const auto& name : layout.any_counters) records.counters.emplace_back(kAnyPrefix + name, 1);
+  std::vector<double> modes;
+  for (const auto& [g, m] : order) modes.push_back(static_cast<double>(g));
+  records.arrays.emplace_back(kModesArray, std::move(modes));
+  for (const auto& [name, values] : state.arrays) {
+    const auto& first = layout.of(name);
+    if (first.size() != global_mode_.size() + 1 || first.front() != 0 || first.back() != values.size())
+      throw std::logic_error("InterfaceHistory2d: the per-mode layout of '" + name + "' does not fit its " +
+                             std::to_string(values.size()) + " values");
+    std::vector<double> record, offsets{0.0};
+    std::size_t size = 0;
+    for (const auto& [g, m] : order) {
+      if (with_values) record.insert(record.end(), values.begin() + first[m], values.begin() + first[m + 1]);
+      size += first[m + 1] - first[m];
+      offsets.push_back(static_cast<double>(size));
+    }
+    records.arrays.emplace_back(name, std::move(record));
+    records.arrays.emplace_back(name + kFirstSuffix, std::move(offsets));
+  }
+  return records;
+}
+
+HistoryOperatorState InterfaceHistory2d::merge_mode_records(std::span<const HistoryOperatorState> parts) {
+  if (parts.empty()) throw std::invalid_argument("history operator mode records: no parts");
+  const long long operator_modes = parts[0].counter(kOperatorModesCounter);
+  const auto owner = mode_owners(parts, operator_modes);
+  HistoryOperatorState whole;
+  whole.kind = kStateKind;
+  for (const auto& [name, value] : parts[0].counters) {
+    if (name.starts_with("@")) continue;
+    const bool any = std::any_of(parts[0].counters.begin(), parts[0].counters.end(),
+                                 [&](const auto& c) { return c.first == kAnyPrefix + name; });
+    long long merged = value;
+    for (const auto& part : parts) {
+      const long long other = part.counter(name);
+      if (any)
+        merged = std::max(merged, other);
+      else if (other != value)
+        throw std::invalid_argument("history operator mode records: counter '" + name + "' is " +
+                                    std::to_string(value) + " in one part and " + std::to_string(other) +
+                                    " in another");
+    }
+    whole.counters.emplace_back(name, merged);
+  }
+  for (const auto& [name, unused] : parts[0].arrays) {
+    if (!is_mode_array(name)) continue;
+    std::vector<std::vector<std::size_t>> first(parts.size());
+    std::vector<const std::vector<double>*> values(parts.size());
+    std::size_t total = 0;
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+      first[p] = record_offsets(parts[p], name);
+      values[p] = &record_array(parts[p], name);
+      if (values[p]->size() != first[p].back())
+        throw std::invalid_argument("history operator mode records: '" + name + "' has " +
+                                    std::to_string(values[p]->size()) + " values, its offsets " +
+                                    std::to_string(first[p].back()));
+      total += values[p]->size();
+    }
+    std::vector<double> merged;
+    merged.reserve(total);
+    for (const auto& [p, i] : owner)
+      merged.insert(merged.end(), values[p]->begin() + first[p][i], values[p]->begin() + first[p][i + 1]);
+    whole.arrays.emplace_back(name, std::move(merged));
+  }
+  return whole;
+}
+
+std::vector<HistoryOperatorState> InterfaceHistory2d::split_state(const HistoryOperatorState& whole,
+                                                                  std::span<const HistoryOperatorState> layouts) {
+  whole.require_kind(kStateKind);
+  if (layouts.empty()) throw std::invalid_argument("history operator mode records: no parts");
+  const long long operator_modes = layouts[0].counter(kOperatorModesCounter);
+  const auto owner = mode_owners(layouts, operator_modes);
+  std::vector<HistoryOperatorState> parts(layouts.size());
+  for (std::size_t p = 0; p < layouts.size(); ++p) {
+    parts[p].kind = kModeRecordsKind;
+    parts[p].counters = whole.counters;
+    parts[p].counters.emplace_back(kOperatorModesCounter, operator_modes);
+    parts[p].arrays.emplace_back(kModesArray, record_array(layouts[p], kModesArray));
+  }
+  std::size_t arrays = 0;
+  for (const auto& [name, unused] : layouts[0].arrays) {
+    if (!is_mode_array(name)) continue;
+    ++arrays;
+    std::vector<std::vector<std::size_t>> first(layouts.size());
+    for (std::size_t p = 0; p < layouts.size(); ++p) first[p] = record_offsets(layouts[p], name);
+    // The whole array's offsets: each mode's size, in global order.
+    std::vector<std::size_t> offset(owner.size() + 1, 0);
+    for (std::size_t g = 0; g < owner.size(); ++g) {
+      const auto [p, i] = owner[g];
+      offset[g + 1] = offset[g] + first[p][i + 1] - first[p][i];
+    }
+    bool found = false;
+    for (const auto& [key, values] : whole.arrays) {
+      if (key != name) continue;
+      found = true;
+      if (values.size() != offset.back())
+        throw std::invalid_argument("history operator state: array '" + name + "' has " +
+                                    std::to_string(values.size()) + " values, this run's operator needs " +
+                                    std::to_string(offset.back()) + " (a restart point of another config or grid?)");
+      for (std::size_t p = 0; p < layouts.size(); ++p) {
+        const auto& modes = record_array(layouts[p], kModesArray);
+        std::vector<double> record;
+        record.reserve(first[p].back());
+        for (const double stored : modes) {
+          const auto g = static_cast<std::size_t>(stored);
+          record.insert(record.end(), values.begin() + offset[g], values.begin() + offset[g + 1]);
+        }
+        parts[p].arrays.emplace_back(name, std::move(record));
+        parts[p].arrays.emplace_back(name + kFirstSuffix, record_array(layouts[p], name + kFirstSuffix));
+      }
+    }
+    if (!found) throw std::invalid_argument("history operator state: array '" + name + "' is missing");
+  }
+  if (whole.arrays.size() != arrays)
+    throw std::invalid_argument("history operator state: " + std::to_string(whole.arrays.size()) +
+                                " arrays, this run's operator has " + std::to_string(arrays) +
+                                " (a restart point of another config?)");
+  return parts;
+}
+
+void InterfaceHistory2d::restore_mode_records(const HistoryOperatorState& records) {
+  records.require_kind(kModeRecordsKind);
+  HistoryOperatorState target = save_state();
+  const HistoryOperatorState own = save_mode_records(false);
+  if (records.counter(kOperatorModesCounter) != operator_modes_ ||
+      record_array(records, kModesArray) != record_array(own, kModesArray))
+    throw std::invalid_argument("history operator mode records: not this operator's modes");
+  const HistoryStateLayout layout = state_layout();
+  std::vector<std::pair<long long, std::size_t>> order;
+  for (std::size_t m = 0; m < global_mode_.size(); ++m)
+    if (global_mode_[m] >= 0) order.emplace_back(global_mode_[m], m);
+  std::sort(order.begin(), order.end());
+  for (auto& [name, values] : target.arrays) {
+    const auto& first = layout.of(name);
+    const auto& record = record_array(records, name);
+    if (record_array(records, name + kFirstSuffix) != record_array(own, name + kFirstSuffix) ||
+        record.size() != record_offsets(own, name).back())
+      throw std::invalid_argument("history operator mode records: array '" + name +
+                                  "' has other sizes per mode than this operator's (another config?)");
+    auto from = record.begin();
+    for (const auto& [g, m] : order) {
+      const auto count = static_cast<std::ptrdiff_t>(first[m + 1] - first[m]);
+      std::copy(from, from + count, values.begin() + static_cast<std::ptrdiff_t>(first[m]));
+      from += count;
+    }
+  }
+  for (auto& [name, value] : target.counters) value = records.counter(name);
+  restore_state(target);
 }
 
 ModeOperatorStats InterfaceHistory2d::stats() const {

@@ -227,6 +227,40 @@ class InterfaceHistory2d {
   // The kind of that state.
   static constexpr const char* kStateKind = "interface 2d";
 
+  // Regrouping the state by Fourier mode: a restart point of a run split
+  // over P processes holds the whole operator's state (the one-process
+  // operator's save_state(), kind "interface 2d"), resumed on any number of
+  // processes (docs/3d.md section 6).  A mode's global index is its index in
+  // the whole interface's operator (interface_operator_wavevectors(grid)):
+  // qz (nodes_x/2 + 1) + qx for the grid mode (qx, qz), grid.modes() + qx for
+  // the extra z-Nyquist mode of (qx, nodes_z/2).  Each array of every
+  // operator kind is contiguous per mode in mode order (state_layout), so the
+  // whole state's arrays are each mode's values concatenated in global order.
+  //
+  // This operator's modes' states ("mode records", kind kModeRecordsKind):
+  // the counters and the counter "@operator_modes" (the whole operator's
+  // mode count), the array "@modes" (this operator's global indices,
+  // ascending), and for each array X of save_state() its modes' values in
+  // that order (X) with their offsets (X + "@first", one more than the
+  // modes).  An idle uniform mode is left out (not a mode of the interface;
+  // its state stays zero).  with_values = false: the arrays X are empty (the
+  // layout alone).  Allocates: restart points only.
+  HistoryOperatorState save_mode_records(bool with_values = true) const;
+  // The whole operator's state from the mode records of parts that hold
+  // every mode once (the processes of a split run).  Throws
+  // std::invalid_argument naming a missing or repeated mode, or a counter
+  // that differs between parts.
+  static HistoryOperatorState merge_mode_records(std::span<const HistoryOperatorState> parts);
+  // The whole operator's state (kind "interface 2d") cut into the mode
+  // records of parts whose layouts (save_mode_records(false)) hold every
+  // mode once.  Throws std::invalid_argument naming an array whose size does
+  // not fit the parts' operators (a state of another config or grid).
+  static std::vector<HistoryOperatorState> split_state(const HistoryOperatorState& whole,
+                                                       std::span<const HistoryOperatorState> layouts);
+  // Restores this operator from the records of exactly its own modes.
+  void restore_mode_records(const HistoryOperatorState& records);
+  static constexpr const char* kModeRecordsKind = "interface 2d mode records";
+
  private:
   InterfaceGrid2d grid_;
   std::unique_ptr<HistoryOperator> inplane_, antiplane_;
@@ -235,6 +269,11 @@ class InterfaceHistory2d {
   // first_ + modes() + j is the slot extra_slot_[j] (qz = nodes_z/2) with -kz.
   std::size_t first_ = 0;
   std::vector<std::size_t> extra_slot_;
+  // Global index of each operator mode (-1: the idle uniform mode), and the
+  // whole interface's operator mode count.
+  std::vector<long long> global_mode_;
+  long long operator_modes_ = 0;
+  HistoryStateLayout state_layout() const;
   // The x-Nyquist column's pairs of slots (qz, nodes_z - qz), qz = 0..nodes_z/2.
   std::vector<std::pair<std::size_t, std::size_t>> x_nyquist_pairs_;
   std::vector<double> cos_, sin_;  // k-hat per operator mode

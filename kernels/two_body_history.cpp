@@ -120,6 +120,14 @@ HistoryOperatorState TwoBodyHistory::save_state() const {
   return state;
 }
 
+HistoryStateLayout TwoBodyHistory::state_layout() const {
+  HistoryStateLayout layout;
+  layout.add_part("top.", top_->state_layout());
+  if (bottom_) layout.add_part("bottom.", bottom_->state_layout());
+  layout.add_uniform("history", history_.size(), 2);
+  return layout;
+}
+
 void TwoBodyHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind(kKind);
   if (state.counter("rigid_bottom") != (bottom_ ? 0 : 1))

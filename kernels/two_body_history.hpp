@@ -49,6 +49,7 @@ class TwoBodyHistory final : public HistoryOperator {
   std::span<const std::complex<double>> history() const override { return history_; }
   HistoryOperatorState save_state() const override;
   void restore_state(const HistoryOperatorState& state) override;
+  HistoryStateLayout state_layout() const override;
 
   // The body impedances eta_b (twice the pair operators' radiation damping;
   // +inf for a rigid bottom).

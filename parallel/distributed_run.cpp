@@ -392,25 +392,61 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
         local.*f.field = scatter_rows<double>(
             rank == 0 ? std::span<const double>(resume_from->simulation.*f.field) : std::span<const double>(), nodes,
             MPI_DOUBLE, comm);
-    if (rank == 0) {
-      const auto& split = resume_from->simulation.history;
-      for (int r = 1; r < processes; ++r) send_state(split.part(rank_prefix(r), ""), r, comm);
-      local.history = split.part(rank_prefix(0), "");
+    // The history state: the whole operator's (the one-process layout, as
+    // `slipstrip run` writes it), cut on rank 0 into each process's modes
+    // after the layouts of every process's operator arrive (their per-mode
+    // sizes place each mode in the whole arrays); or, from an earlier
+    // version's restart point, each process's own state (kSplitHistoryKind,
+    // written on as many processes: checked by resume_distributed).
+    int per_process = rank == 0 && resume_from->simulation.history.kind == kSplitHistoryKind ? 1 : 0;
+    MPI_Bcast(&per_process, 1, MPI_INT, 0, comm);
+    if (per_process) {
+      if (rank == 0) {
+        const auto& split = resume_from->simulation.history;
+        for (int r = 1; r < processes; ++r) send_state(split.part(rank_prefix(r), ""), r, comm);
+        local.history = split.part(rank_prefix(0), "");
+      } else {
+        local.history = receive_state(0, comm);
+      }
     } else {
-      local.history = receive_state(0, comm);
+      const HistoryOperatorState layout = sim.history_operator().save_mode_records(/*with_values=*/false);
+      std::vector<HistoryOperatorState> parts;
+      std::string split_refusal;
+      if (rank == 0) {
+        std::vector<HistoryOperatorState> layouts{layout};
+        for (int r = 1; r < processes; ++r) layouts.push_back(receive_state(r, comm));
+        try {
+          parts = InterfaceHistory2d::split_state(resume_from->simulation.history, layouts);
+        } catch (const std::invalid_argument& e) {
+          split_refusal = "restart point '" + restart_path + "' cannot be resumed: " + e.what();
+        }
+      } else {
+        send_state(layout, 0, comm);
+      }
+      throw_if_refused(split_refusal, comm);
+      if (rank == 0) {
+        for (int r = 1; r < processes; ++r) send_state(parts[r], r, comm);
+        local.history = std::move(parts[0]);
+      } else {
+        local.history = receive_state(0, comm);
+      }
     }
-    // The part gets the kind of this process's operator (InterfaceHistory2d),
-    // whose restore_state checks every array by name and size; the slab is
-    // checked here, so that a restart point of another split is named as such.
+    // A per-process part gets the kind of this process's operator
+    // (InterfaceHistory2d), whose restore_state checks every array by name and
+    // size, and its slab is checked, so that a restart point of another split
+    // is named as such; mode records are checked against this process's modes
+    // (Simulation3d::restore_state).
     std::string error;
     try {
-      local.history.kind = sim.history_operator().save_state().kind;
-      const long long first_row = local.history.counter("first_row"), rows = local.history.counter("rows");
-      if (first_row != sim.slab().first_row || rows != sim.slab().rows)
-        throw std::invalid_argument("process " + std::to_string(rank) + " held rows " + std::to_string(first_row) +
-                                    ".." + std::to_string(first_row + rows - 1) + ", here rows " +
-                                    std::to_string(sim.slab().first_row) + ".." +
-                                    std::to_string(sim.slab().first_row + sim.slab().rows - 1));
+      if (per_process) {
+        local.history.kind = sim.history_operator().save_state().kind;
+        const long long first_row = local.history.counter("first_row"), rows = local.history.counter("rows");
+        if (first_row != sim.slab().first_row || rows != sim.slab().rows)
+          throw std::invalid_argument("process " + std::to_string(rank) + " held rows " + std::to_string(first_row) +
+                                      ".." + std::to_string(first_row + rows - 1) + ", here rows " +
+                                      std::to_string(sim.slab().first_row) + ".." +
+                                      std::to_string(sim.slab().first_row + sim.slab().rows - 1));
+      }
       sim.restore_state(local);
     } catch (const std::invalid_argument& e) {
       error = e.what();
@@ -567,14 +603,13 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
   // (solver/checkpoint.hpp), by rank 0 with its writer (temporary file,
   // fsync, rename) once every process's part has arrived: the run file
   // flushed, then the fields gathered in the one-process layout and each
-  // process's history operator state as its own (kSplitHistoryKind).  The
-  // history states are not regrouped by Fourier mode into the one-process
-  // operator's layout: each operator kind (modal, block, half-space) stores
-  // its state per oscillator, ring-buffer slot or block row rather than per
-  // mode, which would take a layout map per kind; so the restart point is
-  // resumed on as many processes.  force: also when a reader holds the run
-  // file (the run is stopping); otherwise rank 0 postpones the restart point,
-  // on every process, to its next timer check.  Allocates: only at restart
+  // process's history operator state by Fourier mode (its modes' records,
+  // InterfaceHistory2d::save_mode_records), merged on rank 0 into the
+  // one-process operator's state.  So the restart point is the one
+  // `slipstrip run` writes, resumed on any number of processes or by
+  // `slipstrip run --resume`.  force: also when a reader holds the run file
+  // (the run is stopping); otherwise rank 0 postpones the restart point, on
+  // every process, to its next timer check.  Allocates: only at restart
   // points, never per step.
   const auto write_restart_point = [&](bool force) {
     std::optional<RunOutputCursor> cursor;
@@ -583,8 +618,7 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
     MPI_Bcast(&ready, 1, MPI_INT, 0, comm);
     if (!ready) return false;
     SimulationState local = sim.save_state();
-    local.history.counters.emplace_back("first_row", sim.slab().first_row);
-    local.history.counters.emplace_back("rows", sim.slab().rows);
+    local.history = sim.history_operator().save_mode_records();
     RunCheckpoint checkpoint;
     for (const auto& f : kStateFields) {
       if (f.normal_stress_only && !sim.variable_normal_stress()) continue;
@@ -595,11 +629,10 @@ RunResult drive(const SimulationConfig& config, const std::string& output_path, 
       send_state(local.history, 0, comm);
       return true;
     }
-    auto& split = checkpoint.simulation.history;
-    split.kind = kSplitHistoryKind;
-    split.counters.emplace_back("processes", processes);
-    split.add_part(rank_prefix(0), local.history);
-    for (int r = 1; r < processes; ++r) split.add_part(rank_prefix(r), receive_state(r, comm));
+    std::vector<HistoryOperatorState> parts;
+    parts.push_back(std::move(local.history));
+    for (int r = 1; r < processes; ++r) parts.push_back(receive_state(r, comm));
+    checkpoint.simulation.history = InterfaceHistory2d::merge_mode_records(parts);
     checkpoint.config_toml = to_toml(config);
     checkpoint.git_hash = slipstrip::git_hash;
     checkpoint.simulation.time = sim.time();
@@ -785,18 +818,21 @@ std::optional<RunResult> resume_distributed(const std::string& run_path, const s
           throw std::invalid_argument("restart point '" + checkpoint_path(run_path) +
                                       "' was written for another config than the run file '" + run_path +
                                       "' holds (not its restart point)");
+        // A restart point in the one-process layout (`slipstrip run`'s, or
+        // slipstrip-mpi run's on any process count) is cut by Fourier mode
+        // for this job's processes in drive().  One of an earlier version's
+        // per-process layout holds each process's own modes' state: it is
+        // resumed on as many processes, whose next restart points are in the
+        // one-process layout.
         const int written_by = restart_point_processes(*checkpoint);
-        if (written_by == 0)
-          throw std::invalid_argument("restart point '" + checkpoint_path(run_path) +
-                                      "' was written by slipstrip run on one process (its history operator "
-                                      "state over every Fourier mode): resume it with `slipstrip run --resume " +
-                                      run_path + "`");
-        if (written_by != processes)
+        if (written_by != 0 && written_by != processes)
           throw std::invalid_argument("restart point '" + checkpoint_path(run_path) + "' was written on " +
                                       std::to_string(written_by) + " processes, this job has " +
-                                      std::to_string(processes) +
-                                      ": it holds each process's history operator state, so it is resumed on "
-                                      "as many processes (mpirun -np " + std::to_string(written_by) + ")");
+                                      std::to_string(processes) + ", in the per-process layout of earlier versions "
+                                      "(history kind '" + kSplitHistoryKind + "'), which holds each process's "
+                                      "history operator state: resume it on as many processes (mpirun -np " +
+                                      std::to_string(written_by) + "); its next restart points are in the "
+                                      "one-process layout, resumed on any process count");
         config_toml = header.config_toml;
       }
     } catch (const std::exception& e) {

@@ -20,12 +20,17 @@
 //   * restart points (RUN.h5.restart, solver/checkpoint.hpp): rank 0's
 //     wall-clock timer (output.checkpoint_interval) and its stop request ride
 //     on that reduction, so every process takes part in the same step; the
-//     fields are gathered into the one-process layout, each process's history
-//     operator state is sent to rank 0 as its own (kSplitHistoryKind), and
-//     rank 0 writes the one file with run_simulation's writer (temporary
-//     file, fsync, rename).  Such a restart point is resumed on as many
-//     processes (resume_distributed); it carries the station trigger
-//     (next_station) as run_simulation's does.
+//     fields are gathered into the one-process layout, each process sends
+//     its history operator state by Fourier mode (its modes' records,
+//     InterfaceHistory2d::save_mode_records), which rank 0 merges into the
+//     one-process operator's state, and rank 0 writes the one file with
+//     run_simulation's writer (temporary file, fsync, rename).  So the
+//     restart point is run_simulation's: resumed on any number of processes
+//     (resume_distributed cuts the state by mode for each process) or by
+//     `slipstrip run --resume`, and a restart point of `slipstrip run` on
+//     several processes.  It carries the station trigger (next_station) as
+//     run_simulation's does.  A restart point of an earlier version's
+//     per-process layout (kSplitHistoryKind) is resumed on as many processes.
 #include <mpi.h>
 
 #include <optional>
@@ -79,13 +84,17 @@ void check_distributed_run(const SimulationConfig& config);
 RunResult run_distributed(const SimulationConfig& config, const std::string& output_path, const RunHooks& hooks,
                           bool overwrite, std::span<const std::string> inputs, MPI_Comm comm);
 
-// Continues the run of `run_path` from its restart point on as many processes
-// as wrote it, with the config stored in the run file; the file is the one an
-// uninterrupted run on these processes writes, bit for bit.  Collective.
-// Rank 0 takes the run's lock and makes resume_simulation's checks (status,
-// checksum, the restart point's config against the run file's,
-// validate_checkpoint, and given_config_toml, if not empty, against the stored
-// config) and that the restart point was written on this many processes; a
+// Continues the run of `run_path` from its restart point, written on any
+// number of processes or by run_simulation, with the config stored in the run
+// file; the file is the one an uninterrupted run on these processes writes,
+// bit for bit where the uninterrupted runs on the writing and the resuming
+// process counts agree (docs/3d.md section 6).  Collective.  Rank 0 takes
+// the run's lock and makes resume_simulation's checks (status, checksum, the
+// restart point's config against the run file's, validate_checkpoint, and
+// given_config_toml, if not empty, against the stored config), and that a
+// restart point of an earlier version's per-process layout was written on
+// this many processes; the stored history state is cut by Fourier mode for
+// the processes (a state that does not fit their operators is refused).  A
 // refusal is a CollectiveError on every process.  nullopt (on every process)
 // if the run is completed.  The rest is as run_distributed.
 std::optional<RunResult> resume_distributed(const std::string& run_path, const std::string& given_config_toml,

@@ -34,15 +34,16 @@ struct RunCheckpoint {
 std::string checkpoint_path(const std::string& run_path);
 
 // A restart point of a 2D interface split over P processes (slipstrip-mpi
-// run, parallel/distributed_run.hpp) holds the fields of the whole interface
-// in the one-process layout, but each process's history operator state as
-// its own: the history kind below, the counter `processes` = P, and process
-// r's state (kind "interface 2d", over its own Fourier modes, with the
-// counters first_row and rows of its slab) under the prefix "rank<r>.".
-// Such a restart point is resumed on P processes only.
+// run, parallel/distributed_run.hpp) is in the one-process layout, its
+// history operator state included (regrouped by Fourier mode), and is resumed
+// on any number of processes.  Earlier versions wrote each process's history
+// operator state as its own: the history kind below, the counter
+// `processes` = P, and process r's state (kind "interface 2d", over its own
+// Fourier modes, with the counters first_row and rows of its slab) under the
+// prefix "rank<r>.".  Such a restart point is resumed on P processes only.
 inline constexpr const char* kSplitHistoryKind = "interface 2d split over processes";
-// P for a restart point of a run split over P processes, 0 for one written in
-// the one-process layout (slipstrip run).
+// P for a restart point in an earlier version's per-process layout of a run
+// split over P processes, 0 for one in the one-process layout.
 int restart_point_processes(const RunCheckpoint& checkpoint);
 
 // RUN.h5 -> RUN.h5.lock: the lock file of "one process per run"

@@ -429,9 +429,11 @@ RunResult resume_simulation(const std::string& output_path, const RunHooks& hook
     throw std::invalid_argument("restart point '" + checkpoint_path(output_path) + "' was written by " +
                                 "slipstrip-mpi run on " + std::to_string(processes) +
                                 (processes == 1 ? " process" : " processes") +
-                                ": it holds each process's history operator state, so it is resumed "
-                                "on as many processes (`mpirun -np " + std::to_string(processes) +
-                                " slipstrip-mpi run --resume " + output_path + "`)");
+                                " in the per-process layout of earlier versions (history kind '" +
+                                kSplitHistoryKind + "'): it holds each process's history operator state, so it "
+                                "is resumed on as many processes (`mpirun -np " + std::to_string(processes) +
+                                " slipstrip-mpi run --resume " + output_path + "`); its next restart points "
+                                "are in the one-process layout, which `slipstrip run --resume` takes");
   const SimulationConfig config = load_config_string(header.config_toml);
   return drive_any(config, output_path, hooks, &checkpoint);
 }

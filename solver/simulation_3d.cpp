@@ -543,7 +543,13 @@ void Simulation3d::restore_state(const SimulationState& saved) {
                                {"gap", &saved.gap, &gap_},
                                {"opening_stress", &saved.opening_stress, &opening_stress_}};
   check_saved_state(fields, saved, nodes(), "saved 2D-interface state");
-  spectral_->history_operator().restore_state(saved.history);
+  // The history state of this operator, or the records of its own Fourier
+  // modes cut from the whole operator's state (a restart point resumed on
+  // another process count, parallel/distributed_run.cpp).
+  if (saved.history.kind == InterfaceHistory2d::kModeRecordsKind)
+    spectral_->history_operator().restore_mode_records(saved.history);
+  else
+    spectral_->history_operator().restore_state(saved.history);
   for (const auto& f : fields) std::copy(f.saved->begin(), f.saved->end(), f.target->begin());
   time_ = saved.time;
   step_index_ = saved.step_index;

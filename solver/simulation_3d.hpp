@@ -227,7 +227,9 @@ class Simulation3d {
   // only) and its restoration into a Simulation3d of the same config:
   // afterwards step() continues bit for bit as the saved one would.
   // restore_state throws std::invalid_argument naming a field of the wrong
-  // size or an invalid time level.
+  // size or an invalid time level.  Its history state may also be the mode
+  // records of this process's Fourier modes
+  // (InterfaceHistory2d::kModeRecordsKind, split_state).
   SimulationState save_state() const;
   void restore_state(const SimulationState& saved);
 

@@ -29,9 +29,15 @@ station records of two processes, of one process through MPI and of
 Restart points: a run of two processes stopped (--stop-after-steps, SIGTERM
 to both processes) and resumed with `slipstrip-mpi run --resume` on two
 processes writes the file of the uninterrupted run of two processes, bit for
-bit but start_time and end_time.  Its restart point holds each process's
-history operator state, so `slipstrip run --resume` and other process counts
-refuse it, as slipstrip-mpi refuses a restart point of `slipstrip run`.
+bit but start_time and end_time.  Its restart point holds the history
+operator state in the one-process layout (each process's Fourier modes
+merged by global mode), so it is also resumed on one process (slipstrip-mpi
+or `slipstrip run --resume`), and a restart point of `slipstrip run` on two
+processes.  Expected: the file of the uninterrupted run on the resuming
+process count, bit for bit, but for the two means' rows up to the restart
+point, which are those of the process count that wrote them (bit for bit
+the uninterrupted run's there), and `processes`, which the file keeps from
+the run that created it.
 """
 import os
 import shutil
@@ -338,7 +344,7 @@ def test_stopped_after_steps_and_resumed_equals_uninterrupted(tmp_path, case):
         assert f.attrs["status"] == "interrupted"
         assert f["timeseries/time"].shape[0] == 134
     with h5py.File(restart, "r") as f:
-        assert f["history"].attrs["kind"] == "interface 2d split over processes"
+        assert f["history"].attrs["kind"] == "interface 2d"  # the one-process layout
         assert f["simulation/slip"].shape == (32 * 32,)  # the one-process layout
         assert ("normal_stress" in f["simulation"]) == case.startswith("dissimilar")
     done = run_mpi(None, "--resume", str(resumed))
@@ -350,30 +356,122 @@ def test_stopped_after_steps_and_resumed_equals_uninterrupted(tmp_path, case):
     assert "nothing to resume" in again.stderr
 
 
-def test_restart_points_resume_on_as_many_processes_only(tmp_path):
-    (tmp_path / "one").mkdir()
-    (tmp_path / "two").mkdir()
-    single, split = tmp_path / "one" / "run.h5", tmp_path / "two" / "run.h5"
+def run_serial_config(out, *args, config=TINY, check=True):
+    """`slipstrip run` of `config`; out None: `args` name the run (--resume RUN.h5)."""
+    command = [SERIAL, "run", *([] if out is None else [str(config), "--out", str(out)]), "--quiet", *args]
+    return subprocess.run(command, env=mpi_env(), capture_output=True, text=True, check=check, timeout=300)
+
+
+def assert_resumed_equals(reference, resumed, stop_rows, written_by, created_by):
+    """A run resumed on another process count against the uninterrupted run
+    on that count (`reference`): every dataset and attribute bit for bit but
+    the wall-clock dates, `processes` (kept from the run that created the
+    file: `created_by`, None for `slipstrip run`), and the two means' first
+    `stop_rows` rows, which are those of `written_by`, the uninterrupted run
+    on the process count that wrote the restart point (bit for bit)."""
+    with h5py.File(reference, "r") as a, h5py.File(resumed, "r") as b, h5py.File(written_by, "r") as w:
+        if created_by is None:
+            assert "processes" not in b.attrs
+        else:
+            assert b.attrs["processes"] == created_by
+        names, other = [], []
+        a.visit(names.append)
+        b.visit(other.append)
+        assert names == other
+        for name in [""] + names:
+            x, y = (a[name], b[name]) if name else (a, b)
+            skip = WALL_CLOCK | {"processes"} if not name else set()
+            assert set(x.attrs) - skip == set(y.attrs) - skip, name
+            for key in set(x.attrs) - skip:
+                assert np.asarray(x.attrs[key]).tobytes() == np.asarray(y.attrs[key]).tobytes(), (name, key)
+            if not isinstance(x, h5py.Dataset):
+                continue
+            assert x.dtype == y.dtype and x.shape == y.shape, name
+            if name in MEANS:
+                assert y[:stop_rows].tobytes() == w[name][:stop_rows].tobytes(), name
+                assert y[stop_rows:].tobytes() == x[stop_rows:].tobytes(), name
+            else:
+                assert x[()].tobytes() == y[()].tobytes(), name
+
+
+# Identical strips (modal operators) and dissimilar bodies (the pair
+# operators: face and antiplane operators, the normal stress): their runs on
+# one and two processes are bit for bit (but the means), so a resume on the
+# other count must be too.  Every operator kind's regrouping, half-spaces and
+# block strips included, is checked without MPI by
+# tests/cpp/test_kernels_interface_2d_mode_records.cpp.
+ANOTHER_COUNT_CASES = ["modal strips", "dissimilar bodies"]
+
+
+@pytest.mark.parametrize("case", ANOTHER_COUNT_CASES)
+def test_restart_points_resume_on_another_process_count(tmp_path, case):
+    config, extra = RESTART_CASES[case]
+    args = ["--set", "output.front_slip_rate=2.01e-3", "--set", "output.snapshot_interval=1e-4", *extra]
+    stop = ["--stop-after-steps", "133"]
+    for d in ("one", "two", "a", "b", "c", "d"):
+        (tmp_path / d).mkdir()
+    # The uninterrupted runs on one process (slipstrip-mpi: `slipstrip run`'s
+    # file bit for bit, but `processes`) and on two.
+    one, two = tmp_path / "one" / "run.h5", tmp_path / "two" / "run.h5"
+    run_mpi(one, *args, config=config, processes=1)
+    run_mpi(two, *args, config=config)
+    # Two processes -> one (slipstrip-mpi), and -> `slipstrip run --resume`
+    # (a copy of the same stopped run).
+    a, b = tmp_path / "a" / "run.h5", tmp_path / "b" / "run.h5"
+    assert run_mpi(a, *args, *stop, config=config, check=False).returncode == 143
+    with h5py.File(str(a) + ".restart", "r") as f:
+        assert f["history"].attrs["kind"] == "interface 2d"
+    for suffix in ("", ".restart"):
+        shutil.copy(str(a) + suffix, str(b) + suffix)
+    for path, resume in ((a, lambda p: run_mpi(None, "--resume", str(p), processes=1)),
+                         (b, lambda p: run_serial_config(None, "--resume", str(p)))):
+        done = resume(path)
+        assert "resumed from step 133" in done.stderr and "completed after" in done.stderr, done.stderr
+        assert not Path(str(path) + ".restart").exists()
+        assert_resumed_equals(one, path, 134, two, created_by=2)
+    # One process (slipstrip-mpi) -> two, and `slipstrip run`'s restart point -> two.
+    c, d = tmp_path / "c" / "run.h5", tmp_path / "d" / "run.h5"
+    assert run_mpi(c, *args, *stop, config=config, processes=1, check=False).returncode == 143
+    assert run_serial_config(d, *args, *stop, config=config, check=False).returncode == 143
+    for path, created_by in ((c, 1), (d, None)):
+        done = run_mpi(None, "--resume", str(path))
+        assert "resumed from step 133" in done.stderr and "completed after" in done.stderr, done.stderr
+        assert_resumed_equals(two, path, 134, one, created_by=created_by)
+
+
+def test_restart_points_refused_when_damaged_or_of_another_run(tmp_path):
+    for d in ("one", "two", "other"):
+        (tmp_path / d).mkdir()
+    single, split, other = (tmp_path / d / "run.h5" for d in ("one", "two", "other"))
     args = ["--set", "time.duration_transits=1"]
     assert run_mpi(split, *args, "--stop-after-steps", "50", check=False).returncode == 143
     assert run_serial(single, *args, "--stop-after-steps", "50", check=False).returncode == 143
     # The interrupted files: as the completed ones.
     assert_runs_equal(single, split, 32 * 32)
-    # Two processes' restart point: refused by one process and by three.
+    # Another run's restart point (another mesh: 32 x 15 nodes) next to this
+    # run file: refused by one process and by `slipstrip run` (the config it
+    # holds).
+    assert run_mpi(other, *args, "--set", "geometry.nodes_z=15", "--set", "geometry.width=0.1171875",
+                   "--stop-after-steps", "50", check=False).returncode == 143
+    shutil.copy(str(split) + ".restart", tmp_path / "restart.keep")
+    shutil.copy(str(other) + ".restart", str(split) + ".restart")
+    refused = run_mpi(None, "--resume", str(split), processes=1, check=False)
+    assert refused.returncode == 2, refused.stderr
+    line = refusal_line(refused)
+    assert line.startswith("rank 0: ") and "was written for another config than the run file" in line, line
     refused = run_serial(None, "--resume", str(split), check=False)
-    assert refused.returncode == 2 and "mpirun -np 2 slipstrip-mpi run --resume" in refusal_line(refused)
-    refused = run_mpi(None, "--resume", str(split), processes=3, check=False)
-    assert refused.returncode == 2 and "written on 2 processes, this job has 3" in refusal_line(refused)
-    # One process's restart point: refused by slipstrip-mpi.
-    refused = run_mpi(None, "--resume", str(single), check=False)
-    assert refused.returncode == 2 and "slipstrip run --resume" in refusal_line(refused)
-    # A damaged restart point: the message of `slipstrip run --resume`.
+    assert refused.returncode == 2 and "was written for another config" in refusal_line(refused)
+    shutil.copy(tmp_path / "restart.keep", str(split) + ".restart")
+    # A damaged restart point: the message of `slipstrip run --resume`, on
+    # another process count too.
     with h5py.File(str(split) + ".restart", "r+") as f:
         slip = f["simulation/slip"]
         slip[3] = slip[3] + 1e-9
-    refused = run_mpi(None, "--resume", str(split), check=False)
+    refused = run_mpi(None, "--resume", str(split), processes=3, check=False)
     assert refused.returncode == 2, refused.stderr
     assert "is damaged" in refusal_line(refused) and "rank 0: " in refusal_line(refused)
+    refused = run_serial(None, "--resume", str(split), check=False)
+    assert refused.returncode == 2 and "is damaged" in refusal_line(refused)
     with h5py.File(split, "r") as f:
         assert f.attrs["status"] == "interrupted"  # untouched
 

@@ -43,8 +43,7 @@ def test_readme_lists_what_cannot_be_posed(repo):
     section = section[:section.index("\n## ", 1)]
     cannot = " ".join(row.split("|")[2] for row in section.splitlines() if row.startswith("| ")
                       and row.count("|") >= 3)
-    for item in ("traction-free outer face", "adhesion or a cohesive strength",
-                 "a restart point resumed on another process count", "finite faults",
+    for item in ("traction-free outer face", "adhesion or a cohesive strength", "finite faults",
                  "velocity steps", "time-varying loading"):
         assert item in cannot, item
     # Opening is modelled for in-plane pairs: the README says so on the "can" side.
@@ -53,7 +52,8 @@ def test_readme_lists_what_cannot_be_posed(repo):
     assert "the faces open" in can
     # A 2D interface of identical or dissimilar bodies runs split over MPI processes.
     assert "identical or dissimilar bodies split over MPI processes with `mpirun -np P slipstrip-mpi run`" in can
-    assert "the same run file with its stations, restart points and `--resume` on as many processes" in can
+    assert ("the same run file with its stations, restart points and `--resume` on any process count or by "
+            "`slipstrip run`") in can
 
 
 def test_analyze_and_plot_use_one_colour_map(slipstrip_module, repo, tmp_path, monkeypatch):
