@@ -614,6 +614,7 @@ FaceHalfSpaceHistory::FaceHalfSpaceHistory(FaceKernelShape shape, double unit, d
   far_batch_x_.assign(static_cast<std::size_t>(n_modes) * batch_, 0.0);
   far_batch_y_ = far_batch_x_;
   slow_batch_out_.assign(4 * static_cast<std::size_t>(batch_), 0.0);
+  fast_batch_out_ = slow_batch_out_;
 }
 
 void FaceHalfSpaceHistory::build_exponentials(std::span<const complex> rates, const HalfSpaceOperatorDesign& design) {
@@ -771,6 +772,7 @@ void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int 
   double *cyr = far_[4].data() + k0, *cyi = far_[5].data() + k0, *syr = far_[6].data() + k0,
          *syi = far_[7].data() + k0;
   if (block_ > 0) slow_batch_outputs(q, batch_step, first, last);
+  if (!normal_active_) fast_batch_outputs(q, batch_step, first, last);
   for (int d = first; d < last; ++d) {
     const long long n = batch_step + d;
     // v_{n-W}, still in the ring (the batch is at most W steps long).
@@ -784,22 +786,12 @@ void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int 
     double x0r = 0.0, x0i = 0.0, x1r = 0.0, x1i = 0.0, y1r = 0.0, y1i = 0.0, y2r = 0.0, y2i = 0.0;
     if (!normal_active_) {
       // The y states are zero and stay so: the x input's rotation and its
-      // two outputs (entries A and B) only, the same arithmetic as below.
-#pragma omp simd reduction(+ : x0r, x0i, x1r, x1i)
-      for (std::size_t k = 0; k < count; ++k) {
-        const double a = zr[k], b = zi[k];
-        const double pxr = cxr[k] + uxr, pxi = cxi[k] + uxi;
-        const double ncxr = a * pxr - b * sxr[k], ncxi = a * pxi - b * sxi[k];
-        const double nsxr = b * pxr + a * sxr[k], nsxi = b * pxi + a * sxi[k];
-        cxr[k] = ncxr;
-        cxi[k] = ncxi;
-        sxr[k] = nsxr;
-        sxi[k] = nsxi;
-        x0r += wc0[k] * ncxr + ws0[k] * nsxr;
-        x0i += wc0[k] * ncxi + ws0[k] * nsxi;
-        x1r += wc1[k] * ncxr + ws1[k] * nsxr;
-        x1i += wc1[k] * ncxi + ws1[k] * nsxi;
-      }
+      // two outputs, worked for the batch by fast_batch_outputs.
+      const double* fast = fast_batch_out_.data() + d;
+      x0r = fast[0];
+      x0i = fast[batch_];
+      x1r = fast[2 * batch_];
+      x1i = fast[3 * batch_];
     } else {
 #pragma omp simd reduction(+ : x0r, x0i, x1r, x1i, y1r, y1i, y2r, y2i)
     for (std::size_t k = 0; k < count; ++k) {
@@ -880,6 +872,87 @@ void FaceHalfSpaceHistory::advance_far(std::size_t q, long long batch_step, int 
     }
     far_batch_x_[q * batch_ + d] = far_x;
     far_batch_y_[q * batch_ + d] = far_y;
+  }
+}
+
+void FaceHalfSpaceHistory::fast_batch_outputs(std::size_t q, long long batch_step, int first, int last) {
+  // While the normal channel is inactive: the x input's rotation and its two
+  // outputs (entries A and B), as push()'s loop with both channels, two steps
+  // per pass over the exponentials (each state is read and written once per
+  // two steps, its rotation's intermediate kept in registers), a last odd
+  // step alone.  Each step's arithmetic is that of the loop with both
+  // channels, in the same order, whatever the pairing.
+  const std::size_t ring0 = first_lag_[q], window = first_lag_[q + 1] - ring0;
+  const std::size_t k0 = first_fast_[q], count = first_fast_[q + 1] - k0;
+  const double *zr = pole_re_.data() + k0, *zi = pole_im_.data() + k0;
+  const double *wc0 = weight_cos_[0].data() + k0, *ws0 = weight_sin_[0].data() + k0;
+  const double *wc1 = weight_cos_[1].data() + k0, *ws1 = weight_sin_[1].data() + k0;
+  double *cxr = far_[0].data() + k0, *cxi = far_[1].data() + k0, *sxr = far_[2].data() + k0,
+         *sxi = far_[3].data() + k0;
+  double* out = fast_batch_out_.data();
+  // v_{n-W} of step d, still in the ring (the batch is at most W steps long).
+  const auto input = [&](int d) {
+    return ring_x_[ring0 + static_cast<std::size_t>((batch_step + d) % static_cast<long long>(window))];
+  };
+  int d = first;
+  for (; d + 1 < last; d += 2) {
+    const complex u = input(d), v = input(d + 1);
+    const double uxr = u.real(), uxi = u.imag(), vxr = v.real(), vxi = v.imag();
+    double x0r = 0.0, x0i = 0.0, x1r = 0.0, x1i = 0.0, z0r = 0.0, z0i = 0.0, z1r = 0.0, z1i = 0.0;
+#pragma omp simd reduction(+ : x0r, x0i, x1r, x1i, z0r, z0i, z1r, z1i)
+    for (std::size_t k = 0; k < count; ++k) {
+      const double a = zr[k], b = zi[k];
+      const double pxr = cxr[k] + uxr, pxi = cxi[k] + uxi;
+      const double ncxr = a * pxr - b * sxr[k], ncxi = a * pxi - b * sxi[k];
+      const double nsxr = b * pxr + a * sxr[k], nsxi = b * pxi + a * sxi[k];
+      x0r += wc0[k] * ncxr + ws0[k] * nsxr;
+      x0i += wc0[k] * ncxi + ws0[k] * nsxi;
+      x1r += wc1[k] * ncxr + ws1[k] * nsxr;
+      x1i += wc1[k] * ncxi + ws1[k] * nsxi;
+      const double qxr = ncxr + vxr, qxi = ncxi + vxi;
+      const double mcxr = a * qxr - b * nsxr, mcxi = a * qxi - b * nsxi;
+      const double msxr = b * qxr + a * nsxr, msxi = b * qxi + a * nsxi;
+      cxr[k] = mcxr;
+      cxi[k] = mcxi;
+      sxr[k] = msxr;
+      sxi[k] = msxi;
+      z0r += wc0[k] * mcxr + ws0[k] * msxr;
+      z0i += wc0[k] * mcxi + ws0[k] * msxi;
+      z1r += wc1[k] * mcxr + ws1[k] * msxr;
+      z1i += wc1[k] * mcxi + ws1[k] * msxi;
+    }
+    out[d] = x0r;
+    out[batch_ + d] = x0i;
+    out[2 * batch_ + d] = x1r;
+    out[3 * batch_ + d] = x1i;
+    out[d + 1] = z0r;
+    out[batch_ + d + 1] = z0i;
+    out[2 * batch_ + d + 1] = z1r;
+    out[3 * batch_ + d + 1] = z1i;
+  }
+  if (d < last) {
+    const complex u = input(d);
+    const double uxr = u.real(), uxi = u.imag();
+    double x0r = 0.0, x0i = 0.0, x1r = 0.0, x1i = 0.0;
+#pragma omp simd reduction(+ : x0r, x0i, x1r, x1i)
+    for (std::size_t k = 0; k < count; ++k) {
+      const double a = zr[k], b = zi[k];
+      const double pxr = cxr[k] + uxr, pxi = cxi[k] + uxi;
+      const double ncxr = a * pxr - b * sxr[k], ncxi = a * pxi - b * sxi[k];
+      const double nsxr = b * pxr + a * sxr[k], nsxi = b * pxi + a * sxi[k];
+      cxr[k] = ncxr;
+      cxi[k] = ncxi;
+      sxr[k] = nsxr;
+      sxi[k] = nsxi;
+      x0r += wc0[k] * ncxr + ws0[k] * nsxr;
+      x0i += wc0[k] * ncxi + ws0[k] * nsxi;
+      x1r += wc1[k] * ncxr + ws1[k] * nsxr;
+      x1i += wc1[k] * ncxi + ws1[k] * nsxi;
+    }
+    out[d] = x0r;
+    out[batch_ + d] = x0i;
+    out[2 * batch_ + d] = x1r;
+    out[3 * batch_ + d] = x1i;
   }
 }
 
@@ -1255,7 +1328,7 @@ std::size_t FaceHalfSpaceHistory::memory_bytes() const {
                             4 * slow_state_[0].size() +
                             block_moment_.size()) +
          sizeof(double) * 4 * block_input_[0].size() +
-         sizeof(complex) * (far_batch_x_.size() + far_batch_y_.size()) + sizeof(double) * slow_batch_out_.size() +
+         sizeof(complex) * (far_batch_x_.size() + far_batch_y_.size()) + sizeof(double) * (slow_batch_out_.size() + fast_batch_out_.size()) +
          sizeof(slow_weight_[0]) * slow_weight_.size();
 }
 

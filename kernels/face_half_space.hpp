@@ -238,6 +238,10 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   // The slow polynomials' four output channels of mode q at steps batch_step +
   // d, d in [first, last), into slow_batch_out_[o * batch_ + d].
   void slow_batch_outputs(std::size_t q, long long batch_step, int first, int last);
+  // The fast exponentials' outputs of mode q's x input (entries A and B: Re,
+  // Im of each) at the same steps, into fast_batch_out_, while the normal
+  // channel is inactive.
+  void fast_batch_outputs(std::size_t q, long long batch_step, int first, int last);
   // The far field's part of mode q's history (every exponential, the slow
   // block's outputs and in-block sums, block ends) at steps batch_step + d,
   // d in [first, last), into far_batch_x_/y_: its inputs v_{n-W} are in the
@@ -247,6 +251,7 @@ class FaceHalfSpaceHistory final : public FaceHistory {
   int batch_ = 1;
   std::vector<std::complex<double>> far_batch_x_, far_batch_y_;  // per mode, batch_ steps
   std::vector<double> slow_batch_out_;                            // 4 channels x batch_ steps, one mode
+  std::vector<double> fast_batch_out_;                            // the same
   // Output channels of the slow polynomials: Re, Im of history x, then of y;
   // per mode and group of two branches (slow_block.hpp works on two), 2
   // branches x 4 channels.  One body has one group (shear, P); the pair's up
