@@ -7,6 +7,7 @@
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "kernels/mode_parallel.hpp"
 #include "kernels/passivity.hpp"
@@ -1060,27 +1061,35 @@ void FaceHalfSpaceHistory::push_slow_block_end(std::size_t q) {
     // While the normal channel is inactive its feeds and states are zero and
     // are neither computed nor stored; its terms of the outputs are left out
     // (the same values: they add zeros).
-    const int feeds = normal_active_ ? 8 : 4;
-    for (int p = 0; p < terms; ++p) {
-      double mu_p[8];
-      for (int c = 0; c < 4; ++c) {
-        mu_p[2 * c] = mu[c][p].real();
-        mu_p[2 * c + 1] = mu[c][p].imag();
-      }
-      if (p == 0) {
+    // The number of feeds is a compile-time constant in each copy of the loop:
+    // with a run-time count the loop over the exponentials stayed scalar.
+    const auto feed = [&](auto feeds_constant) {
+      constexpr int feeds = decltype(feeds_constant)::value;
+      for (int p = 0; p < terms; ++p) {
+        double mu_p[8];
+        for (int c = 0; c < 4; ++c) {
+          mu_p[2 * c] = mu[c][p].real();
+          mu_p[2 * c + 1] = mu[c][p].imag();
+        }
+        if (p == 0) {
+#pragma omp simd
+          for (std::size_t k = 0; k < count; ++k) {
+            factor[k] = centre_factor[k];
+            for (int c = 0; c < feeds; ++c) part[c][k] = 0.0 + factor[k] * mu_p[c];
+          }
+          continue;
+        }
 #pragma omp simd
         for (std::size_t k = 0; k < count; ++k) {
-          factor[k] = centre_factor[k];
-          for (int c = 0; c < feeds; ++c) part[c][k] = 0.0 + factor[k] * mu_p[c];
+          factor[k] *= -decay[k] / p;
+          for (int c = 0; c < feeds; ++c) part[c][k] += factor[k] * mu_p[c];
         }
-        continue;
       }
-#pragma omp simd
-      for (std::size_t k = 0; k < count; ++k) {
-        factor[k] *= -decay[k] / p;
-        for (int c = 0; c < feeds; ++c) part[c][k] += factor[k] * mu_p[c];
-      }
-    }
+    };
+    if (normal_active_)
+      feed(std::integral_constant<int, 8>{});
+    else
+      feed(std::integral_constant<int, 4>{});
     // Y_c <- z^B Y_c + feed_c, and the four output channels' weighted states,
     // as the matrix in push().
     if (!normal_active_) {
