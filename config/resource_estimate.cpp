@@ -80,8 +80,8 @@ constexpr double kHalfSpaceSecondsPerFourierMode = 2.4e-7;
 constexpr double kFaceModalSecondsPerMode = 2.0 * kModalSecondsPerMode;
 constexpr double kFaceHalfSpaceSecondsPerFourierMode = 300.0 * 4.0 * 1e-9;
 // The combined half-space pair's operator: fitted to the bench (N = 2048, one
-// thread: ~800 us per step against the identical pair's ~340 us).
-constexpr double kHalfSpacePairSecondsPerFourierMode = 7e-7;
+// thread: ~630 us per step against the identical pair's ~330 us).
+constexpr double kHalfSpacePairSecondsPerFourierMode = 5.3e-7;
 
 // One body's history operator at the run's time step.
 struct BodyOperator {
