@@ -108,7 +108,7 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
   if (const auto* block = dynamic_cast<const BlockStripHistory*>(&sim.history_operator()))
     block_steps = block->block();
   if (const auto* half_space = dynamic_cast<const HalfSpaceHistory*>(&sim.history_operator()))
-    block_steps = std::max(1, half_space->slow_block());
+    block_steps = half_space->period();
   if (const auto* pair = dynamic_cast<const InplanePairHistory*>(&sim.history_operator()))
     block_steps = pair->period();
   if (const auto* bodies = dynamic_cast<const TwoBodyHistory*>(&sim.history_operator()))
@@ -226,7 +226,7 @@ void bench_case_3d(const BenchCase& c, const BenchOptions& options) {
   for (const HistoryOperator* op : {&history.inplane(), &history.antiplane()}) {
     if (const auto* block = dynamic_cast<const BlockStripHistory*>(op)) block_steps = std::max(block_steps, block->block());
     if (const auto* half_space = dynamic_cast<const HalfSpaceHistory*>(op))
-      block_steps = std::max(block_steps, half_space->slow_block());
+      block_steps = std::max(block_steps, half_space->period());
   }
   const int steps = ((std::max(options.steps, block_steps) + block_steps - 1) / block_steps) * block_steps;
   const auto t0 = clock::now();

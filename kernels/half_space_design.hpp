@@ -32,9 +32,10 @@ struct HalfSpaceOperatorDesign {
   int slow_block = 128;
   double slow_taylor_radius = 0.25;
   int taylor_terms = 12;
-  // The in-plane body's operator (FaceHalfSpaceHistory) works its far field for
-  // up to far_batch steps at once (its inputs are delayed by W >= corrected_lags
-  // steps); 1: every step.  The same arithmetic per step either way.
+  // Both operators (HalfSpaceHistory, at most 64; FaceHalfSpaceHistory) work
+  // their far field for up to far_batch steps at once (its inputs are delayed
+  // by W >= corrected_lags steps); 1: every step.  The same arithmetic per
+  // step either way.
   int far_batch = 8;
   // Which compiled copy of push()'s mode loop runs (simd/instruction_set.hpp);
   // empty: simd::instruction_set(), the widest this CPU supports.  The copies

@@ -15,7 +15,67 @@
 namespace slipstrip {
 
 namespace {
-constexpr long long kStateFormat = 2;
+// Format 2: the slow exponentials in their own arrays (docs/theory.md §8.7),
+// the far field at the current step.
+constexpr long long kStateFormatPerStep = 2;
+// Format 3: the far field advanced to the end of the current batch, its
+// outputs for the batch's steps kept (docs/theory.md §8.8).
+constexpr long long kStateFormat = 3;
+
+// The fast exponentials' damped rotations [C; S] <- [[c, -s], [s, c]] [C + u; S]
+// of poles [m0, m1) over Steps consecutive steps fed with u_d = (ur[d], ui[d]),
+// and their outputs sum_m wc C + ws S per step into (out_r[d], out_i[d]).
+// Poles in chunks: per step the chunk's rotations and terms wc C + ws S run
+// as vectors (the poles are independent; the fused multiply-adds are written
+// out, so that every lane and every code shape rounds alike), then the terms
+// are summed pole by pole in their order, the steps' sums as independent
+// chains.  Each step's arithmetic is therefore the same whatever Steps.
+template <int Steps>
+[[gnu::always_inline]] inline void rotate_fast(std::size_t m0, std::size_t m1, const double* pole_cos,
+                                               const double* pole_sin, const double* weight_cos,
+                                               const double* weight_sin, double* c_re, double* c_im, double* s_re,
+                                               double* s_im, const double* ur, const double* ui, double* out_r,
+                                               double* out_i) {
+  constexpr std::size_t kChunk = 64;
+  double far_r[Steps], far_i[Steps];
+  for (int d = 0; d < Steps; ++d) far_r[d] = far_i[d] = 0.0;
+  alignas(64) double term_r[Steps][kChunk], term_i[Steps][kChunk];
+  for (std::size_t c0 = m0; c0 < m1; c0 += kChunk) {
+    const std::size_t count = std::min(kChunk, m1 - c0);
+    const double *pc = pole_cos + c0, *ps = pole_sin + c0, *wc = weight_cos + c0, *ws = weight_sin + c0;
+    double *cr = c_re + c0, *ci = c_im + c0, *sr = s_re + c0, *si = s_im + c0;
+    for (int d = 0; d < Steps; ++d) {
+      const double u_r = ur[d], u_i = ui[d];
+      double *tr = term_r[d], *ti = term_i[d];
+#pragma omp simd
+      for (std::size_t k = 0; k < count; ++k) {
+        const double c = pc[k], s = ps[k];
+        const double xr = cr[k] + u_r, xi = ci[k] + u_i;
+        const double old_sr = sr[k], old_si = si[k];
+        const double new_cr = std::fma(c, xr, -(s * old_sr)), new_ci = std::fma(c, xi, -(s * old_si));
+        const double new_sr = std::fma(s, xr, c * old_sr), new_si = std::fma(s, xi, c * old_si);
+        cr[k] = new_cr;
+        ci[k] = new_ci;
+        sr[k] = new_sr;
+        si[k] = new_si;
+        tr[k] = std::fma(wc[k], new_cr, ws[k] * new_sr);
+        ti[k] = std::fma(wc[k], new_ci, ws[k] * new_si);
+      }
+    }
+    for (std::size_t k = 0; k < count; ++k)
+      for (int d = 0; d < Steps; ++d) {
+        far_r[d] += term_r[d][k];
+        far_i[d] += term_i[d][k];
+      }
+  }
+  for (int d = 0; d < Steps; ++d) {
+    out_r[d] = far_r[d];
+    out_i[d] = far_i[d];
+  }
+}
+
+// Longest far-field batch (design.far_batch is clamped to it).
+constexpr int kMaxFarBatch = 64;
 
 // Bytes held by a set of vectors (stats().memory_bytes).
 template <class... Vectors>
@@ -82,6 +142,17 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, std::span<co
   s_im_.assign(pole_cos_.size(), 0.0);
   running_sum_.assign(n_modes, 0.0);
   history_.assign(n_modes, 0.0);
+  // The far field's batch: at most design.far_batch steps, at most the
+  // shortest window (its inputs, delayed by W, must be in the ring when it
+  // starts), and a divisor of the slow block (no batch straddles a block end).
+  // At most kMaxFarBatch: the batch's inputs and fast sums live on the stack.
+  if (design.far_batch < 1) throw std::invalid_argument("HalfSpaceHistory: need design.far_batch >= 1");
+  std::size_t shortest = static_cast<std::size_t>(std::min(design.far_batch, kMaxFarBatch));
+  for (int q = 1; q < n_modes; ++q) shortest = std::min(shortest, first_lag_[q + 1] - first_lag_[q]);
+  batch_ = static_cast<int>(std::max<std::size_t>(shortest, 1));
+  while (block_ > 0 && block_ % batch_ != 0) --batch_;
+  far_out_.assign(static_cast<std::size_t>(n_modes) * batch_, 0.0);
+  slow_out_.assign(static_cast<std::size_t>(n_modes) * batch_, 0.0);
 }
 
 void HalfSpaceHistory::flatten_fast_terms(const std::vector<HalfSpaceModeTerms>& terms) {
@@ -147,7 +218,8 @@ ModeOperatorStats HalfSpaceHistory::stats() const {
                             pole_cos_, pole_sin_, weight_cos_, weight_sin_, ring_, c_re_, c_im_, s_re_, s_im_,
                             running_sum_, first_slow_, slow_shear_end_, slow_decay_, slow_centre_factor_,
                             slow_pole_, slow_weight_, slow_block_pole_, slow_lag_weight_, rotation_,
-                            slow_state_re_, slow_state_im_, block_input_, block_moment_, history_);
+                            slow_state_re_, slow_state_im_, block_input_, block_moment_, far_out_, slow_out_,
+                            history_);
   return s;
 }
 
@@ -179,6 +251,7 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
   const int chunks = (n_modes - 1 + kModeChunk - 1) / kModeChunk;
   const simd::InstructionSet set = instruction_set_;
   const std::complex<double>* v = slip_rate_spectrum.data();
+  position_ = static_cast<int>(step_ % batch_);
   const auto advance_chunk = [&](long long k) {
     const int q_begin = 1 + static_cast<int>(k) * kModeChunk, q_end = std::min(n_modes, q_begin + kModeChunk);
     switch (set) {
@@ -200,14 +273,15 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
 }
 
 [[gnu::always_inline]] inline void HalfSpaceHistory::advance_mode(int q, const std::complex<double> v) {
-  const int n_modes = static_cast<int>(history_.size());
   // Ring buffer of the last W slip rates: slot n mod W holds v_{n-W} (leaving
   // for the far field) and receives v_n.
   const std::size_t base = first_lag_[q];
   const std::size_t W = first_lag_[q + 1] - base;
+  const int position = position_;
+  // The far field of this batch, before this step's input replaces v_{n-W}.
+  if (position == 0) advance_far(q, step_, 0, batch_);
   const std::size_t slot = static_cast<std::size_t>(step_ % static_cast<long long>(W));
   std::complex<double>* ring = ring_.data() + base;
-  const std::complex<double> delayed = ring[slot];
   ring[slot] = v;
   // Stored lags: K_j v_{n+1-j}, j = 1..W; v_{n+1-j} sits in slot (n+1-j) mod W.
   const double* w = lag_weight_.data() + base;
@@ -221,44 +295,69 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
     near_r += w[j] * ring[s].real();
     near_i += w[j] * ring[s].imag();
   }
-  // Far field: damped rotations fed with v_{n-W}.
-  const double ur = delayed.real(), ui = delayed.imag();
-  double far_r = 0.0, far_i = 0.0;
-  for (std::size_t m = first_pole_[q]; m < first_pole_[q + 1]; ++m) {
-    const double c = pole_cos_[m], s = pole_sin_[m];
-    const double xr = c_re_[m] + ur, xi = c_im_[m] + ui;
-    const double sr = s_re_[m], si = s_im_[m];
-    const double new_cr = c * xr - s * sr, new_ci = c * xi - s * si;
-    const double new_sr = s * xr + c * sr, new_si = s * xi + c * si;
-    c_re_[m] = new_cr;
-    c_im_[m] = new_ci;
-    s_re_[m] = new_sr;
-    s_im_[m] = new_si;
-    far_r += weight_cos_[m] * new_cr + weight_sin_[m] * new_sr;
-    far_i += weight_cos_[m] * new_ci + weight_sin_[m] * new_si;
-  }
-  std::complex<double> slow = 0.0;
-  if (block_ > 0) {
-    // Slow exponentials: at block position t (t' = t + 1 steps after the block
-    // start) their output is sum over branches of rho^{t'} P_beta(t' - t_c),
-    // with P_beta the Taylor polynomial of the block-start states, plus the
-    // slow kernel's lags 0..t applied to this block's inputs.
-    const int t = static_cast<int>(step_ % block_);
-    std::complex<double>* input = block_input_.data() + static_cast<std::size_t>(q) * block_;
-    input[t] = delayed;
-    const double x = (t + 1) - block_centre_;
-    const std::complex<double>* moment = block_moment_.data() + static_cast<std::size_t>(q) * 4 * terms_;
-    // Polynomial beta = 2 b + c: branch b (shear, P), component c (Re, Im of
-    // the slip rate, kept apart so that a real kernel maps real to real exactly).
-    const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
-    double out[2];
-    slow_block_output<2>(moment, terms_, x, rotation_[at], rotation_[at + 1], out);
-    slow = std::complex<double>(out[0], out[1]) +
-           slow_in_block_sum(slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_, input, t);
-    if (t == block_ - 1) push_slow_block_end(q);
-  }
+  const std::size_t at = static_cast<std::size_t>(q) * batch_ + position;
+  const std::complex<double> far = far_out_[at];
   running_sum_[q] += v;
-  history_[q] = static_weight_[q] * running_sum_[q] + std::complex<double>(near_r + far_r, near_i + far_i) + slow;
+  history_[q] = static_weight_[q] * running_sum_[q] + std::complex<double>(near_r + far.real(), near_i + far.imag()) +
+                slow_out_[at];
+}
+
+[[gnu::always_inline]] inline void HalfSpaceHistory::advance_far(int q, long long batch_step, int first, int last) {
+  const int n_modes = static_cast<int>(history_.size());
+  const std::size_t base = first_lag_[q];
+  const std::size_t W = first_lag_[q + 1] - base;
+  const std::complex<double>* ring = ring_.data() + base;
+  std::complex<double>* far_out = far_out_.data() + static_cast<std::size_t>(q) * batch_;
+  std::complex<double>* slow_out = slow_out_.data() + static_cast<std::size_t>(q) * batch_;
+  // v_{n-W} of the batch's steps, still in the ring (the batch is at most W
+  // steps long).
+  double ur[kMaxFarBatch], ui[kMaxFarBatch], far_r[kMaxFarBatch], far_i[kMaxFarBatch];
+  // Slots and block positions counted on from the batch's first step (one
+  // 64-bit division each per batch instead of per step).
+  std::size_t slot = static_cast<std::size_t>((batch_step + first) % static_cast<long long>(W));
+  for (int d = first; d < last; ++d) {
+    ur[d] = ring[slot].real();
+    ui[d] = ring[slot].imag();
+    if (++slot == W) slot = 0;
+  }
+  // Fast exponentials: damped rotations fed with v_{n-W}, eight steps per pass
+  // over the poles, the rest one at a time (the same arithmetic per step).
+  const std::size_t m0 = first_pole_[q], m1 = first_pole_[q + 1];
+  const auto fast = [&]<int Steps>(int d) {
+    rotate_fast<Steps>(m0, m1, pole_cos_.data(), pole_sin_.data(), weight_cos_.data(), weight_sin_.data(),
+                       c_re_.data(), c_im_.data(), s_re_.data(), s_im_.data(), ur + d, ui + d, far_r + d, far_i + d);
+  };
+  int d = first;
+  for (; d + 8 <= last; d += 8) fast.template operator()<8>(d);
+  for (; d < last; ++d) fast.template operator()<1>(d);
+  const int t_first = block_ > 0 ? static_cast<int>((batch_step + first) % block_) : 0;
+  for (int d = first; d < last; ++d) {
+    const std::complex<double> delayed(ur[d], ui[d]);
+    far_out[d] = std::complex<double>(far_r[d], far_i[d]);
+    std::complex<double> slow = 0.0;
+    if (block_ > 0) {
+      // Slow exponentials: at block position t (t' = t + 1 steps after the block
+      // start) their output is sum over branches of rho^{t'} P_beta(t' - t_c),
+      // with P_beta the Taylor polynomial of the block-start states, plus the
+      // slow kernel's lags 0..t applied to this block's inputs.
+      const int t = t_first + (d - first);  // the batch lies in one block
+      std::complex<double>* input = block_input_.data() + static_cast<std::size_t>(q) * block_;
+      input[t] = delayed;
+      const double x = (t + 1) - block_centre_;
+      const std::complex<double>* moment = block_moment_.data() + static_cast<std::size_t>(q) * 4 * terms_;
+      // Polynomial beta = 2 b + c: branch b (shear, P), component c (Re, Im of
+      // the slip rate, kept apart so that a real kernel maps real to real exactly).
+      const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
+      double out[2];
+      slow_block_output<2>(moment, terms_, x, rotation_[at], rotation_[at + 1], out);
+      slow = std::complex<double>(out[0], out[1]) +
+             slow_in_block_sum(slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_, input, t);
+    }
+    slow_out[d] = slow;
+  }
+  // A batch ends at a block end or before it (the batch divides the block):
+  // the block's last step was this batch's last.
+  if (block_ > 0 && last > first && (batch_step + last) % block_ == 0) push_slow_block_end(q);
 }
 
 void HalfSpaceHistory::advance_modes_baseline(int q_begin, int q_end, const std::complex<double>* v) {
@@ -307,10 +406,16 @@ SLIPSTRIP_TARGET_AVX512 void HalfSpaceHistory::advance_modes_avx512(int q_begin,
 HistoryOperatorState HalfSpaceHistory::save_state() const {
   HistoryOperatorState state;
   state.kind = "half-space";
-  // Format 2: the slow exponentials live in their own arrays (docs/theory.md
-  // §8.7); a restart point of the earlier every-step operator has no format
-  // counter and is refused with that reason instead of a confusing array size.
+  // Format 3 (format 2 is still read); a restart point of the earlier
+  // every-step operator has no format counter and is refused with that reason
+  // instead of a confusing array size.
   state.counters.emplace_back("format", kStateFormat);
+  // The far field is advanced to the end of the current batch (its states,
+  // the block's inputs and polynomials), its outputs for the batch's steps
+  // kept in far_out and slow_out.
+  state.counters.emplace_back("far_batch", batch_);
+  state.add("far_out", far_out_);
+  state.add("slow_out", slow_out_);
   // The step count places the ring buffers' cursor (slot = step mod W_q).
   state.counters.emplace_back("step", step_);
   state.add("ring", ring_);
@@ -338,6 +443,8 @@ HistoryStateLayout HalfSpaceHistory::state_layout() const {
   layout.add("slow_state_im", first_slow_, 2);
   layout.add_uniform("block_input", n, 2 * static_cast<std::size_t>(block_));
   layout.add_uniform("block_moment", n, 2 * 4 * static_cast<std::size_t>(terms_));
+  layout.add_uniform("far_out", n, 2 * static_cast<std::size_t>(batch_));
+  layout.add_uniform("slow_out", n, 2 * static_cast<std::size_t>(batch_));
   return layout;
 }
 
@@ -345,13 +452,18 @@ void HalfSpaceHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind("half-space");
   const bool has_format = std::any_of(state.counters.begin(), state.counters.end(),
                                       [](const auto& c) { return c.first == "format"; });
-  if (!has_format || state.counter("format") != kStateFormat)
+  const long long format = has_format ? state.counter("format") : 0;
+  if (format != kStateFormat && format != kStateFormatPerStep)
     throw std::invalid_argument(
         "history operator state: this half-space restart point was written by a slipstrip older than the "
-        "blocked half-space operator (docs/theory.md §8.7; its state lacks format " +
-        std::to_string(kStateFormat) +
+        "blocked half-space operator (docs/theory.md §8.7; its state has neither format " +
+        std::to_string(kStateFormatPerStep) + " nor " + std::to_string(kStateFormat) +
         ") and cannot be resumed by this version; rerun the case from the start, or resume it with the "
         "version that wrote it");
+  if (format == kStateFormat && state.counter("far_batch") != batch_)
+    throw std::invalid_argument("history operator state: the half-space restart point has far-field batch " +
+                                std::to_string(state.counter("far_batch")) + ", this operator " +
+                                std::to_string(batch_) + "; it cannot be resumed with another far-field batch");
   const long long step = state.counter("step");
   if (step < 0) throw std::invalid_argument("half-space history state: step = " + std::to_string(step) + " < 0");
   state.copy_to("ring", std::span<std::complex<double>>(ring_));
@@ -366,6 +478,16 @@ void HalfSpaceHistory::restore_state(const HistoryOperatorState& state) {
   state.copy_to("block_input", std::span<std::complex<double>>(block_input_));
   state.copy_to("block_moment", std::span<std::complex<double>>(block_moment_));
   step_ = step;
+  if (format == kStateFormat) {
+    state.copy_to("far_out", std::span<std::complex<double>>(far_out_));
+    state.copy_to("slow_out", std::span<std::complex<double>>(slow_out_));
+    return;
+  }
+  // Format 2 holds the far field at this step: advanced here over the rest of
+  // the current batch, as push() would have at the batch's start.
+  const int position = static_cast<int>(step_ % batch_);
+  if (position != 0)
+    for (int q = 1; q < modes(); ++q) advance_far(q, step_ - position, position, batch_);
 }
 
 }  // namespace slipstrip

@@ -17,6 +17,9 @@
 //     inputs, and their output inside a block is a short polynomial per branch
 //     plus a direct sum over the block's own inputs (docs/theory.md §8.7): the
 //     same operator to ~1e-16 relative, at a fraction of the memory traffic.
+//   - the far field (both kinds of exponentials) is worked for a batch of up to
+//     design.far_batch steps at once, its inputs being delayed by W steps
+//     (docs/theory.md §8.8): the same arithmetic per step, in the same order.
 // The design constants and the per-mode terms: kernels/half_space_design.hpp.
 // Memory and cost per step are fixed at construction, whatever the run length;
 // the kernel is accurate to ~1e-9 (absolute, in units of mu |k|) for
@@ -79,6 +82,11 @@ class HalfSpaceHistory final : public HistoryOperator {
   // and the block length B.
   std::size_t slow_exponentials() const { return slow_decay_.size(); }
   int slow_block() const { return block_; }
+  // Steps of the far field worked at once (design.far_batch, at most the
+  // shortest window, a divisor of the slow block).
+  int far_batch() const { return batch_; }
+  // Steps after which the per-step work repeats (the slow block, else the batch).
+  int period() const { return block_ > 0 ? block_ : batch_; }
 
  private:
   double dt_, eta_;
@@ -114,6 +122,13 @@ class HalfSpaceHistory final : public HistoryOperator {
   // for instruction_set_.  advance_mode and push_slow_block_end are inlined
   // into each.
   void advance_mode(int q, std::complex<double> v);
+  // The far field of mode q (fast rotations, the slow block's outputs and
+  // in-block sums, block ends) at steps batch_step + d, d in [first, last),
+  // into far_out_ and slow_out_: its inputs v_{n-W} are in the ring batch_
+  // steps ahead, so the mode's rows are read from memory once per batch
+  // instead of once per step.  Each step's arithmetic is the every-step
+  // operator's, in the same order.
+  void advance_far(int q, long long batch_step, int first, int last);
   void advance_modes_baseline(int q_begin, int q_end, const std::complex<double>* slip_rate);
   void advance_modes_avx2(int q_begin, int q_end, const std::complex<double>* slip_rate);
   void advance_modes_avx512(int q_begin, int q_end, const std::complex<double>* slip_rate);
@@ -132,6 +147,12 @@ class HalfSpaceHistory final : public HistoryOperator {
   std::vector<std::complex<double>> slow_state_re_, slow_state_im_;
   std::vector<std::complex<double>> block_input_;  // per mode, B: this block's delayed slip rates
   std::vector<std::complex<double>> block_moment_; // per mode, 4 * terms: M_{beta,p}, beta = 2 b + (0 Re, 1 Im)
+  // The far field's batch: per mode, batch_ steps of the fast exponentials'
+  // output and of the slow ones' (kept apart: push() adds them to the near
+  // field in the every-step operator's order).
+  int batch_ = 1;
+  int position_ = 0;  // this step's position in its batch (push())
+  std::vector<std::complex<double>> far_out_, slow_out_;
   std::vector<std::complex<double>> history_;
 };
 

@@ -30,7 +30,7 @@ TwoBodyHistory::TwoBodyHistory(std::unique_ptr<HistoryOperator> top,
 namespace {
 int operator_period(const HistoryOperator* op) {
   if (const auto* block = dynamic_cast<const BlockStripHistory*>(op)) return block->block();
-  if (const auto* half_space = dynamic_cast<const HalfSpaceHistory*>(op)) return std::max(1, half_space->slow_block());
+  if (const auto* half_space = dynamic_cast<const HalfSpaceHistory*>(op)) return half_space->period();
   return 1;
 }
 }  // namespace

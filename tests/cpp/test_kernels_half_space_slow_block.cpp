@@ -190,6 +190,68 @@ TEST_CASE("slow exponentials: a restart point of the every-step operator is refu
   op.restore_state(op.save_state());  // the current format is accepted
 }
 
+TEST_CASE("far field in batches: every step's arithmetic, and restarts in the middle of a batch") {
+  // The far field worked for 8 steps at once is the every-step far field bit
+  // for bit (the same arithmetic per step, in the same order), with and
+  // without slow exponentials, in plane strain and antiplane; a restart point
+  // of either (format 3 in the middle of a batch, format 2 as the every-step
+  // operator wrote it) continues bit for bit.
+  for (const PlaneCondition plane : {PlaneCondition::strain, PlaneCondition::antiplane})
+    for (const int block : {32, 0}) {
+      CAPTURE(static_cast<int>(plane));
+      CAPTURE(block);
+      const auto m = material(plane);
+      const int N = 32;
+      const double L = 1.0, dt = 0.3 * (L / N) / m.shear_wave_speed();
+      HalfSpaceOperatorDesign every_step;
+      every_step.slow_block = block;
+      every_step.far_batch = 1;
+      HalfSpaceOperatorDesign batched = every_step;
+      batched.far_batch = 8;
+      HalfSpaceHistory a(m, L, N, dt, every_step), b(m, L, N, dt, batched);
+      REQUIRE(a.far_batch() == 1);
+      REQUIRE(b.far_batch() == 8);
+      CHECK(b.period() == (block > 0 ? block : 8));
+      std::mt19937 rng(5);
+      bool identical = true;
+      int n = 0;
+      for (; n < 3 * 32 + 21; ++n) {  // ends in the middle of a batch and of a block
+        const auto v = random_spectrum(rng, a.modes(), n);
+        a.push(v);
+        b.push(v);
+        for (int q = 0; q < a.modes(); ++q) identical = identical && a.history()[q] == b.history()[q];
+      }
+      CHECK(identical);
+      // Format 3, in the middle of a batch.
+      HalfSpaceHistory c(m, L, N, dt, batched);
+      c.restore_state(b.save_state());
+      // Every step, the far field is at the current step: the state as format
+      // 2 held it (no batch outputs).
+      const HistoryOperatorState saved = a.save_state();
+      HistoryOperatorState format2;
+      format2.kind = saved.kind;
+      for (const auto& [name, value] : saved.counters)
+        if (name != "far_batch") format2.counters.emplace_back(name, name == "format" ? 2 : value);
+      for (const auto& array : saved.arrays)
+        if (array.first != "far_out" && array.first != "slow_out") format2.arrays.push_back(array);
+      HalfSpaceHistory d(m, L, N, dt, batched);
+      d.restore_state(format2);
+      bool resumed = true;
+      for (; n < 6 * 32 + 3; ++n) {
+        const auto v = random_spectrum(rng, a.modes(), n);
+        a.push(v);
+        c.push(v);
+        d.push(v);
+        for (int q = 0; q < a.modes(); ++q)
+          resumed = resumed && a.history()[q] == c.history()[q] && a.history()[q] == d.history()[q];
+      }
+      CHECK(resumed);
+      // A format-3 restart point of another batch is refused by name.
+      CHECK_THROWS_WITH_AS(a.restore_state(c.save_state()), doctest::Contains("far-field batch"),
+                           std::invalid_argument);
+    }
+}
+
 TEST_CASE("slow exponentials: designs with a loose Taylor bound are refused") {
   const auto m = material(PlaneCondition::strain);
   const double dt = 0.25 * (1.0 / 64) / m.shear_wave_speed();
