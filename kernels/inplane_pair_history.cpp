@@ -91,8 +91,11 @@ void InplanePairHistory::push(std::span<const std::complex<double>> slip_rate_sp
                               std::span<const std::complex<double>> opening_stress_spectrum) {
   const std::size_t n = history_.size();
   const bool opening = !opening_stress_spectrum.empty();
-  if (combined_) {
-    // The jumps themselves: V, and the gap rate d / eta_y (0 in contact).
+  if (combined_ || !bottom_) {
+    // One operator fed the jumps themselves: the slip rate V and the gap rate
+    // d / eta_y (0 in contact).  The combined pair's operator acts on the
+    // jumps; over a rigid bottom the top face carries the whole slip and
+    // opens alone (eta_y = Ey_t).
     for (std::size_t q = 0; q < n; ++q) {
       top_x_[q] = slip_rate_spectrum[q];
       top_y_[q] = opening ? opening_stress_spectrum[q] / eta_y_ : 0.0;
@@ -106,22 +109,6 @@ void InplanePairHistory::push(std::span<const std::complex<double>> slip_rate_sp
     return;
   }
   const auto hx_t = top_->history_x(), hy_t = top_->history_y();
-  if (!bottom_) {
-    // Rigid bottom: the top face carries the whole slip and does not move normally.
-    for (std::size_t q = 0; q < n; ++q) {
-      top_x_[q] = slip_rate_spectrum[q];
-      top_y_[q] = 0.0;
-    }
-    if (opening)
-      for (std::size_t q = 0; q < n; ++q) top_y_[q] = opening_stress_spectrum[q] / ey_top_;
-    top_->push(top_x_, top_y_);
-    const auto x = top_->history_x(), y = top_->history_y();
-    for (std::size_t q = 0; q < n; ++q) {
-      history_[q] = x[q];
-      normal_[q] = y[q];
-    }
-    return;
-  }
   {
     // Face velocities at t_n from the slip rate and the body histories at t_n.
     const auto hx_b = bottom_->history_x(), hy_b = bottom_->history_y();

@@ -15,6 +15,7 @@
 
 #include "face_reference.hpp"
 #include "inverse_laplace.hpp"
+#include "half_space_pair_materials.hpp"
 #include "kernels/face_half_space.hpp"
 #include "kernels/half_space_kernel.hpp"
 #include "kernels/half_space_pair_kernel.hpp"
@@ -26,18 +27,12 @@ using slipstrip::ElasticMaterial;
 using slipstrip::FaceMatrix;
 using slipstrip::PlaneCondition;
 
-const ElasticMaterial kPmma{2.1e9, 0.35, 1170.0, PlaneCondition::stress};
-const ElasticMaterial kHomalite{1.9e9, 0.34, 1230.0, PlaneCondition::stress};
-// A stronger contrast: density ratio 2, shear speed ratio 2 (plane strain).
-const ElasticMaterial kStiff{2.1e9, 0.35, 1170.0, PlaneCondition::strain};
-const ElasticMaterial kDenseSlow{1.05e9, 0.25, 2340.0, PlaneCondition::strain};
-// PMMA's wave speeds at twice its density: a pair with a Stoneley wave.
-const ElasticMaterial kPmmaDense{4.2e9, 0.35, 2340.0, PlaneCondition::stress};
-
-struct Pair {
-  const char* name;
-  ElasticMaterial top, bottom;
-};
+using slipstrip::testing::kDenseSlow;
+using slipstrip::testing::kHomalite;
+using slipstrip::testing::kPmma;
+using slipstrip::testing::kPmmaDense;
+using slipstrip::testing::kStiff;
+using Pair = slipstrip::testing::MaterialPair;
 std::vector<Pair> dissimilar_pairs() {
   return {{"PMMA/Homalite", kPmma, kHomalite},
           {"Homalite/PMMA", kHomalite, kPmma},

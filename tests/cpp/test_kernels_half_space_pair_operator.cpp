@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "face_drive.hpp"
+#include "half_space_pair_materials.hpp"
 #include "kernels/face_half_space.hpp"
 #include "kernels/face_response.hpp"
 #include "kernels/inplane_pair_history.hpp"
@@ -29,16 +30,12 @@ using slipstrip::FaceMatrix;
 using slipstrip::PlaneCondition;
 constexpr double pi = std::numbers::pi;
 
-const ElasticMaterial kPmma{2.1e9, 0.35, 1170.0, PlaneCondition::stress};
-const ElasticMaterial kHomalite{1.9e9, 0.34, 1230.0, PlaneCondition::stress};
-const ElasticMaterial kStiff{2.1e9, 0.35, 1170.0, PlaneCondition::strain};
-const ElasticMaterial kDenseSlow{1.05e9, 0.25, 2340.0, PlaneCondition::strain};
-const ElasticMaterial kPmmaDense{4.2e9, 0.35, 2340.0, PlaneCondition::stress};
-
-struct Pair {
-  const char* name;
-  ElasticMaterial top, bottom;
-};
+using slipstrip::testing::kDenseSlow;
+using slipstrip::testing::kHomalite;
+using slipstrip::testing::kPmma;
+using slipstrip::testing::kPmmaDense;
+using slipstrip::testing::kStiff;
+using Pair = slipstrip::testing::MaterialPair;
 std::vector<Pair> pairs() {
   return {{"PMMA/Homalite", kPmma, kHomalite}, {"strong contrast", kStiff, kDenseSlow}};
 }
