@@ -51,7 +51,9 @@ struct BenchCase {
   double height;  // inf = half-space
   PlaneCondition plane = PlaneCondition::strain;
   // A pair of different bodies (in-plane: per-body 2x2 operators; antiplane:
-  // one scalar operator per body, TwoBodyHistory): the bottom body has the
+  // one combined scalar operator of the two strips, history "pair_combined_*",
+  // or one per body, TwoBodyHistory, for half-spaces and with
+  // time.antiplane_pair = "bodies"): the bottom body has the
   // same height and wave speeds, twice mu and rho (twice the impedances).  A
   // pair of half-spaces (height = inf) with equal wave speeds and different
   // densities has a Stoneley wave, which the combined operator does not carry
@@ -76,6 +78,7 @@ SimulationConfig bench_config(const BenchCase& c, const BenchOptions& options) {
   config.time.history = options.history;
   config.initial.noise_amplitude = 1e-3;
   config.time.half_space_pair = options.half_space_pair;
+  config.time.antiplane_pair = options.antiplane_pair;
   if (c.dissimilar) {
     const bool half_spaces = std::isinf(c.height) && c.plane != PlaneCondition::antiplane;
     config.bottom.body = BodyKind::elastic;
@@ -157,8 +160,8 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
                                                                      : "pair_modal")
                           : bodies ? (std::isinf(c.height) ? "pair_half_space" : bodies->period() > 1 ? "pair_block" : "pair_modal")
                           : dynamic_cast<const BlockStripHistory*>(&sim.history_operator())
-                              ? "block"
-                              : (std::isinf(c.height) ? "half_space" : "modal");
+                              ? (c.dissimilar ? "pair_combined_block" : "block")
+                              : (std::isinf(c.height) ? "half_space" : c.dissimilar ? "pair_combined_modal" : "modal");
   const std::string plane = std::string(kPlaneConditionNames[static_cast<std::size_t>(c.plane)]) + (c.dissimilar ? "-2b" : "");
   if (options.json) {
     std::printf(

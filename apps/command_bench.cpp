@@ -72,6 +72,13 @@ Command add_bench_command(CLI::App& app) {
                                               {"combined", HalfSpacePairOperator::combined},
                                               {"bodies", HalfSpacePairOperator::bodies}},
                                           CLI::ignore_case));
+  bench->add_option("--antiplane-pair", o->antiplane_pair,
+                    "The antiplane pair of different finite strips (--pairs, antiplane, finite heights): combined "
+                    "(one operator of the pair, the default) or bodies (each body's own), as time.antiplane_pair")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, AntiplanePairOperator>{
+                                              {"combined", AntiplanePairOperator::combined},
+                                              {"bodies", AntiplanePairOperator::bodies}},
+                                          CLI::ignore_case));
   bench->add_option("--history", o->history, "Strip history algorithm: auto, modal or block (same operator)")
       ->transform(CLI::CheckedTransformer(history_algorithms_by_name(), CLI::ignore_case));
   bench->add_option("--max-gib", o->max_operator_gib,

@@ -299,9 +299,36 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
       combined_pair = false;  // bodies the pair's shape refuses: the run refuses them with its own reason
     }
   }
+  // Two different finite antiplane strips on a line: one combined operator
+  // (Simulation, time.antiplane_pair = "combined"; kernels/antiplane_pair_modes.hpp)
+  // over the bilayer's normal modes, (M_t + M_b)/2 per Fourier mode (the poles
+  // of both bodies below Nyquist, one mode between each two), with the block
+  // algorithm at body_block_length's B as a body of two: 64 P + 48 B + the
+  // kernels (16 P); the uniform mode keeps M_t + M_b slots of v and of y.
+  const bool combined_antiplane = antiplane_bodies && elastic_bottom && !is_half_space(c.geometry.height) &&
+                                  !is_half_space(c.bottom.height) &&
+                                  c.time.antiplane_pair == AntiplanePairOperator::combined;
   if (combined_pair) {
     e.operator_bytes = fourier_modes * kHalfSpacePairBytesPerFourierMode;
     history_seconds = fourier_modes * kHalfSpacePairSecondsPerFourierMode;
+  } else if (combined_antiplane) {
+    const double bottom_echo = std::ceil(2.0 * c.bottom.height / bottom.shear_wave_speed() / e.time_step * (1.0 - 1e-12));
+    const double modes = 0.5 * (top.echo_steps + bottom_echo);
+    e.bottom_echo_steps = bottom_echo;
+    e.bottom_modes_per_fourier_mode = 0.5 * bottom_echo;  // its own echo modes; the operator carries the pair's
+    e.modes_per_fourier_mode = modes;
+    e.block_history = c.time.history == HistoryAlgorithm::block ||
+                      (c.time.history == HistoryAlgorithm::automatic && modes >= kBlockThreshold);
+    const double slots = 32.0 * (top.echo_steps + bottom_echo);
+    if (e.block_history) {
+      const double block = body_block_length(static_cast<std::size_t>(std::ceil(modes)),
+                                             BlockHistoryDesign{}.direct_block, static_cast<std::size_t>(fourier_modes));
+      e.operator_bytes = fourier_modes * (80.0 * modes + 48.0 * block) + slots;
+      history_seconds = fourier_modes * kBlockSecondsPerFourierMode;
+    } else {
+      e.operator_bytes = fourier_modes * modes * kModalBytesPerMode + slots;
+      history_seconds = fourier_modes * modes * kModalSecondsPerMode;
+    }
   } else if (elastic_bottom) {
     const BodyOperator b =
         body_operator(bottom, c.bottom.height, e.time_step, fourier_modes, c.time.history, !per_body, true,

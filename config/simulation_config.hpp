@@ -120,9 +120,17 @@ inline constexpr std::string_view kHistoryAlgorithmNames[] = {"auto", "modal", "
 enum class HalfSpacePairOperator { combined, bodies };
 inline constexpr std::string_view kHalfSpacePairOperatorNames[] = {"combined", "bodies"};  // index = enumerator
 
+// [time] antiplane_pair: how an antiplane pair of two different bodies is
+// simulated on a line: one combined scalar operator of the pair
+// (kernels/antiplane_pair_modes.hpp; built for two finite strips), or each
+// body's own operator (kernels/two_body_history.hpp).
+enum class AntiplanePairOperator { combined, bodies };
+inline constexpr std::string_view kAntiplanePairOperatorNames[] = {"combined", "bodies"};  // index = enumerator
+
 struct TimeConfig {
   HistoryAlgorithm history = HistoryAlgorithm::automatic;  // [time] history
   HalfSpacePairOperator half_space_pair = HalfSpacePairOperator::combined;  // [time] half_space_pair
+  AntiplanePairOperator antiplane_pair = AntiplanePairOperator::combined;   // [time] antiplane_pair
   double beta = 0.25;       // [time] beta: dt <= beta dx / c_s (see docs: dt is adjusted so 2H/c_s is a whole number of steps)
   double duration = 1e-3;   // [time] duration [s] (or duration_transit in units of L/c_s, resolved here)
 };

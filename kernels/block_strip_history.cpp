@@ -56,9 +56,12 @@ int body_block_length(std::size_t most_normal_modes, int direct_block, std::size
 
 BlockStripHistory::BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,
                                      const BlockHistoryDesign& design, const CancelCheck& cancelled)
-    : dt_(kernels.time_step), eta_(material.radiation_damping()),
-      echo_weight_(material.shear_modulus / material.shear_wave_speed()),
-      direct_block_(design.direct_block), echo_(kernels.echo_steps, echo_weight_) {
+    : BlockStripHistory(identical_strip_pair(material, kernels.echo_steps), kernels, design, cancelled) {}
+
+BlockStripHistory::BlockStripHistory(const StripPairConstants& constants, const StripKernels& kernels,
+                                     const BlockHistoryDesign& design, const CancelCheck& cancelled)
+    : dt_(kernels.time_step), eta_(constants.radiation_damping), echo_weight_(constants.running_sum_weight),
+      kernels_echo_steps_(kernels.echo_steps), direct_block_(design.direct_block), echo_(constants) {
   const auto& first = kernels.first_oscillator;
   if (first.size() < 2 || first.back() != kernels.weight.size() ||
       kernels.phase.size() != kernels.weight.size() || kernels.echo_steps < 1)
@@ -186,12 +189,12 @@ ModeOperatorStats BlockStripHistory::stats() const {
   ModeOperatorStats s;
   s.modes = n_modes_;
   s.oscillators = state_.size() / 2;  // normal modes in flight (shared designs counted per mode)
-  s.echo_steps = echo_.steps();
+  s.echo_steps = kernels_echo_steps_;
   s.memory_bytes = sizeof(double) * (theta_.size() + half_weight_.size() + lag_kernel_.size() +
                                      c0_.size()) +
                    sizeof(std::size_t) * (design_.size() + first_frequency_.size() + first_state_.size() +
                                           design_first_mode_.size() + design_modes_.size()) +
-                   sizeof(cplx) * (state_.size() + spectrum_.size() + running_sum_.size() + echo_.steps() +
+                   sizeof(cplx) * (state_.size() + spectrum_.size() + running_sum_.size() + echo_.slots() +
                                    history_.size()) +
                    rows_.memory_bytes() +
                    scratch_.size() * sizeof(cplx) *
@@ -415,14 +418,14 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
 HistoryOperatorState BlockStripHistory::save_state() const {
   HistoryOperatorState state;
   state.kind = "block strip";
-  state.counters.emplace_back("echo_cursor", static_cast<long long>(echo_.cursor()));
+  echo_.save_counters(state);
   state.counters.emplace_back("position", position_);
   state.counters.emplace_back("block", block_);
   state.add("mode_state", state_);
   state.add("input", rows_.saved_input(0, position_));
   state.add("accumulator", rows_.accumulator_rows(0));
   state.add("running_sum", running_sum_);
-  state.add("echo_line", echo_.slots());
+  echo_.save_arrays(state);
   state.add("history", history_);
   return state;
 }
@@ -434,27 +437,25 @@ HistoryStateLayout BlockStripHistory::state_layout() const {
   layout.add_uniform("input", n, 2 * block);
   layout.add_uniform("accumulator", n, 2 * block);
   layout.add_uniform("running_sum", n, 2);
-  layout.add_first_mode("echo_line", n, 2 * echo_.steps());
+  echo_.add_layout(layout, n);
   layout.add_uniform("history", n, 2);
   return layout;
 }
 
 void BlockStripHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind("block strip");
-  const long long cursor = state.counter("echo_cursor"), position = state.counter("position");
+  const long long position = state.counter("position");
   if (state.counter("block") != block_)
     throw std::invalid_argument("block history state: block = " + std::to_string(state.counter("block")) +
                                 ", this operator's is " + std::to_string(block_));
-  if (cursor < 0 || static_cast<std::size_t>(cursor) >= echo_.steps() || position < 0 || position >= block_)
-    throw std::invalid_argument("block history state: echo_cursor = " + std::to_string(cursor) +
-                                " or position = " + std::to_string(position) + " out of range");
+  if (position < 0 || position >= block_)
+    throw std::invalid_argument("block history state: position = " + std::to_string(position) + " out of range");
+  echo_.restore(state);
   state.copy_to("mode_state", std::span<cplx>(state_));
   state.copy_to("input", rows_.input_rows(0));
   state.copy_to("accumulator", rows_.accumulator_rows(0));
   state.copy_to("running_sum", std::span<cplx>(running_sum_));
-  state.copy_to("echo_line", echo_.slots());
   state.copy_to("history", std::span<cplx>(history_));
-  echo_.set_cursor(static_cast<std::size_t>(cursor));
   position_ = static_cast<int>(position);
   rows_.rebuild(position_, [this](std::size_t q, int slot, const std::array<cplx, 1>& v) {
     add_direct_part(static_cast<int>(q), slot, v[0]);

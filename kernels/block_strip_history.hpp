@@ -74,6 +74,10 @@ class BlockStripHistory final : public HistoryOperator {
  public:
   BlockStripHistory(const ElasticMaterial& material, const StripKernels& kernels,
                     const BlockHistoryDesign& design = {}, const CancelCheck& cancelled = {});
+  // From kernels and the bodies' constants (two different antiplane strips,
+  // kernels/antiplane_pair_modes.hpp).
+  BlockStripHistory(const StripPairConstants& constants, const StripKernels& kernels,
+                    const BlockHistoryDesign& design = {}, const CancelCheck& cancelled = {});
   ~BlockStripHistory() override;
   BlockStripHistory(const BlockStripHistory&) = delete;
   BlockStripHistory& operator=(const BlockStripHistory&) = delete;
@@ -109,9 +113,10 @@ class BlockStripHistory final : public HistoryOperator {
   // Input v at `slot` of its direct block into the direct block's later outputs.
   void add_direct_part(int q, int slot, std::complex<double> v);
 
-  double dt_, eta_, echo_weight_;  // echo_weight_ = mu / c_s
+  double dt_, eta_, echo_weight_;  // echo_weight_: the running sum's weight, 2 eta (mu / c_s for identical bodies)
+  std::size_t kernels_echo_steps_;  // stats
   int n_modes_, block_, direct_block_;
-  ShearEchoLine echo_;  // q = 0
+  UniformModeEchoes echo_;  // q = 0
   int position_ = 0;  // index of the next input inside the current block
 
   // Designs: the normal modes of a Fourier mode as frequencies theta = +phi

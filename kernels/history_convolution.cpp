@@ -34,12 +34,17 @@ std::vector<DiscreteMode> discrete_modes(const ElasticMaterial& material, double
   // Static stiffness of everything above Nyquist (truncated pairs and P modes).
   const double truncated = strip_static_stiffness(material, strip_height, wavenumber) -
                            mu / (2.0 * strip_height) - kept;
-  if (truncated == 0.0) return out;
+  place_truncated_stiffness(out, truncated);
+  return out;
+}
+
+void place_truncated_stiffness(std::vector<DiscreteMode>& out, double truncated) {
+  if (truncated == 0.0) return;
   if (truncated < 0.0) {
     // Passive element (negative weight) at Nyquist, kernel 1 - (-1)^j: exact
     // static limit, lossless, strictly causal.
     out.push_back({std::numbers::pi, truncated, ModeFamily::shear});
-    return out;
+    return;
   }
   // A positive truncated stiffness (the usual case: the shear/comb pairs
   // dominate) would be an active element on its own.  Absorb it into the
@@ -61,7 +66,66 @@ std::vector<DiscreteMode> discrete_modes(const ElasticMaterial& material, double
     throw std::runtime_error(
         "discrete_modes: cannot place the truncated static stiffness passively; "
         "refine the time step (more steps per 2H/c_s)");
-  return out;
+}
+
+StripPairConstants identical_strip_pair(const ElasticMaterial& material, std::size_t echo_steps) {
+  const double impedance = material.shear_modulus / material.shear_wave_speed();
+  return {material.radiation_damping(), impedance, echo_steps, echo_steps, impedance, impedance};
+}
+
+UniformModeEchoes::UniformModeEchoes(const StripPairConstants& c)
+    : recursion_(c.top_echo_steps != c.bottom_echo_steps),
+      line_(recursion_ ? 0 : c.top_echo_steps, c.running_sum_weight) {
+  if (c.top_echo_steps < 1 || c.bottom_echo_steps < 1)
+    throw std::invalid_argument("UniformModeEchoes: the echoes need at least one step each");
+  if (!recursion_) return;
+  if (!(c.top_impedance > 0.0 && c.bottom_impedance > 0.0))
+    throw std::invalid_argument("UniformModeEchoes: the body impedances must be > 0");
+  top_ = c.top_echo_steps;
+  bottom_ = c.bottom_echo_steps;
+  eta_product_ = c.top_impedance * c.bottom_impedance;
+  eta_sum_ = c.top_impedance + c.bottom_impedance;
+  eta_difference_ = c.bottom_impedance - c.top_impedance;
+  input_.assign(top_ + bottom_, 0.0);
+  output_.assign(top_ + bottom_, 0.0);
+}
+
+void UniformModeEchoes::save_counters(HistoryOperatorState& state) const {
+  state.counters.emplace_back("echo_cursor", static_cast<long long>(recursion_ ? cursor_ : line_.cursor()));
+}
+
+void UniformModeEchoes::save_arrays(HistoryOperatorState& state) const {
+  if (!recursion_) {
+    state.add("echo_line", line_.slots());
+    return;
+  }
+  state.add("echo_input", input_);
+  state.add("echo_output", output_);
+}
+
+void UniformModeEchoes::restore(const HistoryOperatorState& state) {
+  const long long cursor = state.counter("echo_cursor");
+  const std::size_t length = recursion_ ? input_.size() : line_.steps();
+  if (cursor < 0 || static_cast<std::size_t>(cursor) >= length)
+    throw std::invalid_argument("history operator state: echo_cursor = " + std::to_string(cursor) +
+                                " outside 0.." + std::to_string(length - 1));
+  if (!recursion_) {
+    state.copy_to("echo_line", line_.slots());
+    line_.set_cursor(static_cast<std::size_t>(cursor));
+    return;
+  }
+  state.copy_to("echo_input", std::span<std::complex<double>>(input_));
+  state.copy_to("echo_output", std::span<std::complex<double>>(output_));
+  cursor_ = static_cast<std::size_t>(cursor);
+}
+
+void UniformModeEchoes::add_layout(HistoryStateLayout& layout, std::size_t modes) const {
+  if (!recursion_) {
+    layout.add_first_mode("echo_line", modes, 2 * line_.steps());
+    return;
+  }
+  layout.add_first_mode("echo_input", modes, 2 * input_.size());
+  layout.add_first_mode("echo_output", modes, 2 * output_.size());
 }
 
 double strip_time_step(const ElasticMaterial& material, double strip_height, double dx,
@@ -134,10 +198,14 @@ StripHistory::StripHistory(const ElasticMaterial& material, double strip_height,
 
 StripHistory::StripHistory(const ElasticMaterial& material, const StripKernels& kernels,
                            const CancelCheck& cancelled)
-    : dt_(kernels.time_step), eta_(material.radiation_damping()),
-      echo_weight_(material.shear_modulus / material.shear_wave_speed()),
-      first_oscillator_(kernels.first_oscillator), weight_(kernels.weight),
-      echo_(kernels.echo_steps, echo_weight_) {
+    : StripHistory(identical_strip_pair(material, kernels.echo_steps), kernels, cancelled) {}
+
+StripHistory::StripHistory(const StripPairConstants& constants, const StripKernels& kernels,
+                           const CancelCheck& cancelled)
+    : dt_(kernels.time_step), eta_(constants.radiation_damping),
+      echo_weight_(constants.running_sum_weight),
+      kernels_echo_steps_(kernels.echo_steps), first_oscillator_(kernels.first_oscillator),
+      weight_(kernels.weight), echo_(constants) {
   if (first_oscillator_.size() < 2 || first_oscillator_.back() != weight_.size() ||
       kernels.phase.size() != weight_.size() || kernels.echo_steps < 1)
     throw std::invalid_argument("StripHistory: inconsistent kernels");
@@ -174,10 +242,10 @@ ModeOperatorStats StripHistory::stats() const {
   ModeOperatorStats s;
   s.modes = history_.size();
   s.oscillators = weight_.size();
-  s.echo_steps = echo_.steps();
+  s.echo_steps = kernels_echo_steps_;
   s.memory_bytes = sizeof(double) * (7 * weight_.size() + weight_sum_.size()) +
                    sizeof(std::complex<double>) *
-                       (running_sum_.size() + echo_.steps() + history_.size()) +
+                       (running_sum_.size() + echo_.slots() + history_.size()) +
                    sizeof(double) * integrator_weight_.size() +
                    sizeof(std::size_t) * first_oscillator_.size();
   return s;
@@ -319,7 +387,7 @@ HistoryStateLayout StripHistory::state_layout() const {
   HistoryStateLayout layout;
   for (const char* name : {"c_re", "c_im", "s_re", "s_im"}) layout.add(name, first_oscillator_, 1);
   layout.add_uniform("running_sum", n, 2);
-  layout.add_first_mode("echo_line", n, 2 * echo_.steps());
+  echo_.add_layout(layout, n);
   layout.add_uniform("history", n, 2);
   return layout;
 }
@@ -327,31 +395,26 @@ HistoryStateLayout StripHistory::state_layout() const {
 HistoryOperatorState StripHistory::save_state() const {
   HistoryOperatorState state;
   state.kind = "modal strip";
-  state.counters.emplace_back("echo_cursor", static_cast<long long>(echo_.cursor()));
+  echo_.save_counters(state);
   state.add("c_re", c_re_);
   state.add("c_im", c_im_);
   state.add("s_re", s_re_);
   state.add("s_im", s_im_);
   state.add("running_sum", running_sum_);
-  state.add("echo_line", echo_.slots());
+  echo_.save_arrays(state);
   state.add("history", history_);
   return state;
 }
 
 void StripHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind("modal strip");
-  const long long cursor = state.counter("echo_cursor");
-  if (cursor < 0 || static_cast<std::size_t>(cursor) >= echo_.steps())
-    throw std::invalid_argument("history operator state: echo_cursor = " + std::to_string(cursor) +
-                                " outside 0.." + std::to_string(echo_.steps() - 1));
+  echo_.restore(state);
   state.copy_to("c_re", std::span<double>(c_re_));
   state.copy_to("c_im", std::span<double>(c_im_));
   state.copy_to("s_re", std::span<double>(s_re_));
   state.copy_to("s_im", std::span<double>(s_im_));
   state.copy_to("running_sum", std::span<std::complex<double>>(running_sum_));
-  state.copy_to("echo_line", echo_.slots());
   state.copy_to("history", std::span<std::complex<double>>(history_));
-  echo_.set_cursor(static_cast<std::size_t>(cursor));
 }
 
 }  // namespace slipstrip

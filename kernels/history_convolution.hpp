@@ -50,6 +50,14 @@ std::vector<DiscreteMode> discrete_modes(const ElasticMaterial& material, double
                                          double wavenumber, double time_step,
                                          std::size_t echo_steps);
 
+// Places the static stiffness `truncated` of the modes above Nyquist into
+// `modes` so that the discrete operator stays passive (docs/theory.md,
+// "passivity"): a negative one as a passive element at Nyquist, a positive
+// one absorbed into the highest-frequency passive modes (each weight kept
+// <= 0).  Throws std::runtime_error when it cannot (refine the time step).
+// Shared by the strip (discrete_modes) and the antiplane bilayer.
+void place_truncated_stiffness(std::vector<DiscreteMode>& modes, double truncated);
+
 // Everything the history operator needs, per Fourier mode q = 0..N/2: the
 // discrete normal modes (phase = omega dt, weight) flattened, with
 // first_oscillator[q] .. first_oscillator[q+1] the modes of q.  A plain value:
@@ -175,6 +183,23 @@ class HistoryOperator {
   virtual HistoryStateLayout state_layout() const = 0;
 };
 
+// The constants a strip history operator takes from the bodies, besides the
+// kernels' normal modes: the instantaneous part eta, the constant kernel of
+// every mode q >= 1 (the comb identity: 2 eta) and the uniform mode's exact
+// echoes.  Two identical bodies (identical_strip_pair) have equal echoes
+// (top_echo_steps == bottom_echo_steps) and eta = mu/(2 c_s); two different
+// antiplane strips (kernels/antiplane_pair_modes.hpp) have the impedances
+// eta_i = mu_i/c_i of both and their own echo steps M_i = 2 H_i/(c_i dt).
+struct StripPairConstants {
+  double radiation_damping = 0.0;   // eta [Pa s/m]
+  double running_sum_weight = 0.0;  // c0 - dt sum_m w_m [Pa s/m]
+  std::size_t top_echo_steps = 0, bottom_echo_steps = 0;
+  double top_impedance = 0.0, bottom_impedance = 0.0;  // [Pa s/m], used when the echoes differ
+};
+// Two identical bodies of this material: eta = material.radiation_damping(),
+// running sum weight mu/c_s (the same expressions the operators always used).
+StripPairConstants identical_strip_pair(const ElasticMaterial& material, std::size_t echo_steps);
+
 // The uniform mode q = 0 of a strip: exact shear echoes between the two
 // faces.  Its history is (mu/c_s) R_{n+1} with R_{n+1} = v_{n+1-M} + R_{n+1-M}
 // (M = 2H/(c_s dt) steps), kept in a delay line of M slots: the slot at the
@@ -207,12 +232,67 @@ class ShearEchoLine {
   std::size_t cursor_ = 0;
 };
 
+// The uniform mode q = 0 of a pair of strips, exactly.  Equal echoes (M_t =
+// M_b = M): the ShearEchoLine of weight 2 eta.  Different ones: with z = e^{s dt}
+// and x_i = z^{-M_i}, the kernel K_c(0, s)/s of two strips is the rational function
+//   G = eta_t eta_b (1 + x_t)(1 + x_b) / [(eta_t + eta_b)(1 - x_t x_b) + (eta_b - eta_t)(x_b - x_t)]
+// (docs/bodies.md), i.e. the sparse recursion
+//   (eta_t + eta_b)(y_n - y_{n-L}) + (eta_b - eta_t)(y_{n-M_b} - y_{n-M_t})
+//       = eta_t eta_b (v_n + v_{n-M_t} + v_{n-M_b} + v_{n-L}),    L = M_t + M_b,
+// with y = G v (whose instantaneous part is eta v): O(1) per step, L slots of
+// v and y, every echo of the two bodies kept exactly.  Its poles lie on the
+// unit circle (lossless), as the single echo line's integrator does.
+class UniformModeEchoes {
+ public:
+  explicit UniformModeEchoes(const StripPairConstants& constants);
+
+  // Feeds v^_0(t_n); returns the history part of mode 0 at t_{n+1}.  No allocation.
+  std::complex<double> push(std::complex<double> slip_rate) {
+    if (!recursion_) return line_.push(slip_rate);
+    const std::size_t L = input_.size();
+    const std::size_t n = cursor_;  // slot of t_n, holding t_{n-L}
+    const std::complex<double> y = (eta_product_ * (slip_rate + input_[(n + L - top_) % L] +
+                                                    input_[(n + L - bottom_) % L] + input_[n]) -
+                                    eta_difference_ * (output_[(n + L - bottom_) % L] - output_[(n + L - top_) % L])) /
+                                       eta_sum_ +
+                                   output_[n];
+    input_[n] = slip_rate;
+    output_[n] = y;
+    const std::size_t next = n + 1 == L ? 0 : n + 1;  // slot of t_{n+1}, holding t_{n+1-L}
+    cursor_ = next;
+    return (eta_product_ * (input_[(next + L - top_) % L] + input_[(next + L - bottom_) % L] + input_[next]) -
+            eta_difference_ * (output_[(next + L - bottom_) % L] - output_[(next + L - top_) % L])) /
+               eta_sum_ +
+           output_[next];
+  }
+
+  // Delay slots held (M, or 2 L for different echoes): the memory.
+  std::size_t slots() const { return recursion_ ? 2 * input_.size() : line_.steps(); }
+  // The state as arrays of the operator's (equal echoes: "echo_line" and
+  // "echo_cursor", as the strip operators always wrote them).
+  void save_counters(HistoryOperatorState& state) const;
+  void save_arrays(HistoryOperatorState& state) const;
+  void restore(const HistoryOperatorState& state);
+  void add_layout(HistoryStateLayout& layout, std::size_t modes) const;
+
+ private:
+  bool recursion_;
+  ShearEchoLine line_;  // equal echoes
+  std::size_t top_ = 0, bottom_ = 0;  // M_t, M_b
+  double eta_product_ = 0.0, eta_sum_ = 0.0, eta_difference_ = 0.0;  // eta_t eta_b, eta_t + eta_b, eta_b - eta_t
+  std::vector<std::complex<double>> input_, output_;  // v and y, L slots each
+  std::size_t cursor_ = 0;
+};
+
 class StripHistory final : public HistoryOperator {
  public:
   StripHistory(const ElasticMaterial& material, double strip_height, double length, int nodes,
                double time_step);
   // From precomputed (or cached) kernels of this material and strip height.
   StripHistory(const ElasticMaterial& material, const StripKernels& kernels,
+               const CancelCheck& cancelled = {});
+  // From kernels and the bodies' constants (two different antiplane strips).
+  StripHistory(const StripPairConstants& constants, const StripKernels& kernels,
                const CancelCheck& cancelled = {});
 
   double time_step() const override { return dt_; }
@@ -228,7 +308,8 @@ class StripHistory final : public HistoryOperator {
  private:
   double dt_;
   double eta_;
-  double echo_weight_;       // mu / c_s
+  double echo_weight_;       // the running sum's weight: mu / c_s for identical bodies, 2 eta
+  std::size_t kernels_echo_steps_;  // stats
 
   // Coefficients, flat over (mode q, oscillator m): contiguous per q.
   std::vector<std::size_t> first_oscillator_;  // size modes+1
@@ -238,7 +319,7 @@ class StripHistory final : public HistoryOperator {
   // State.
   std::vector<double> c_re_, c_im_, s_re_, s_im_;
   std::vector<std::complex<double>> running_sum_;  // per q: sum_{j>=1} v_{n-j}
-  ShearEchoLine echo_;                             // q = 0
+  UniformModeEchoes echo_;                         // q = 0
   std::vector<std::complex<double>> history_;
 };
 

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "kernels/antiplane_pair_modes.hpp"
 #include "kernels/block_strip_history.hpp"
 #include "kernels/half_space_history.hpp"
 #include "kernels/kernel_cache.hpp"
@@ -37,6 +38,15 @@ std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& mater
                                                     HistoryAlgorithm algorithm,
                                                     const CancelCheck& cancelled,
                                                     std::size_t most_normal_modes_override, int block) {
+  return make_strip_history(identical_strip_pair(material, kernels.echo_steps), kernels, algorithm, cancelled,
+                            most_normal_modes_override, block);
+}
+
+std::unique_ptr<HistoryOperator> make_strip_history(const StripPairConstants& constants,
+                                                    const StripKernels& kernels,
+                                                    HistoryAlgorithm algorithm,
+                                                    const CancelCheck& cancelled,
+                                                    std::size_t most_normal_modes_override, int block) {
   const std::size_t most =
       most_normal_modes_override > 0 ? most_normal_modes_override : most_normal_modes(kernels);
   if (algorithm == HistoryAlgorithm::automatic)
@@ -45,9 +55,9 @@ std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& mater
     BlockHistoryDesign design;
     if (most_normal_modes_override > 0) design.block = automatic_block_length(most, design.direct_block);
     if (block > 0) design.block = block;
-    return std::make_unique<BlockStripHistory>(material, kernels, design, cancelled);
+    return std::make_unique<BlockStripHistory>(constants, kernels, design, cancelled);
   }
-  return std::make_unique<StripHistory>(material, kernels, cancelled);
+  return std::make_unique<StripHistory>(constants, kernels, cancelled);
 }
 
 namespace {
@@ -97,6 +107,22 @@ std::unique_ptr<HistoryOperator> make_pair_history(const SimulationConfig& confi
                                                     kernels.first_oscillator.size() - 1)
                                 : 0;
   return make_strip_history(material, kernels, config.time.history, cancelled, 0, block);
+}
+
+// Two different finite antiplane strips: one scalar operator of the bonded
+// pair (kernels/antiplane_pair_modes.hpp), modal or block by time.history as
+// the identical pair.  Its B is body_block_length's: the far field's cost per
+// step goes like the frequencies over B, and the pair has the normal modes of
+// both bodies (docs/performance.md).
+std::unique_ptr<HistoryOperator> make_antiplane_pair_history(const SimulationConfig& config,
+                                                             const AntiplaneStrip& top, const AntiplaneStrip& bottom,
+                                                             double time_step, const CancelCheck& cancelled) {
+  const auto& g = config.geometry;
+  const auto kernels = compute_antiplane_pair_kernels(top, bottom, g.length, g.nodes, time_step, cancelled);
+  const int block = body_block_length(most_normal_modes(kernels), BlockHistoryDesign{}.direct_block,
+                                      kernels.first_oscillator.size() - 1);
+  return make_strip_history(antiplane_pair_constants(top, bottom, time_step), kernels, config.time.history,
+                            cancelled, 0, block);
 }
 // A half-space body's 2x2 operator exists only below a c_s k dt set by its
 // Poisson ratio: the refusal names the bound on time.beta it implies at the
@@ -205,10 +231,18 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
                                                       config_.bottom.height, dx_, config_.time.beta);
       dt_ = timing.time_step;
       bottom_height_used_ = timing.bottom_height;
-      bottom = make_pair_history(config_, bottom_body, timing.bottom_height, dt_, cancelled, true);
+      // Two finite strips: one operator of the pair unless time.antiplane_pair
+      // = "bodies" (docs/bodies.md §3).  A half-space keeps its body operator.
+      if (!is_half_space(g.height) && !is_half_space(timing.bottom_height) &&
+          config_.time.antiplane_pair == AntiplanePairOperator::combined)
+        history_ = make_antiplane_pair_history(config_, {config_.material, g.height},
+                                               {bottom_body, timing.bottom_height}, dt_, cancelled);
+      else
+        bottom = make_pair_history(config_, bottom_body, timing.bottom_height, dt_, cancelled, true);
     }
-    history_ = std::make_unique<TwoBodyHistory>(
-        make_pair_history(config_, config_.material, g.height, dt_, cancelled, true), std::move(bottom));
+    if (!history_)
+      history_ = std::make_unique<TwoBodyHistory>(
+          make_pair_history(config_, config_.material, g.height, dt_, cancelled, true), std::move(bottom));
   }
   // mu / (2 c_s) for identical bodies (the same expression the operators use).
   eta_ = history_->radiation_damping();

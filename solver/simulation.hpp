@@ -71,6 +71,13 @@ std::unique_ptr<HistoryOperator> make_strip_history(const ElasticMaterial& mater
                                                     HistoryAlgorithm algorithm,
                                                     const CancelCheck& cancelled = {},
                                                     std::size_t most_normal_modes = 0, int block = 0);
+// The same from the bodies' constants (two different antiplane strips,
+// kernels/antiplane_pair_modes.hpp: one operator of the pair).
+std::unique_ptr<HistoryOperator> make_strip_history(const StripPairConstants& constants,
+                                                    const StripKernels& kernels,
+                                                    HistoryAlgorithm algorithm,
+                                                    const CancelCheck& cancelled = {},
+                                                    std::size_t most_normal_modes = 0, int block = 0);
 // The largest number of normal modes of any Fourier mode of `kernels`.
 std::size_t most_normal_modes(const StripKernels& kernels);
 

@@ -88,6 +88,9 @@ struct Case {
   BodyKind bottom = BodyKind::mirror;
   double bottom_shear_modulus = 9e9, bottom_density = 1200.0, bottom_height = 0.1;
   double linker_dieterich = 0.0;  // friction.linker_dieterich (in-plane dissimilar pairs)
+  // time.antiplane_pair: an antiplane pair of two different strips by one
+  // combined operator or by each body's own.
+  AntiplanePairOperator antiplane_pair = AntiplanePairOperator::combined;
 };
 
 SimulationConfig make_config(const Case& c) {
@@ -105,6 +108,7 @@ SimulationConfig make_config(const Case& c) {
   config.bottom.density = c.bottom_density;
   config.bottom.height = c.bottom_height;
   config.friction.linker_dieterich = c.linker_dieterich;
+  config.time.antiplane_pair = c.antiplane_pair;
   return config;
 }
 
@@ -292,13 +296,19 @@ TEST_CASE("antiplane: growth rates of identical and dissimilar pairs match linea
   check_unstable("antiplane H=0.4 L=1.5", identical, 2e-2);
   // A stiffer, thicker bottom body with the same shear echo time (c_b = 2 c_t,
   // H_b = 2 H_t: no height rounding).
-  Case dissimilar{0.4, 2.0, PlaneCondition::antiplane};
-  dissimilar.bottom = BodyKind::elastic;
-  dissimilar.bottom_shear_modulus = 36e9;
-  dissimilar.bottom_height = 0.8;
-  check_unstable("antiplane 0.4 on 4x stiffer 0.8 L=2.0", dissimilar, 2e-2);
-  dissimilar.length = 1.5;
-  check_unstable("antiplane 0.4 on 4x stiffer 0.8 L=1.5", dissimilar, 2e-2);
+  // Both operators of the pair: the bodies' (time.antiplane_pair = "bodies")
+  // and the combined one (the default).
+  for (const auto op : {AntiplanePairOperator::bodies, AntiplanePairOperator::combined}) {
+    const std::string name = op == AntiplanePairOperator::bodies ? " (bodies)" : " (combined)";
+    Case dissimilar{0.4, 2.0, PlaneCondition::antiplane};
+    dissimilar.bottom = BodyKind::elastic;
+    dissimilar.bottom_shear_modulus = 36e9;
+    dissimilar.bottom_height = 0.8;
+    dissimilar.antiplane_pair = op;
+    check_unstable(("antiplane 0.4 on 4x stiffer 0.8 L=2.0" + name).c_str(), dissimilar, 2e-2);
+    dissimilar.length = 1.5;
+    check_unstable(("antiplane 0.4 on 4x stiffer 0.8 L=1.5" + name).c_str(), dissimilar, 2e-2);
+  }
   // A strip on a rigid base.
   Case rigid{0.4, 2.0, PlaneCondition::antiplane};
   rigid.bottom = BodyKind::rigid;

@@ -177,6 +177,7 @@ TEST_CASE("dissimilar antiplane pair (one operator per body): a step does not al
       SimulationConfig c = testing::with_dissimilar_bottom(strip_pair());
       c.material.plane = PlaneCondition::antiplane;
       c.time.history = history;
+      c.time.antiplane_pair = AntiplanePairOperator::bodies;
       Simulation sim(c);
       const auto* bodies = dynamic_cast<const TwoBodyHistory*>(&sim.history_operator());
       REQUIRE(bodies != nullptr);
@@ -185,6 +186,26 @@ TEST_CASE("dissimilar antiplane pair (one operator per body): a step does not al
       check_no_allocation(sim, window(bodies->period()),
                           std::string("dissimilar antiplane pair, ") +
                               (history == HistoryAlgorithm::block ? "block" : "modal") + " bodies");
+    }
+  });
+}
+
+TEST_CASE("dissimilar antiplane pair (one combined operator): a step does not allocate") {
+  with_one_and_two_threads([] {
+    for (const HistoryAlgorithm history : {HistoryAlgorithm::block, HistoryAlgorithm::modal}) {
+      SimulationConfig c = testing::with_dissimilar_bottom(strip_pair());
+      c.material.plane = PlaneCondition::antiplane;
+      c.time.history = history;
+      REQUIRE(c.time.antiplane_pair == AntiplanePairOperator::combined);
+      Simulation sim(c);
+      REQUIRE(dynamic_cast<const TwoBodyHistory*>(&sim.history_operator()) == nullptr);
+      const auto* block = dynamic_cast<const BlockStripHistory*>(&sim.history_operator());
+      REQUIRE((block != nullptr) == (history == HistoryAlgorithm::block));
+      // block: body_block_length's B (1024), the far field inside the window.
+      if (block) REQUIRE(block->block() == kBodyBlockLength);
+      check_no_allocation(sim, window(block ? block->block() : 1),
+                          std::string("dissimilar antiplane pair, ") +
+                              (history == HistoryAlgorithm::block ? "block" : "modal") + " combined");
     }
   });
 }
