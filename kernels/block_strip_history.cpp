@@ -450,11 +450,12 @@ void BlockStripHistory::restore_state(const HistoryOperatorState& state) {
                                 ", this operator's is " + std::to_string(block_));
   if (position < 0 || position >= block_)
     throw std::invalid_argument("block history state: position = " + std::to_string(position) + " out of range");
-  echo_.restore(state);
+  echo_.check_cursor(state);
   state.copy_to("mode_state", std::span<cplx>(state_));
   state.copy_to("input", rows_.input_rows(0));
   state.copy_to("accumulator", rows_.accumulator_rows(0));
   state.copy_to("running_sum", std::span<cplx>(running_sum_));
+  echo_.restore(state);
   state.copy_to("history", std::span<cplx>(history_));
   position_ = static_cast<int>(position);
   rows_.rebuild(position_, [this](std::size_t q, int slot, const std::array<cplx, 1>& v) {

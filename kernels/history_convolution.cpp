@@ -103,12 +103,17 @@ void UniformModeEchoes::save_arrays(HistoryOperatorState& state) const {
   state.add("echo_output", output_);
 }
 
-void UniformModeEchoes::restore(const HistoryOperatorState& state) {
+void UniformModeEchoes::check_cursor(const HistoryOperatorState& state) const {
   const long long cursor = state.counter("echo_cursor");
   const std::size_t length = recursion_ ? input_.size() : line_.steps();
   if (cursor < 0 || static_cast<std::size_t>(cursor) >= length)
     throw std::invalid_argument("history operator state: echo_cursor = " + std::to_string(cursor) +
                                 " outside 0.." + std::to_string(length - 1));
+}
+
+void UniformModeEchoes::restore(const HistoryOperatorState& state) {
+  check_cursor(state);
+  const long long cursor = state.counter("echo_cursor");
   if (!recursion_) {
     state.copy_to("echo_line", line_.slots());
     line_.set_cursor(static_cast<std::size_t>(cursor));
@@ -408,12 +413,13 @@ HistoryOperatorState StripHistory::save_state() const {
 
 void StripHistory::restore_state(const HistoryOperatorState& state) {
   state.require_kind("modal strip");
-  echo_.restore(state);
+  echo_.check_cursor(state);
   state.copy_to("c_re", std::span<double>(c_re_));
   state.copy_to("c_im", std::span<double>(c_im_));
   state.copy_to("s_re", std::span<double>(s_re_));
   state.copy_to("s_im", std::span<double>(s_im_));
   state.copy_to("running_sum", std::span<std::complex<double>>(running_sum_));
+  echo_.restore(state);
   state.copy_to("history", std::span<std::complex<double>>(history_));
 }
 

@@ -272,6 +272,9 @@ class UniformModeEchoes {
   // "echo_cursor", as the strip operators always wrote them).
   void save_counters(HistoryOperatorState& state) const;
   void save_arrays(HistoryOperatorState& state) const;
+  // Throws std::invalid_argument for a cursor outside the slots (before an
+  // operator copies anything); restore checks it again and copies.
+  void check_cursor(const HistoryOperatorState& state) const;
   void restore(const HistoryOperatorState& state);
   void add_layout(HistoryStateLayout& layout, std::size_t modes) const;
 
