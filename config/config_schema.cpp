@@ -769,7 +769,7 @@ constexpr ConfigKey kKeys[] = {
     {.section = "time", .name = "antiplane_pair", .type = KeyType::choice,
      .help = "an antiplane pair of two different finite bodies (`bottom.body` \"elastic\", both heights "
              "finite): `combined` carries the interface by one scalar operator of the bonded pair, whose "
-             "normal modes are the bilayer's SH modes (docs/bodies.md §3.4); `bodies` by each body's own "
+             "normal modes are the bilayer's SH modes (docs/bodies.md §3); `bodies` by each body's own "
              "operator, combined through the instantaneous impedances. Both are exact in the shear echoes. "
              "Ignored for a rigid bottom, a half-space and on a 2D interface (`geometry.nodes_z` > 1)",
      .comment = "(two different antiplane strips: one operator or one per body)",
