@@ -8,7 +8,8 @@
 //   history_q(t_n) = c0 R_n - dt y_n,   R_n = sum_{j>=1} v_{n-j},
 //   y_n = sum_{j>=1} O_j v_{n-j},       O_j = sum_m w_m cos(phi_m j),
 // with c0 = mu/c_s + dt sum_m w_m (comb identity plus static completion,
-// docs/theory.md 6.2).  StripHistory advances one rotation per normal mode
+// docs/theory.md 6.2; 2 eta + dt sum_m w_m for two different antiplane strips,
+// docs/bodies.md §3).  StripHistory advances one rotation per normal mode
 // and step: O(P) per step with P ~ 0.75 * 2H/(c_s dt) modes.  Here the
 // convolution y is split by lag, exactly (every pair of input i and output t
 // is counted once):

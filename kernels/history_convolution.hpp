@@ -168,7 +168,7 @@ class HistoryOperator {
  public:
   virtual ~HistoryOperator() = default;
   virtual double time_step() const = 0;
-  virtual double radiation_damping() const = 0;  // eta = mu / (2 c_s)
+  virtual double radiation_damping() const = 0;  // eta = mu / (2 c_s) (two different bodies: eta_t eta_b / (eta_t + eta_b))
   virtual int modes() const = 0;
   virtual ModeOperatorStats stats() const = 0;
   // Feed v^_q(t_n); afterwards history() holds history_q(t_{n+1}).  No allocation.
