@@ -215,6 +215,23 @@ TEST_CASE("resource estimates count the snapshot fields a run of two different b
   CHECK(pair_1d - mirror_1d == doctest::Approx(8.0 * 2.0 * 64 * snapshots_1d));
 }
 
+TEST_CASE("resource estimates count the slip sampling on a line and on a 2D interface") {
+  // One row of crossing times (8 bytes per node) per delta_th of mean slip
+  // v0 t (solver/slip_sampler.hpp): 2 mm/s over 0.01 s at delta_th = 1e-8 m is
+  // 2000 rows.  A 2D interface samples every one of its N x N_z nodes, as the
+  // run file's slip_sampling/crossing_time [rows, N N_z] does.
+  const auto output_bytes = [](const std::string& grid, const std::string& delta_th) {
+    return estimate_resources(load_config_string(grid + "[time]\nduration = 0.01\n[output]\ndelta_th = " +
+                                                 delta_th + "\n"))
+        .output_bytes;
+  };
+  const double rows = 2e-3 * 0.01 / 1e-8;
+  const std::string line = "[geometry]\nlength = 0.4\nnodes = 64\nheight = 0.1\n";
+  CHECK(output_bytes(line, "1e-8") - output_bytes(line, "0.0") == doctest::Approx(8.0 * 64 * rows));
+  const std::string interface = "[geometry]\nlength = 0.4\nwidth = 0.2\nnodes = 16\nnodes_z = 8\nheight = 0.1\n";
+  CHECK(output_bytes(interface, "1e-8") - output_bytes(interface, "0.0") == doctest::Approx(8.0 * 16 * 8 * rows));
+}
+
 TEST_CASE("resource estimates follow the strip geometry") {
   SimulationConfig c = load_config_string("");  // reference: N = 1600, H = 0.1 m, beta = 0.25
   const auto e = estimate_resources(c);
