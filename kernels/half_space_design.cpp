@@ -79,12 +79,20 @@ std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& mat
                                                       std::span<const double> h_of, std::span<const int> window,
                                                       int block, const HalfSpaceOperatorDesign& design,
                                                       const CancelCheck& cancelled) {
-  const int n_modes = static_cast<int>(h_of.size());
-  const int lags = design.corrected_lags;
-  const double mu = material.shear_modulus, cs = material.shear_wave_speed();
   // In-plane or antiplane (SH) kernel: the same machinery, another universal
   // function g (kernels/half_space_kernel.hpp); antiplane has no P branch.
-  const HalfSpaceShape shape = half_space_shape(material);
+  return half_space_mode_terms(half_space_shape(material), material.shear_modulus, material.shear_wave_speed(),
+                               time_step, h_of, window, block, design, cancelled);
+}
+
+std::vector<HalfSpaceModeTerms> half_space_mode_terms(const HalfSpaceShape& shape, double modulus, double speed,
+                                                      double time_step, std::span<const double> h_of,
+                                                      std::span<const int> window, int block,
+                                                      const HalfSpaceOperatorDesign& design,
+                                                      const CancelCheck& cancelled) {
+  const int n_modes = static_cast<int>(h_of.size());
+  const int lags = design.corrected_lags;
+  const double mu = modulus, cs = speed;
   const double static_value = half_space_static_value(shape);
   // Stored lags reach tau = W h <= near_field_tau + lags h_max; the far field
   // starts at tau = W h >= near_field_tau.
@@ -133,8 +141,10 @@ std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& mat
       if (-far.rate[m].real() * h <= slow_lambda_max) {
         t.slow_rate.push_back(far.rate[m]);
         t.slow_weight.push_back(scale * shifted);
-        // Shear-branch rates have imaginary part exactly 1 and come first
-        // (half_space_exponential_sum), so this counts the shear ones.
+        // Shear-branch (reference-branch) rates have imaginary part exactly 1
+        // and come first (half_space_exponential_sum), so this counts them;
+        // every other rate lies on the second branch (no pole exponentials:
+        // kernels/half_space_kernel.hpp).
         if (far.rate[m].imag() == 1.0) t.slow_shear = t.slow_rate.size();
         continue;
       }
@@ -146,7 +156,7 @@ std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& mat
     std::ostringstream msg;
     msg << "half-space history operator (dt = " << time_step << " s, c_s k_max dt = "
         << *std::max_element(h_of.begin(), h_of.end()) << "): " << failure;
-    throw std::invalid_argument(msg.str());
+    throw HalfSpaceNotPassive(msg.str());
   }
   for (int q = 1; q < n_modes; ++q)
     if (design_of[q] != q) terms[q] = terms[design_of[q]];

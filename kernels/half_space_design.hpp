@@ -8,9 +8,11 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "kernels/elastic_material.hpp"
+#include "kernels/half_space_kernel.hpp"
 #include "kernels/history_convolution.hpp"
 #include "simd/instruction_set.hpp"
 
@@ -99,5 +101,20 @@ std::vector<HalfSpaceModeTerms> half_space_mode_terms(const ElasticMaterial& mat
                                                       std::span<const double> h, std::span<const int> window,
                                                       int block, const HalfSpaceOperatorDesign& design,
                                                       const CancelCheck& cancelled);
+// The same for any kernel shape (kernels/half_space_kernel.hpp) in units of
+// modulus / speed (mu / c_s of one material; mu_u / c_ref of an antiplane
+// pair), h = speed |k| dt.  Throws HalfSpaceNotPassive for a mode without a
+// passive correction.
+std::vector<HalfSpaceModeTerms> half_space_mode_terms(const HalfSpaceShape& shape, double modulus, double speed,
+                                                      double time_step, std::span<const double> h,
+                                                      std::span<const int> window, int block,
+                                                      const HalfSpaceOperatorDesign& design,
+                                                      const CancelCheck& cancelled);
+
+// Thrown when some mode's passivity correction does not exist (the time step
+// is too long): an std::invalid_argument naming dt and the largest h.
+struct HalfSpaceNotPassive : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
 
 }  // namespace slipstrip

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "kernels/half_space_kernel.hpp"
+#include "kernels/half_space_pair_kernel.hpp"
 #include "kernels/slow_block.hpp"
 #include "simd/instruction_set.hpp"
 #include "simd/parallel_for.hpp"
@@ -102,8 +103,34 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, double lengt
 HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, std::span<const double> wavenumbers,
                                    double time_step, const HalfSpaceOperatorDesign& design,
                                    const CancelCheck& cancelled)
-    : dt_(time_step),
-      eta_(material.radiation_damping()),
+    : HalfSpaceHistory(half_space_shape(material), material.shear_modulus, material.shear_wave_speed(),
+                       material.radiation_damping(), wavenumbers, time_step, design, cancelled) {}
+
+namespace {
+// The pair's shape and units, its sums checked first when the speeds differ.
+AntiplaneHalfSpacePair checked_antiplane_pair(const ElasticMaterial& top, const ElasticMaterial& bottom) {
+  AntiplaneHalfSpacePair pair = antiplane_half_space_pair(top, bottom);
+  if (pair.shape.antiplane_pair()) verify_antiplane_half_space_pair(pair.shape);
+  return pair;
+}
+}  // namespace
+
+HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& top, const ElasticMaterial& bottom, double length,
+                                   int nodes, double time_step, const HalfSpaceOperatorDesign& design,
+                                   const CancelCheck& cancelled)
+    : HalfSpaceHistory(top, bottom, interface_wavenumbers(length, nodes), time_step, design, cancelled) {}
+
+HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& top, const ElasticMaterial& bottom,
+                                   std::span<const double> wavenumbers, double time_step,
+                                   const HalfSpaceOperatorDesign& design, const CancelCheck& cancelled)
+    : HalfSpaceHistory(checked_antiplane_pair(top, bottom), wavenumbers, time_step, design, cancelled) {}
+
+HalfSpaceHistory::HalfSpaceHistory(const HalfSpaceShape& shape, double modulus, double speed, double eta,
+                                   std::span<const double> wavenumbers, double time_step,
+                                   const HalfSpaceOperatorDesign& design, const CancelCheck& cancelled)
+    : shape_(shape),
+      dt_(time_step),
+      eta_(eta),
       instruction_set_(design.instruction_set.value_or(simd::instruction_set())),
       lags_(design.corrected_lags) {
   if (wavenumbers.size() < 2 || wavenumbers[0] != 0.0 || !(time_step > 0) ||
@@ -121,15 +148,15 @@ HalfSpaceHistory::HalfSpaceHistory(const ElasticMaterial& material, std::span<co
     block_centre_ = 0.5 * (block_ + 1);
   }
   const int n_modes = static_cast<int>(wavenumbers.size());
-  const double cs = material.shear_wave_speed();
+  const double cs = speed;
   wavenumber_.assign(wavenumbers.begin(), wavenumbers.end());
   h_.assign(n_modes, 0.0);
   for (int q = 1; q < n_modes; ++q) h_[q] = cs * wavenumber_[q] * dt_;
   const std::vector<int> window = half_space_windows(h_, design);
   const std::vector<HalfSpaceModeTerms> terms =
-      half_space_mode_terms(material, dt_, h_, window, block_, design, cancelled);
+      half_space_mode_terms(shape_, modulus, speed, dt_, h_, window, block_, design, cancelled);
   flatten_fast_terms(terms);
-  build_slow_tables(terms, half_space_shape(material));
+  build_slow_tables(terms);
   // State, all zero: no slip rate before t = 0.
   slow_state_re_.assign(slow_decay_.size(), 0.0);
   slow_state_im_.assign(slow_decay_.size(), 0.0);
@@ -179,8 +206,7 @@ void HalfSpaceHistory::flatten_fast_terms(const std::vector<HalfSpaceModeTerms>&
   }
 }
 
-void HalfSpaceHistory::build_slow_tables(const std::vector<HalfSpaceModeTerms>& terms,
-                                         const HalfSpaceShape& shape) {
+void HalfSpaceHistory::build_slow_tables(const std::vector<HalfSpaceModeTerms>& terms) {
   // docs/theory.md §8.7.
   const int n_modes = static_cast<int>(terms.size());
   first_slow_.assign(1, 0);
@@ -204,9 +230,10 @@ void HalfSpaceHistory::build_slow_tables(const std::vector<HalfSpaceModeTerms>& 
     }
     first_slow_.push_back(slow_decay_.size());
   }
-  // c_d / c_s: the P branch's frequency (antiplane: no P poles, the table's
-  // second column multiplies zero moments).
-  rotation_ = slow_block_rotations(h_, std::sqrt(1.0 / shape.speed_ratio_squared), block_);
+  // The second branch's frequency: c_d / c_s (antiplane: no P poles, the
+  // table's second column multiplies zero moments); an antiplane pair of
+  // different speeds: c_slow / c_ref.
+  rotation_ = slow_block_rotations(h_, half_space_second_branch(shape_), block_);
 }
 
 ModeOperatorStats HalfSpaceHistory::stats() const {

@@ -33,12 +33,12 @@
 
 #include "kernels/elastic_material.hpp"
 #include "kernels/half_space_design.hpp"
+#include "kernels/half_space_kernel.hpp"
 #include "kernels/history_convolution.hpp"
 #include "simd/instruction_set.hpp"
 
 namespace slipstrip {
 
-struct HalfSpaceShape;  // kernels/half_space_kernel.hpp
 
 // The operator's coefficients for one mode (a plain value, for tests and
 // diagnostics).  Units: weights in Pa s/m (so that weight * slip rate = Pa).
@@ -64,6 +64,22 @@ class HalfSpaceHistory final : public HistoryOperator {
   HalfSpaceHistory(const ElasticMaterial& material, std::span<const double> wavenumbers,
                    double time_step, const HalfSpaceOperatorDesign& design = {},
                    const CancelCheck& cancelled = {});
+  // The antiplane pair of two half-spaces, top and bottom, as ONE operator of
+  // the slip rate: the combined kernel K_c = K_t K_b / (K_t + K_b)
+  // (kernels/half_space_kernel.hpp, AntiplaneHalfSpacePair) in units of
+  // mu_u / c_ref, h = c_ref |k| dt with c_ref the faster body's shear speed
+  // (the solver's step is beta dx / c_ref, so h spans the range the scalar
+  // operator is designed for, and the stored lags W h >= 1 are those of the
+  // faster body alone), radiation damping eta_c = eta_t eta_b / (eta_t + eta_b).
+  // Equal shear speeds (identical bodies among them) give the identical pair's
+  // operator of modulus mu_u (identical bodies: the one-material operator bit
+  // for bit).  Different speeds are checked first (verify_antiplane_half_space_pair:
+  // throws HalfSpacePairCheckFailed); a mode without a passive correction
+  // throws HalfSpaceNotPassive.
+  HalfSpaceHistory(const ElasticMaterial& top, const ElasticMaterial& bottom, double length, int nodes,
+                   double time_step, const HalfSpaceOperatorDesign& design = {}, const CancelCheck& cancelled = {});
+  HalfSpaceHistory(const ElasticMaterial& top, const ElasticMaterial& bottom, std::span<const double> wavenumbers,
+                   double time_step, const HalfSpaceOperatorDesign& design = {}, const CancelCheck& cancelled = {});
 
   double time_step() const override { return dt_; }
   double radiation_damping() const override { return eta_; }
@@ -87,8 +103,20 @@ class HalfSpaceHistory final : public HistoryOperator {
   int far_batch() const { return batch_; }
   // Steps after which the per-step work repeats (the slow block, else the batch).
   int period() const { return block_ > 0 ? block_ : batch_; }
+  // The kernel's shape (an antiplane pair of different speeds: antiplane_pair()).
+  const HalfSpaceShape& shape() const { return shape_; }
 
  private:
+  // Every constructor: the kernel `shape` in units of modulus / speed, h =
+  // speed |k| dt, radiation damping eta.
+  HalfSpaceHistory(const HalfSpaceShape& shape, double modulus, double speed, double eta,
+                   std::span<const double> wavenumbers, double time_step, const HalfSpaceOperatorDesign& design,
+                   const CancelCheck& cancelled);
+  HalfSpaceHistory(const AntiplaneHalfSpacePair& pair, std::span<const double> wavenumbers, double time_step,
+                   const HalfSpaceOperatorDesign& design, const CancelCheck& cancelled)
+      : HalfSpaceHistory(pair.shape, pair.modulus, pair.reference_speed, pair.radiation_damping, wavenumbers,
+                         time_step, design, cancelled) {}
+  HalfSpaceShape shape_;
   double dt_, eta_;
   simd::InstructionSet instruction_set_;  // of push()'s mode loop
   long long step_ = 0;
@@ -109,7 +137,7 @@ class HalfSpaceHistory final : public HistoryOperator {
   // Set-up: the per-mode terms (kernels/half_space_design.hpp) laid out flat
   // for the time loop, contiguous per mode.
   void flatten_fast_terms(const std::vector<HalfSpaceModeTerms>& terms);
-  void build_slow_tables(const std::vector<HalfSpaceModeTerms>& terms, const HalfSpaceShape& shape);
+  void build_slow_tables(const std::vector<HalfSpaceModeTerms>& terms);
 
   // Slow exponentials (docs/theory.md §8.7).  Pole z = rho_b d with b in
   // {shear, P}, rho_b = e^{i b h}, d = e^{-lambda}.  Per mode q the slow poles

@@ -124,6 +124,10 @@ ExponentialSum cut_exponential_sum(double static_value, double r2, int branches,
   return sum;
 }
 
+// A panel's rule of the antiplane pair's sums is kept when 4 more nodes change
+// it by at most this (units mu_u |k|; branch_cut_exponential_sums).
+constexpr double kAntiplanePairPanelTolerance = 1e-12;
+
 void require_speed_ratio(double r2) {
   if (!(r2 > 0.0 && r2 < 1.0))
     throw std::invalid_argument("half_space_exponential_sum: c_s^2/c_d^2 = " + std::to_string(r2) +
@@ -147,7 +151,69 @@ HalfSpaceShape half_space_shape(const ElasticMaterial& material) {
   return {1.0 / material.wave_speed_ratio_squared(), material.antiplane()};
 }
 
+AntiplaneHalfSpacePair antiplane_half_space_pair(const ElasticMaterial& top, const ElasticMaterial& bottom) {
+  for (const ElasticMaterial* m : {&top, &bottom})
+    if (!m->antiplane() || !(m->shear_modulus > 0.0 && m->density > 0.0 && std::isfinite(m->shear_modulus) &&
+                             std::isfinite(m->density)))
+      throw std::invalid_argument(
+          "antiplane_half_space_pair: both bodies must be antiplane with finite shear_modulus > 0 and density > 0");
+  const double c_top = top.shear_wave_speed(), c_bottom = bottom.shear_wave_speed();
+  const ElasticMaterial& fast = c_bottom > c_top ? bottom : top;
+  const ElasticMaterial& slow = c_bottom > c_top ? top : bottom;
+  AntiplaneHalfSpacePair pair;
+  // mu_u = 2 mu_f w_s, w_s = mu_s / (mu_t + mu_b): exactly mu for identical
+  // bodies (w_s = 1/2), so that they get the identical pair's operator bit for bit.
+  const double sum = top.shear_modulus + bottom.shear_modulus;
+  pair.modulus = 2.0 * fast.shear_modulus * (slow.shear_modulus / sum);
+  pair.reference_speed = fast.shear_wave_speed();
+  pair.shape.speed_ratio_squared = 1.0 / fast.wave_speed_ratio_squared();  // as half_space_shape (unused)
+  pair.shape.antiplane = true;
+  if (c_top == c_bottom) {
+    // One shear speed: the identical pair's function in units of mu_u, and its
+    // radiation damping mu_u / (2 c) as ElasticMaterial writes it.
+    pair.radiation_damping = pair.modulus / (2.0 * pair.reference_speed);
+    return pair;
+  }
+  pair.shape.slow_speed = slow.shear_wave_speed() / fast.shear_wave_speed();
+  pair.shape.fast_weight = fast.shear_modulus / sum;
+  // eta_c = eta_t eta_b / (eta_t + eta_b), eta_i = mu_i / c_i, as TwoBodyHistory forms it.
+  const double eta_top = 2.0 * top.radiation_damping(), eta_bottom = 2.0 * bottom.radiation_damping();
+  pair.radiation_damping = eta_top * eta_bottom / (eta_top + eta_bottom);
+  return pair;
+}
+
+double half_space_instantaneous_value(const HalfSpaceShape& shape) {
+  if (!shape.antiplane_pair()) return 0.5;
+  const double w = shape.fast_weight;
+  return 0.5 / (w * shape.slow_speed + (1.0 - w));
+}
+
+double half_space_second_branch(const HalfSpaceShape& shape) {
+  return shape.antiplane_pair() ? shape.slow_speed : std::sqrt(1.0 / shape.speed_ratio_squared);
+}
+
+namespace {
+// The antiplane pair's G from its roots a_f, a_s (any sheet), written without
+// the cancellation of two O(1) terms at large p: with g_f = 1, g_s = 1/b,
+// d_i = a_i - g_i p = 1 / (a_i + g_i p) (a_i^2 = 1 + g_i^2 p^2 on every sheet;
+// the form without cancellation is taken) and S = w + (1 - w) / b,
+//   G = (1/2) [w a_f d_s + (1 - w) g_s a_s d_f] / (p (w a_f + (1 - w) a_s) S).
+complex antiplane_pair_relaxation(const HalfSpaceShape& shape, complex p, complex a_f, complex a_s) {
+  const double w = shape.fast_weight, g_s = 1.0 / shape.slow_speed;
+  const auto excess = [](complex a, complex gp) {
+    return std::abs(a + gp) >= std::abs(a - gp) ? 1.0 / (a + gp) : a - gp;
+  };
+  const complex d_f = excess(a_f, p), d_s = excess(a_s, g_s * p);
+  const double S = w + (1.0 - w) * g_s;
+  return 0.5 * (w * a_f * d_s + (1.0 - w) * g_s * a_s * d_f) / (p * (w * a_f + (1.0 - w) * a_s) * S);
+}
+}  // namespace
+
 complex half_space_relaxation_transform(const HalfSpaceShape& shape, complex p) {
+  if (shape.antiplane_pair()) {
+    const double b = shape.slow_speed;
+    return antiplane_pair_relaxation(shape, p, std::sqrt(1.0 + p * p), std::sqrt(1.0 + (p * p) / (b * b)));
+  }
   if (!shape.antiplane) return half_space_relaxation_transform(shape.speed_ratio_squared, p);
   // (sqrt(1 + p^2)/p - 1)/2 written without the cancellation of two O(1)
   // terms at large p: sqrt(1+p^2)/p - 1 = 1 / (p (sqrt(1+p^2) + p)).
@@ -159,11 +225,28 @@ double half_space_static_value(const HalfSpaceShape& shape) {
   return shape.antiplane ? 0.5 : 1.0 - shape.speed_ratio_squared;
 }
 
+namespace {
+// The antiplane pair's G = c2 / p^2 + c4 / p^4 + ...: with x = 1/p,
+// a_i / p = g_i + x^2 / (2 g_i) - x^4 / (8 g_i^3) + ..., the quotient
+// (a_f a_s / p^2) / ((w a_f + (1 - w) a_s) / p) expanded in x^2.
+std::pair<double, double> antiplane_pair_coefficients(const HalfSpaceShape& shape) {
+  const double w = shape.fast_weight, g1 = 1.0, g2 = 1.0 / shape.slow_speed;
+  const double u1 = 0.5 / g1, u2 = 0.5 / g2, v1 = -0.125 / (g1 * g1 * g1), v2 = -0.125 / (g2 * g2 * g2);
+  const double S = w * g1 + (1.0 - w) * g2, U = w * u1 + (1.0 - w) * u2, V = w * v1 + (1.0 - w) * v2;
+  const double n0 = g1 * g2, n2 = g1 * u2 + g2 * u1, n4 = g1 * v2 + g2 * v1 + u1 * u2;
+  const double c2 = (n2 - n0 * U / S) / (2.0 * S);
+  const double c4 = (n4 - n2 * U / S + n0 * (U * U / (S * S) - V / S)) / (2.0 * S);
+  return {c2, c4};
+}
+}  // namespace
+
 double half_space_initial_slope(const HalfSpaceShape& shape) {
+  if (shape.antiplane_pair()) return antiplane_pair_coefficients(shape).first;
   return shape.antiplane ? 0.25 : half_space_initial_slope(shape.speed_ratio_squared);
 }
 
 double half_space_fourth_coefficient(const HalfSpaceShape& shape) {
+  if (shape.antiplane_pair()) return antiplane_pair_coefficients(shape).second;
   // In-plane: 19/16 - 1/r (docs/theory.md 8.1).  Antiplane:
   // (sqrt(1 + 1/p^2) - 1)/2 = 1/(4 p^2) - 1/(16 p^4) + ...
   return shape.antiplane ? -0.0625 : 1.1875 - 1.0 / std::sqrt(shape.speed_ratio_squared);
@@ -176,6 +259,23 @@ ExponentialSum half_space_exponential_sum(double r2, double tau_min, double tau_
 
 ExponentialSum half_space_exponential_sum(const HalfSpaceShape& shape, double tau_min,
                                           double tau_max, int nodes_per_panel) {
+  if (shape.antiplane_pair()) {
+    // Cuts from p = i (a_f) and from p = i b (a_s): a_i = g_i sqrt(zeta - i b_i)
+    // sqrt(zeta + i b_i), the first factor continued by the cut integration.
+    const double b = shape.slow_speed;
+    if (!(b > 0.0 && b < 1.0) || !(shape.fast_weight > 0.0 && shape.fast_weight < 1.0))
+      throw std::invalid_argument("half_space_exponential_sum: an antiplane pair needs 0 < b < 1 and 0 < w < 1");
+    const double heights[2] = {1.0, b};
+    const double statics[1] = {half_space_static_value(shape)};
+    const complex i(0.0, 1.0);
+    const CutTransform on_cut = [&](complex zeta, std::span<const complex> factor, std::span<complex> out) {
+      const complex a_f = factor[0] * std::sqrt(zeta + i);
+      const complex a_s = (1.0 / b) * factor[1] * std::sqrt(zeta + i * b);
+      out[0] = antiplane_pair_relaxation(shape, zeta, a_f, a_s);
+    };
+    return std::move(branch_cut_exponential_sums(heights, statics, on_cut, tau_min, tau_max, nodes_per_panel,
+                                                 kAntiplanePairPanelTolerance)[0]);
+  }
   if (!shape.antiplane) require_speed_ratio(shape.speed_ratio_squared);
   return cut_exponential_sum(half_space_static_value(shape), shape.speed_ratio_squared, shape.antiplane ? 1 : 2,
                              tau_min, tau_max, nodes_per_panel, [&](bool shear, double x, int side) {

@@ -31,11 +31,50 @@ namespace slipstrip {
 //     G(p) = (sqrt(1 + p^2) / p - 1) / 2,   g(tau) = (int_0^tau J0 - J1(tau)) / 2,
 // with the shear branch points p = +-i only, g(inf) = 1/2 (static stiffness
 // mu |k| / 2), g'(0) = 1/4.
+//
+// The antiplane pair of two half-spaces of DIFFERENT shear speeds has its own
+// function (docs/bodies.md §4): with the faster body as reference (c_ref its
+// shear speed, p = s / (c_ref |k|)), b = c_slow / c_ref < 1 and
+// w = mu_fast / (mu_t + mu_b), the combined stiffness
+// K_c = K_t K_b / (K_t + K_b), K_i = mu_i alpha_i, in units of mu_u |k| with
+// mu_u = 2 mu_t mu_b / (mu_t + mu_b) (mu for identical bodies), is
+//     K_c / (mu_u |k|) = (1/2) a_f a_s / (w a_f + (1 - w) a_s),
+//     a_f = sqrt(1 + p^2),  a_s = sqrt(1 + p^2 / b^2),
+// and G(p) = K_c / (s mu_u / c_ref) - E, E = 1 / (2 (w b + 1 - w)) the series
+// radiation impedance eta_c = eta_t eta_b / (eta_t + eta_b) in units
+// mu_u / c_ref.  Two branch points, p = +-i (the faster body) and +-i b;
+// g(inf) = 1/2 (static stiffness mu_u |k| / 2).  Equal shear speeds make it
+// the identical pair's function above (b = 1), so such a pair is the plain
+// antiplane shape (slow_speed = 0) in units of mu_u.
 struct HalfSpaceShape {
   double speed_ratio_squared = 0.0;  // r^2 (in-plane only)
   bool antiplane = false;
+  double slow_speed = 0.0;   // b (antiplane pair of different speeds), else 0
+  double fast_weight = 0.5;  // w (antiplane pair of different speeds)
+  bool antiplane_pair() const { return antiplane && slow_speed > 0.0; }
 };
 HalfSpaceShape half_space_shape(const ElasticMaterial& material);
+
+// Two antiplane half-spaces as one scalar operator: the shape of K_c above
+// and its units.  Throws std::invalid_argument unless both bodies are
+// antiplane with positive moduli and densities.
+struct AntiplaneHalfSpacePair {
+  HalfSpaceShape shape;
+  double modulus = 0.0;            // mu_u = 2 mu_t mu_b / (mu_t + mu_b) [Pa]
+  double reference_speed = 0.0;    // c_ref = max(c_t, c_b) [m/s]
+  double radiation_damping = 0.0;  // eta_c [Pa s/m]
+};
+AntiplaneHalfSpacePair antiplane_half_space_pair(const ElasticMaterial& top, const ElasticMaterial& bottom);
+
+// E: the instantaneous part of K / s in the shape's units (1/2 but for an
+// antiplane pair of different speeds).
+double half_space_instantaneous_value(const HalfSpaceShape& shape);
+// The height b of the second branch point p = +-i b, at which the slow
+// exponentials' second branch rotates (kernels/half_space_history.hpp):
+// c_d / c_s in-plane (and for the identical antiplane pair, whose sums have no
+// such exponential), c_slow / c_ref for an antiplane pair of different
+// speeds.  The first (reference) branch point is p = +-i.
+double half_space_second_branch(const HalfSpaceShape& shape);
 
 // G(p) above, for Re p >= 0 (on the imaginary axis: the limit from Re p > 0).
 std::complex<double> half_space_relaxation_transform(double speed_ratio_squared,
@@ -64,7 +103,12 @@ struct ExponentialSum {
 // (tests/cpp/test_kernels_half_space_kernel.cpp measures it).
 ExponentialSum half_space_exponential_sum(double speed_ratio_squared, double tau_min,
                                           double tau_max, int nodes_per_panel = 10);
-// The same for either shape (antiplane: the shear branch only).
+// The same for any shape (antiplane: the shear branch only; an antiplane pair
+// of different speeds: the cuts from p = i, then from p = i b, by
+// branch_cut_exponential_sums below with nodes_per_panel nodes to start and a
+// panel tolerance of 1e-12 (units mu_u |k|), which leaves the sums ~1e-11
+// from a numerical inverse Laplace transform, as the other shapes'
+// (tests/cpp/test_kernels_antiplane_half_space_pair.cpp)).
 ExponentialSum half_space_exponential_sum(const HalfSpaceShape& shape, double tau_min,
                                           double tau_max, int nodes_per_panel = 10);
 

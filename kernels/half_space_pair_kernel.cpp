@@ -294,9 +294,9 @@ double half_space_pair_stoneley_speed(const HalfSpacePairShape& s) {
   return 0.0;
 }
 
-std::vector<HalfSpacePairPole> half_space_pair_poles(const HalfSpacePairShape& s) {
-  const std::function<complex(complex)> det = [&](complex p) { return half_space_pair_determinant(s, p); };
-  const std::vector<double>& b = s.branch_heights;
+std::vector<complex> cut_plane_zeros(const std::function<complex(complex)>& f, std::span<const double> heights) {
+  std::vector<double> b(heights.begin(), heights.end());
+  std::sort(b.begin(), b.end());
   const double extent = 16.0 * b.back() + 16.0, x_right = 0.5;
   // Rectangles between the cuts, clear of them by a relative 1e-9.
   std::vector<Rectangle> rectangles;
@@ -306,7 +306,13 @@ std::vector<HalfSpacePairPole> half_space_pair_poles(const HalfSpacePairShape& s
     rectangles.push_back({-extent, x_right, b[k] * (1.0 + gap), b[k + 1] * (1.0 - gap)});
   rectangles.push_back({-extent, x_right, b.back() * (1.0 + gap), extent});
   std::vector<complex> zeros;
-  for (const Rectangle& r : rectangles) locate_zeros(det, r, zero_count(det, r), 0, zeros);
+  for (const Rectangle& r : rectangles) locate_zeros(f, r, zero_count(f, r), 0, zeros);
+  return zeros;
+}
+
+std::vector<HalfSpacePairPole> half_space_pair_poles(const HalfSpacePairShape& s) {
+  const std::function<complex(complex)> det = [&](complex p) { return half_space_pair_determinant(s, p); };
+  const std::vector<complex> zeros = cut_plane_zeros(det, s.branch_heights);
   std::vector<HalfSpacePairPole> poles;
   for (complex z : zeros) {
     if (z.imag() < -1e-12 * std::abs(z)) continue;  // the conjugate of one kept
@@ -364,12 +370,36 @@ std::array<ExponentialSum, 3> half_space_pair_exponential_sums(const HalfSpacePa
   return sums;
 }
 
+namespace {
+// Durbin's formula f(t) = e^{sigma t}/T [-F(sigma)/2 + Re sum_{k<K} F(sigma + i k pi/T) e^{i k pi t/T}]
+// with sigma T = 12 (aliasing ~e^{-24}), summed directly at the six check times,
+// for N transforms at once (remainder(p) writes them).
+constexpr int kCheckTerms = 1 << 15;
+constexpr double kCheckPeriod = 24.0, kCheckSigma = 12.0 / kCheckPeriod;
+constexpr double kCheckTaus[6] = {0.5, 1.0, 2.0, 4.0, 8.0, 16.0};
+template <std::size_t N, class Remainder>
+std::array<std::array<double, 6>, N> durbin_at_check_times(const Remainder& remainder) {
+  constexpr int K = kCheckTerms;
+  constexpr double T = kCheckPeriod, sigma = kCheckSigma;
+  std::array<std::array<complex, 6>, N> acc{};
+  for (int k = 0; k < K; ++k) {
+    const auto g = remainder(complex(sigma, k * pi / T));
+    for (int t = 0; t < 6; ++t) {
+      const complex phase = std::polar(1.0, k * pi * kCheckTaus[t] / T);
+      for (std::size_t e = 0; e < N; ++e) acc[e][t] += g[e] * phase;
+    }
+  }
+  const auto g0 = remainder(complex(sigma, 0.0));
+  std::array<std::array<double, 6>, N> out{};
+  for (int t = 0; t < 6; ++t)
+    for (std::size_t e = 0; e < N; ++e)
+      out[e][t] = std::exp(sigma * kCheckTaus[t]) / T * (acc[e][t].real() - 0.5 * g0[e].real());
+  return out;
+}
+}  // namespace
+
 double half_space_pair_sum_check(const HalfSpacePairShape& s, const std::array<ExponentialSum, 3>& sums) {
-  // Durbin's formula f(t) = e^{sigma t}/T [-F(sigma)/2 + Re sum_{k<K} F(sigma + i k pi/T) e^{i k pi t/T}]
-  // with sigma T = 12 (aliasing ~e^{-24}), summed directly at the six times.
-  constexpr int K = 1 << 15;
-  constexpr double T = 24.0, sigma = 12.0 / T;
-  const double taus[6] = {0.5, 1.0, 2.0, 4.0, 8.0, 16.0};
+  const double* taus = kCheckTaus;
   const auto initial = half_space_pair_initial_values(s);
   // The slowly decaying parts inverted in closed form: g_B(0+)/p (a step)
   // and c_e/(p^2 + 1) (c_e sin tau), c_e the p^-2 coefficient left.
@@ -384,20 +414,11 @@ double half_space_pair_sum_check(const HalfSpacePairShape& s, const std::array<E
     for (std::size_t e = 0; e < 3; ++e) g[e] -= initial[e] / p + c[e] / (p * p + 1.0);
     return g;
   };
-  std::array<std::array<complex, 6>, 3> acc{};
-  for (int k = 0; k < K; ++k) {
-    const auto g = remainder(complex(sigma, k * pi / T));
-    for (int t = 0; t < 6; ++t) {
-      const complex phase = std::polar(1.0, k * pi * taus[t] / T);
-      for (std::size_t e = 0; e < 3; ++e) acc[e][t] += g[e] * phase;
-    }
-  }
-  const auto g0 = remainder(complex(sigma, 0.0));
+  const auto inverse = durbin_at_check_times<3>(remainder);
   double worst = 0.0;
   for (int t = 0; t < 6; ++t)
     for (std::size_t e = 0; e < 3; ++e) {
-      const double reference = std::exp(sigma * taus[t]) / T * (acc[e][t].real() - 0.5 * g0[e].real()) +
-                               initial[e] + c[e] * std::sin(taus[t]);
+      const double reference = inverse[e][t] + initial[e] + c[e] * std::sin(taus[t]);
       worst = std::max(worst, std::abs(evaluate(sums[e], taus[t]) - reference));
     }
   return worst;
@@ -409,6 +430,45 @@ void verify_half_space_pair_sums(const HalfSpacePairShape& s) {
     throw HalfSpacePairCheckFailed("the combined half-space pair's kernels differ from a numerical inverse Laplace "
                              "transform by " + number_text(worst) + " (more than " + number_text(kCheckTolerance) +
                              " of mu k): a pole of the pair's response was missed; use the two bodies' operators");
+}
+
+}  // namespace slipstrip
+
+namespace slipstrip {
+
+complex antiplane_pair_denominator(const HalfSpaceShape& shape, complex p) {
+  const double b = shape.slow_speed, w = shape.fast_weight;
+  const complex a_f = std::sqrt(p - I) * std::sqrt(p + I);
+  const complex a_s = (1.0 / b) * std::sqrt(p - I * b) * std::sqrt(p + I * b);
+  return w * a_f + (1.0 - w) * a_s;
+}
+
+double verify_antiplane_half_space_pair(const HalfSpaceShape& shape) {
+  if (!shape.antiplane_pair())
+    throw std::invalid_argument("verify_antiplane_half_space_pair: needs an antiplane pair of different speeds");
+  const double heights[2] = {1.0, shape.slow_speed};
+  const std::vector<complex> zeros =
+      cut_plane_zeros([&](complex p) { return antiplane_pair_denominator(shape, p); }, heights);
+  if (!zeros.empty())
+    throw HalfSpacePairCheckFailed("the combined antiplane half-space pair's response has a pole at p = " +
+                                   number_text(zeros[0].real()) + " + " + number_text(zeros[0].imag()) +
+                                   " i (units c_ref |k|), which its sums over the branch cuts do not carry; "
+                                   "use the two bodies' operators");
+  const ExponentialSum sum = half_space_exponential_sum(shape, 0.5, 16.0);
+  // G = c2 / p^2 + O(p^-4), g(0+) = 0: c2 / (p^2 + 1) (c2 sin tau) inverted in
+  // closed form leaves a remainder falling like p^-4.
+  const double c2 = half_space_initial_slope(shape);
+  const auto inverse = durbin_at_check_times<1>([&](complex p) {
+    return std::array<complex, 1>{half_space_relaxation_transform(shape, p) - c2 / (p * p + 1.0)};
+  });
+  double worst = 0.0;
+  for (int t = 0; t < 6; ++t)
+    worst = std::max(worst, std::abs(evaluate(sum, kCheckTaus[t]) - (inverse[0][t] + c2 * std::sin(kCheckTaus[t]))));
+  if (!(worst <= kCheckTolerance))
+    throw HalfSpacePairCheckFailed("the combined antiplane half-space pair's kernel differs from a numerical inverse "
+                                   "Laplace transform by " + number_text(worst) + " (more than " +
+                                   number_text(kCheckTolerance) + " of mu_u k); use the two bodies' operators");
+  return worst;
 }
 
 }  // namespace slipstrip

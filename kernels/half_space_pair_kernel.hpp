@@ -34,6 +34,8 @@
 // zero is a leaky interface wave, damped: its residue is one more exponential.
 #include <array>
 #include <complex>
+#include <functional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -121,5 +123,29 @@ struct HalfSpacePairCheckFailed : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 void verify_half_space_pair_sums(const HalfSpacePairShape& shape);
+
+// The zeros of an analytic f in the plane cut horizontally into Re p < 0 from
+// p = +-i b for every b in branch_heights (positive, any order), by the search
+// half_space_pair_poles runs (the argument principle on the rectangles
+// between consecutive cuts, subdivision, Newton's method), with Im p >= 0.
+std::vector<std::complex<double>> cut_plane_zeros(const std::function<std::complex<double>(std::complex<double>)>& f,
+                                                  std::span<const double> branch_heights);
+
+// --- The antiplane pair of two half-spaces of different shear speeds --------
+// (kernels/half_space_kernel.hpp, HalfSpaceShape::antiplane_pair()).  K_c has a
+// pole where K_t + K_b = 0, i.e. where w a_f + (1 - w) a_s = 0; on the
+// principal sheet (Re a > 0) there is none, and in the cut plane neither:
+// between the cuts (b < Im p < 1, Re p < 0) arg a_s - arg a_f lies in
+// (pi/4, pi), below both cuts both roots have Re > 0, above both arg a in
+// (pi/2, pi) for both (docs/bodies.md §4).
+// w a_f + (1 - w) a_s at p (units |k|; the principal roots of the cut plane).
+std::complex<double> antiplane_pair_denominator(const HalfSpaceShape& shape, std::complex<double> p);
+// The set-up check: no zero of that denominator in the cut plane
+// (cut_plane_zeros), and the exponential sum on [1/2, 16] within 1e-6 (units
+// mu_u |k|) of Durbin's inverse Laplace transform of G (2^15 terms, period
+// 2 T = 48, c2 / (p^2 + 1) inverted in closed form) at tau = 1/2, 1, 2, 4, 8,
+// 16 (the sums agree to ~1e-9).  Returns that largest difference; throws
+// HalfSpacePairCheckFailed naming what failed.
+double verify_antiplane_half_space_pair(const HalfSpaceShape& shape);
 
 }  // namespace slipstrip

@@ -176,7 +176,8 @@ double sampled_half_space_real_part(const HalfSpaceShape& shape, double h, doubl
     return half_space_relaxation_transform(shape, std::complex<double>(0.0, omega)).real() + c2 / w2 -
            c4 / (w2 * w2);
   };
-  double value = 0.5 + half_space_relaxation_transform(shape, std::complex<double>(0.0, theta / h)).real();
+  double value = half_space_instantaneous_value(shape) +
+                 half_space_relaxation_transform(shape, std::complex<double>(0.0, theta / h)).real();
   for (int m = 1; m <= M; ++m)
     value += remainder((theta + two_pi * m) / h) + remainder((theta - two_pi * m) / h);
   const auto sums = alias_sums(theta);
@@ -202,8 +203,11 @@ std::vector<double> half_space_passivity_correction(const HalfSpaceShape& shape,
   // Re Z has square-root cusps at the branch points w = c_s k and c_d k and
   // touches zero at w = sqrt(2) c_s k: a minimum of Re Z_d can sit exactly
   // there, so those points and geometric clusters around them are constraints.
-  // (Antiplane: the one cusp at w = c_s k; Re Z > 0 above it.)
+  // (Antiplane: the one cusp at w = c_s k; Re Z > 0 above it.  An antiplane
+  // pair of different speeds: the cusps at w = c_slow k and c_ref k, Re Z = 0
+  // below the first.)
   std::vector<double> singular_points{h};
+  if (shape.antiplane_pair()) singular_points.push_back(h * shape.slow_speed);
   if (!shape.antiplane)
     singular_points.insert(singular_points.end(),
                            {std::sqrt(2.0) * h, h / std::sqrt(shape.speed_ratio_squared)});
