@@ -52,13 +52,15 @@ struct BenchCase {
   PlaneCondition plane = PlaneCondition::strain;
   // A pair of different bodies (in-plane: per-body 2x2 operators; antiplane:
   // one combined scalar operator of the two strips, history "pair_combined_*",
-  // or one per body, TwoBodyHistory, for half-spaces and with
-  // time.antiplane_pair = "bodies"): the bottom body has the
+  // or of the two half-spaces, "pair_half_space_combined"; one per body,
+  // TwoBodyHistory, with time.antiplane_pair = "bodies"): the bottom body has the
   // same height and wave speeds, twice mu and rho (twice the impedances).  A
   // pair of half-spaces (height = inf) with equal wave speeds and different
   // densities has a Stoneley wave, which the combined operator does not carry
   // (docs/inplane_bodies.md §7): there the bottom body has four times mu and
-  // the same rho (twice the impedances again, twice the wave speeds).
+  // the same rho (twice the impedances again, twice the wave speeds), in-plane
+  // and antiplane alike (the antiplane row is of the same two bodies; its
+  // combined operator, time.antiplane_pair, has two branch cuts there).
   bool dissimilar = false;
 };
 
@@ -80,7 +82,7 @@ SimulationConfig bench_config(const BenchCase& c, const BenchOptions& options) {
   config.time.half_space_pair = options.half_space_pair;
   config.time.antiplane_pair = options.antiplane_pair;
   if (c.dissimilar) {
-    const bool half_spaces = std::isinf(c.height) && c.plane != PlaneCondition::antiplane;
+    const bool half_spaces = std::isinf(c.height);
     config.bottom.body = BodyKind::elastic;
     config.bottom.shear_modulus = (half_spaces ? 4.0 : 2.0) * config.material.shear_modulus;
     config.bottom.poisson_ratio = config.material.poisson_ratio;
@@ -159,6 +161,9 @@ BenchResult bench_case(const BenchCase& c, const BenchOptions& options) {
                                   : pair->period() > 1               ? "pair_block"
                                                                      : "pair_modal")
                           : bodies ? (std::isinf(c.height) ? "pair_half_space" : bodies->period() > 1 ? "pair_block" : "pair_modal")
+                          // An antiplane pair of different half-spaces as one operator (time.antiplane_pair).
+                          : c.dissimilar && dynamic_cast<const HalfSpaceHistory*>(&sim.history_operator())
+                              ? "pair_half_space_combined"
                           : dynamic_cast<const BlockStripHistory*>(&sim.history_operator())
                               ? (c.dissimilar ? "pair_combined_block" : "block")
                               : (std::isinf(c.height) ? "half_space" : c.dissimilar ? "pair_combined_modal" : "modal");

@@ -25,7 +25,8 @@ struct BenchOptions {
   bool dissimilar = false;
   // --half-space-pair: the operator of the pair of half-spaces (time.half_space_pair).
   HalfSpacePairOperator half_space_pair = HalfSpacePairOperator::combined;
-  // --antiplane-pair: the operator of the antiplane pair of finite strips (time.antiplane_pair).
+  // --antiplane-pair: the operator of the antiplane pair of different finite strips or half-spaces
+  // (time.antiplane_pair).
   AntiplanePairOperator antiplane_pair = AntiplanePairOperator::combined;
   HistoryAlgorithm history = HistoryAlgorithm::automatic;  // strip history algorithm  // cases whose estimated operator memory exceeds this are reported as skipped
 };

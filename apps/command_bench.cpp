@@ -62,7 +62,7 @@ Command add_bench_command(CLI::App& app) {
       ->delimiter(',');
   bench->add_flag("--pairs", o->dissimilar,
                   "Also time a pair of different bodies (bottom body: same height and wave speeds, twice mu "
-                  "and rho; at inf a pair of half-spaces, in-plane with four times mu and the same rho) at each "
+                  "and rho; at inf a pair of half-spaces with four times mu and the same rho) at each "
                   "height and plane, its ratio to the identical "
                   "in-plane pair and, with antiplane, the antiplane pair's ratio to the in-plane one");
   bench->add_option("--half-space-pair", o->half_space_pair,
@@ -73,8 +73,9 @@ Command add_bench_command(CLI::App& app) {
                                               {"bodies", HalfSpacePairOperator::bodies}},
                                           CLI::ignore_case));
   bench->add_option("--antiplane-pair", o->antiplane_pair,
-                    "The antiplane pair of different finite strips (--pairs, antiplane, finite heights): combined "
-                    "(one operator of the pair, the default) or bodies (each body's own), as time.antiplane_pair")
+                    "The antiplane pair of different bodies (--pairs, antiplane; finite strips, or half-spaces "
+                    "at inf): combined (one operator of the pair, the default) or bodies (each body's own), as "
+                    "time.antiplane_pair")
       ->transform(CLI::CheckedTransformer(std::map<std::string, AntiplanePairOperator>{
                                               {"combined", AntiplanePairOperator::combined},
                                               {"bodies", AntiplanePairOperator::bodies}},

@@ -61,6 +61,13 @@ constexpr double kFaceHalfSpaceBytesPerFourierMode = 300.0 * 128.0 + 512.0 * 56.
 // lags per mode on average at N = 2048).  Built: 142, 156 and 160 KB per mode
 // at N = 16, 256 and 2048 (the bench's pair).
 constexpr double kHalfSpacePairBytesPerFourierMode = 700.0 * 200.0 + 18432.0;
+// The combined operator of two different antiplane half-spaces
+// (HalfSpaceHistory's pair constructor): the scalar operator's layout with two
+// cuts' exponentials (~230 per mode, their panels refined from 2 nodes,
+// against the identical pair's ~170) and the faster body's window.  Built:
+// 25.9 KB per mode at N = 2048 (the bench's pair, c_b = 2 c_t; the identical
+// pair's 22.1 KB).
+constexpr double kAntiplaneHalfSpacePairBytesPerFourierMode = 230.0 * 64.0 + 512.0 * 24.0;
 
 // Wall time per step on one core: a fixed part (bookkeeping, a time-series
 // row), the FFT pair and friction solve per node, and the history operator
@@ -82,6 +89,9 @@ constexpr double kFaceHalfSpaceSecondsPerFourierMode = 300.0 * 4.0 * 1e-9;
 // The combined half-space pair's operator: fitted to the bench (N = 2048, one
 // thread: ~630 us per step against the identical pair's ~330 us).
 constexpr double kHalfSpacePairSecondsPerFourierMode = 5.3e-7;
+// The combined antiplane half-space pair: fitted to the bench (N = 2048, one
+// thread: its history part ~1.45x the identical antiplane pair's).
+constexpr double kAntiplaneHalfSpacePairSecondsPerFourierMode = 1.45 * kHalfSpaceSecondsPerFourierMode;
 
 // One body's history operator at the run's time step.
 struct BodyOperator {
@@ -308,6 +318,13 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
   const bool combined_antiplane = antiplane_bodies && elastic_bottom && !is_half_space(c.geometry.height) &&
                                   !is_half_space(c.bottom.height) &&
                                   c.time.antiplane_pair == AntiplanePairOperator::combined;
+  // Two different antiplane half-spaces on a line: one scalar operator of the
+  // combined kernel (Simulation, time.antiplane_pair = "combined"); equal shear
+  // speeds make it the identical pair's.  Its rare fallback (a failed set-up
+  // check, no passive correction) takes the bodies' operators.
+  const bool combined_antiplane_half_spaces = antiplane_bodies && elastic_bottom && is_half_space(c.geometry.height) &&
+                                  is_half_space(c.bottom.height) &&
+                                  c.time.antiplane_pair == AntiplanePairOperator::combined;
   if (combined_pair) {
     e.operator_bytes = fourier_modes * kHalfSpacePairBytesPerFourierMode;
     history_seconds = fourier_modes * kHalfSpacePairSecondsPerFourierMode;
@@ -329,6 +346,12 @@ ResourceEstimate estimate_resources(const SimulationConfig& c) {
       e.operator_bytes = fourier_modes * modes * kModalBytesPerMode + slots;
       history_seconds = fourier_modes * modes * kModalSecondsPerMode;
     }
+  } else if (combined_antiplane_half_spaces) {
+    const bool one_speed = bottom.shear_wave_speed() == cs;
+    e.operator_bytes =
+        fourier_modes * (one_speed ? kHalfSpaceBytesPerFourierMode : kAntiplaneHalfSpacePairBytesPerFourierMode);
+    history_seconds =
+        fourier_modes * (one_speed ? kHalfSpaceSecondsPerFourierMode : kAntiplaneHalfSpacePairSecondsPerFourierMode);
   } else if (elastic_bottom) {
     const BodyOperator b =
         body_operator(bottom, c.bottom.height, e.time_step, fourier_modes, c.time.history, !per_body, true,

@@ -476,6 +476,12 @@ HistoryStateLayout HalfSpaceHistory::state_layout() const {
 }
 
 void HalfSpaceHistory::restore_state(const HistoryOperatorState& state) {
+  // An antiplane pair of half-spaces is one operator (time.antiplane_pair =
+  // "combined") or TwoBodyHistory's two ("bodies"): name the setting.
+  if (state.kind == "two bodies")
+    throw std::invalid_argument("history operator state: the restart point holds the two bodies' operators, this "
+                                "run one half-space operator (time.antiplane_pair = \"combined\"); resume it "
+                                "with the setting that wrote it");
   state.require_kind("half-space");
   const bool has_format = std::any_of(state.counters.begin(), state.counters.end(),
                                       [](const auto& c) { return c.first == "format"; });

@@ -129,6 +129,10 @@ HistoryStateLayout TwoBodyHistory::state_layout() const {
 }
 
 void TwoBodyHistory::restore_state(const HistoryOperatorState& state) {
+  if (state.kind == "half-space")
+    throw std::invalid_argument("history operator state: the restart point holds one half-space operator (an "
+                                "antiplane pair's combined one, time.antiplane_pair = \"combined\"), this run "
+                                "the two bodies' operators; resume it with the setting that wrote it");
   state.require_kind(kKind);
   if (state.counter("rigid_bottom") != (bottom_ ? 0 : 1))
     throw std::invalid_argument("history operator state: the restart point's bottom body is " +

@@ -232,13 +232,26 @@ Simulation::Simulation(const SimulationConfig& config, const CancelCheck& cancel
       dt_ = timing.time_step;
       bottom_height_used_ = timing.bottom_height;
       // Two finite strips: one operator of the pair unless time.antiplane_pair
-      // = "bodies" (docs/bodies.md §3).  A half-space keeps its body operator.
-      if (!is_half_space(g.height) && !is_half_space(timing.bottom_height) &&
-          config_.time.antiplane_pair == AntiplanePairOperator::combined)
+      // = "bodies" (docs/bodies.md §3).  Two half-spaces: likewise one
+      // operator of the slip rate, the combined kernel K_t K_b / (K_t + K_b)
+      // (kernels/half_space_history.hpp, docs/bodies.md §3); a pair it refuses
+      // (a failed set-up check, no passive correction at this step) takes the
+      // bodies' operators, which carry any pair or name the time step that
+      // fails.  A half-space on a finite body keeps one operator per body.
+      const bool combined = config_.time.antiplane_pair == AntiplanePairOperator::combined;
+      if (combined && !is_half_space(g.height) && !is_half_space(timing.bottom_height)) {
         history_ = make_antiplane_pair_history(config_, {config_.material, g.height},
                                                {bottom_body, timing.bottom_height}, dt_, cancelled);
-      else
-        bottom = make_pair_history(config_, bottom_body, timing.bottom_height, dt_, cancelled, true);
+      } else if (combined && is_half_space(g.height) && is_half_space(config_.bottom.height)) {
+        try {
+          history_ = std::make_unique<HalfSpaceHistory>(config_.material, bottom_body, g.length, nodes_, dt_,
+                                                        HalfSpaceOperatorDesign{}, cancelled);
+        } catch (const HalfSpacePairCheckFailed&) {
+        } catch (const HalfSpaceNotPassive&) {
+        }
+        throw_if_cancelled(cancelled, "the combined antiplane half-space pair's operator");
+      }
+      if (!history_) bottom = make_pair_history(config_, bottom_body, timing.bottom_height, dt_, cancelled, true);
     }
     if (!history_)
       history_ = std::make_unique<TwoBodyHistory>(
