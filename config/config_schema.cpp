@@ -767,12 +767,15 @@ constexpr ConfigKey kKeys[] = {
      .choices = names_of<kHalfSpacePairOperatorNames>,
      .bind = enum_member<&C::time, &TimeConfig::half_space_pair, kHalfSpacePairOperatorNames>()},
     {.section = "time", .name = "antiplane_pair", .type = KeyType::choice,
-     .help = "an antiplane pair of two different finite bodies (`bottom.body` \"elastic\", both heights "
-             "finite): `combined` carries the interface by one scalar operator of the bonded pair, whose "
-             "normal modes are the bilayer's SH modes (docs/bodies.md §3); `bodies` by each body's own "
-             "operator, combined through the instantaneous impedances. Both are exact in the shear echoes. "
-             "Ignored for a rigid bottom, a half-space and on a 2D interface (`geometry.nodes_z` > 1)",
-     .comment = "(two different antiplane strips: one operator or one per body)",
+     .help = "an antiplane pair of two different bodies (`bottom.body` \"elastic\"), both finite or both "
+             "half-spaces: `combined` carries the interface by one scalar operator of the bonded pair, whose "
+             "normal modes are the bilayer's SH modes for two strips, and whose kernel is K_t K_b / (K_t + K_b) "
+             "for two half-spaces (docs/bodies.md §3); `bodies` by each body's own operator, combined through "
+             "the instantaneous impedances. Both are exact in the shear echoes. A pair of half-spaces the "
+             "combined operator refuses (its set-up check, no passive correction at this step) takes `bodies` "
+             "whatever this says. Ignored for a rigid bottom, a half-space on a finite body and on a 2D "
+             "interface (`geometry.nodes_z` > 1)",
+     .comment = "(two different antiplane strips or half-spaces: one operator or one per body)",
      .choices = names_of<kAntiplanePairOperatorNames>,
      .bind = enum_member<&C::time, &TimeConfig::antiplane_pair, kAntiplanePairOperatorNames>()},
 

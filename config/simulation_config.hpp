@@ -122,8 +122,9 @@ inline constexpr std::string_view kHalfSpacePairOperatorNames[] = {"combined", "
 
 // [time] antiplane_pair: how an antiplane pair of two different bodies is
 // simulated on a line: one combined scalar operator of the pair
-// (kernels/antiplane_pair_modes.hpp; built for two finite strips), or each
-// body's own operator (kernels/two_body_history.hpp).
+// (kernels/antiplane_pair_modes.hpp for two finite strips; HalfSpaceHistory's
+// pair constructor for two half-spaces), or each body's own operator
+// (kernels/two_body_history.hpp).
 enum class AntiplanePairOperator { combined, bodies };
 inline constexpr std::string_view kAntiplanePairOperatorNames[] = {"combined", "bodies"};  // index = enumerator
 

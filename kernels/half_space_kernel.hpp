@@ -33,7 +33,7 @@ namespace slipstrip {
 // mu |k| / 2), g'(0) = 1/4.
 //
 // The antiplane pair of two half-spaces of DIFFERENT shear speeds has its own
-// function (docs/bodies.md §4): with the faster body as reference (c_ref its
+// function (docs/bodies.md §3): with the faster body as reference (c_ref its
 // shear speed, p = s / (c_ref |k|)), b = c_slow / c_ref < 1 and
 // w = mu_fast / (mu_t + mu_b), the combined stiffness
 // K_c = K_t K_b / (K_t + K_b), K_i = mu_i alpha_i, in units of mu_u |k| with

@@ -137,7 +137,7 @@ std::vector<std::complex<double>> cut_plane_zeros(const std::function<std::compl
 // principal sheet (Re a > 0) there is none, and in the cut plane neither:
 // between the cuts (b < Im p < 1, Re p < 0) arg a_s - arg a_f lies in
 // (pi/4, pi), below both cuts both roots have Re > 0, above both arg a in
-// (pi/2, pi) for both (docs/bodies.md §4).
+// (pi/2, pi) for both (docs/bodies.md §3).
 // w a_f + (1 - w) a_s at p (units |k|; the principal roots of the cut plane).
 std::complex<double> antiplane_pair_denominator(const HalfSpaceShape& shape, std::complex<double> p);
 // The set-up check: no zero of that denominator in the cut plane
