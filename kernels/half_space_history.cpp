@@ -75,6 +75,42 @@ template <int Steps>
   }
 }
 
+// The slow kernel's lags applied to the block's own inputs for Steps
+// consecutive block positions t0 .. t0 + Steps - 1:
+//   acc[d] = sum_{j <= t0 + d} lag[t0 + d - j] input[j],
+// each sum in ascending j with fused multiply-adds.  The steps' sums run side
+// by side (one vector of Steps accumulators per component over the lags they
+// share, then the few lags only the later steps have), so that their latency
+// chains overlap instead of following one another: written step by step, each
+// sum is one chain of dependent additions and a batch of them leaves the
+// core waiting.  Each step's arithmetic is the same whatever Steps.
+template <int Steps>
+[[gnu::always_inline]] inline void slow_in_block_sums(const double* lag, const std::complex<double>* input, int t0,
+                                                      double* out_r, double* out_i) {
+  double acc_r[Steps], acc_i[Steps];
+  for (int d = 0; d < Steps; ++d) acc_r[d] = acc_i[d] = 0.0;
+  for (int j = 0; j <= t0; ++j) {
+    const double u_r = input[j].real(), u_i = input[j].imag();
+    const double* l = lag + (t0 - j);
+#pragma omp simd
+    for (int d = 0; d < Steps; ++d) {
+      acc_r[d] = std::fma(l[d], u_r, acc_r[d]);
+      acc_i[d] = std::fma(l[d], u_i, acc_i[d]);
+    }
+  }
+  for (int e = 1; e < Steps; ++e) {  // input t0 + e: lag d - e of step d >= e
+    const double u_r = input[t0 + e].real(), u_i = input[t0 + e].imag();
+    for (int d = e; d < Steps; ++d) {
+      acc_r[d] = std::fma(lag[d - e], u_r, acc_r[d]);
+      acc_i[d] = std::fma(lag[d - e], u_i, acc_i[d]);
+    }
+  }
+  for (int d = 0; d < Steps; ++d) {
+    out_r[d] = acc_r[d];
+    out_i[d] = acc_i[d];
+  }
+}
+
 // Longest far-field batch (design.far_batch is clamped to it).
 constexpr int kMaxFarBatch = 64;
 
@@ -358,18 +394,29 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
   for (; d + 8 <= last; d += 8) fast.template operator()<8>(d);
   for (; d < last; ++d) fast.template operator()<1>(d);
   const int t_first = block_ > 0 ? static_cast<int>((batch_step + first) % block_) : 0;
+  // Slow exponentials: at block position t (t' = t + 1 steps after the block
+  // start) their output is sum over branches of rho^{t'} P_beta(t' - t_c),
+  // with P_beta the Taylor polynomial of the block-start states, plus the
+  // slow kernel's lags 0..t applied to this block's inputs (the batch lies in
+  // one block: its inputs are stored first, then its in-block sums worked
+  // together).
+  std::complex<double>* input = block_input_.data() + static_cast<std::size_t>(q) * block_;
+  double in_r[kMaxFarBatch], in_i[kMaxFarBatch];
+  if (block_ > 0) {
+    for (int d = first; d < last; ++d) input[t_first + (d - first)] = std::complex<double>(ur[d], ui[d]);
+    const double* lag = slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_;
+    const auto in_block = [&]<int Steps>(int d) {
+      slow_in_block_sums<Steps>(lag, input, t_first + (d - first), in_r + d, in_i + d);
+    };
+    d = first;
+    for (; d + 8 <= last; d += 8) in_block.template operator()<8>(d);
+    for (; d < last; ++d) in_block.template operator()<1>(d);
+  }
   for (int d = first; d < last; ++d) {
-    const std::complex<double> delayed(ur[d], ui[d]);
     far_out[d] = std::complex<double>(far_r[d], far_i[d]);
     std::complex<double> slow = 0.0;
     if (block_ > 0) {
-      // Slow exponentials: at block position t (t' = t + 1 steps after the block
-      // start) their output is sum over branches of rho^{t'} P_beta(t' - t_c),
-      // with P_beta the Taylor polynomial of the block-start states, plus the
-      // slow kernel's lags 0..t applied to this block's inputs.
-      const int t = t_first + (d - first);  // the batch lies in one block
-      std::complex<double>* input = block_input_.data() + static_cast<std::size_t>(q) * block_;
-      input[t] = delayed;
+      const int t = t_first + (d - first);
       const double x = (t + 1) - block_centre_;
       const std::complex<double>* moment = block_moment_.data() + static_cast<std::size_t>(q) * 4 * terms_;
       // Polynomial beta = 2 b + c: branch b (shear, P), component c (Re, Im of
@@ -377,8 +424,7 @@ void HalfSpaceHistory::push(std::span<const std::complex<double>> slip_rate_spec
       const std::size_t at = (static_cast<std::size_t>(t) * n_modes + q) * 2;
       double out[2];
       slow_block_output<2>(moment, terms_, x, rotation_[at], rotation_[at + 1], out);
-      slow = std::complex<double>(out[0], out[1]) +
-             slow_in_block_sum(slow_lag_weight_.data() + static_cast<std::size_t>(q) * block_, input, t);
+      slow = std::complex<double>(out[0], out[1]) + std::complex<double>(in_r[d], in_i[d]);
     }
     slow_out[d] = slow;
   }
