@@ -1,10 +1,14 @@
 #include "apps/cli.hpp"
 
+#include <sys/statvfs.h>
+
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <csignal>
 #include <cstdio>
 
+#include "config/resource_estimate.hpp"
 #include "io/messages.hpp"
 
 namespace slipstrip::cli {
@@ -90,5 +94,21 @@ std::string json_array(const std::vector<double>& v) {
   for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + json_number(v[i]);
   return s + "]";
 }
+
+void warn_if_disk_too_small(const SimulationConfig& config, const std::string& out_path) {
+  const auto estimate = estimate_resources(config);
+  const std::filesystem::path out(out_path);
+  struct statvfs fs {};
+  const std::string dir = out.has_parent_path() ? out.parent_path().string() : ".";
+  if (::statvfs(dir.c_str(), &fs) == 0) {
+    const double free_bytes = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
+    if (estimate.output_bytes > free_bytes)
+      std::fprintf(stderr,
+                   "warning: the output may need up to %.3g GiB (uncompressed estimate) but '%s' has "
+                   "%.3g GiB free; the run stops with exit code 4 if the disk fills up\n",
+                   estimate.output_bytes / 1073741824.0, dir.c_str(), free_bytes / 1073741824.0);
+  }
+}
+
 
 }  // namespace slipstrip::cli

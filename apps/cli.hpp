@@ -45,6 +45,12 @@ const char* interrupt_name();  // "SIGTERM", "SIGINT" or "a signal"
 // quiet), stop on SIGINT/SIGTERM or after stop_after_steps.
 RunHooks run_hooks(bool quiet, bool tty, long long stop_after_steps);
 
+// Warns on stderr when the run's estimated output (estimate_resources, an
+// upper bound: snapshots are compressed) exceeds the free space where
+// out_path will be written.  Advisory only: a full disk stops the run with
+// exit code 4 and keeps what was written readable.
+void warn_if_disk_too_small(const SimulationConfig& config, const std::string& out_path);
+
 // Numbers for JSON output: %.17g, non-finite values as null.
 std::string json_number(double v);
 std::string json_array(const std::vector<double>& v);

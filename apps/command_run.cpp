@@ -114,22 +114,6 @@ int resume(const RunOptions& o) {
   return report_result(result, run_path, o.quiet, tty);
 }
 
-// Advisory only: snapshots are compressed, so the estimate is an upper bound.
-void warn_if_disk_too_small(const SimulationConfig& config, const std::string& out_path) {
-  const auto estimate = estimate_resources(config);
-  const std::filesystem::path out(out_path);
-  struct statvfs fs {};
-  const std::string dir = out.has_parent_path() ? out.parent_path().string() : ".";
-  if (::statvfs(dir.c_str(), &fs) == 0) {
-    const double free_bytes = static_cast<double>(fs.f_bavail) * static_cast<double>(fs.f_frsize);
-    if (estimate.output_bytes > free_bytes)
-      std::fprintf(stderr,
-                   "warning: the output may need up to %.3g GiB (uncompressed estimate) but '%s' has "
-                   "%.3g GiB free; the run stops with exit code 4 if the disk fills up\n",
-                   estimate.output_bytes / 1073741824.0, dir.c_str(), free_bytes / 1073741824.0);
-  }
-}
-
 int run(const RunOptions& o) {
   // Signals first: from here on SIGINT/SIGTERM stop the run within about a
   // second, set-up included.

@@ -41,6 +41,7 @@
 
 #include "apps/cli.hpp"
 #include "config/config.hpp"
+#include "config/resource_estimate.hpp"
 #include "kernels/history_convolution.hpp"
 #include "parallel/distributed_fft.hpp"
 #include "parallel/distributed_interface.hpp"
@@ -150,6 +151,7 @@ struct RunArguments {
   std::vector<std::string> overrides;
   bool quiet = false, overwrite = false;
   long long stop_after_steps = -1;
+  ResourceLimits limits;  // max_operator_gib per process
 };
 
 // The last lines of a run or a resumed run (rank 0) and the exit code (every process).
@@ -243,6 +245,22 @@ int run(const RunArguments& a) {
     if (auto dot = base.rfind('.'); dot != std::string::npos) base = base.substr(0, dot);
     out_path = base + ".h5";
   }
+  // What the run will cost, and the limits, before the set-up, as `slipstrip
+  // run`.  The history operator is split over the processes (each holds the
+  // Fourier modes of its own rows), so its limit is per process: the whole
+  // operator is held against P times --max-memory-gib.  Rank 0 writes the
+  // whole output file, so the output limit is the serial run's.
+  if (rank == 0) std::fputs(run_header(config).c_str(), stderr);
+  ResourceLimits limits = a.limits;
+  limits.max_operator_gib *= processes;
+  std::string limits_error;
+  try {
+    check_resources(config, limits);
+  } catch (const std::invalid_argument& e) {
+    limits_error = e.what();
+  }
+  throw_if_any_failed(limits_error, "", world);
+  if (rank == 0) cli::warn_if_disk_too_small(config, out_path);
   const bool tty = rank == 0 && isatty(fileno(stderr));
   const RunHooks hooks = cli::run_hooks(a.quiet || rank != 0, tty, a.stop_after_steps);
   if (rank == 0)
@@ -288,6 +306,14 @@ int main(int argc, char** argv) {
   run_command->add_option("--stop-after-steps", run_arguments.stop_after_steps,
                           "Stop as SIGTERM does (status interrupted, exit 143) once this many time steps are done")
       ->check(cli::finite_positive());
+  run_command->add_option("--max-memory-gib", run_arguments.limits.max_operator_gib,
+                          "Refuse runs whose estimated history-operator memory per process exceeds this [GiB]")
+      ->capture_default_str()->check(cli::finite_positive());
+  run_command->add_option("--max-steps", run_arguments.limits.max_steps, "Refuse runs of more time steps than this")
+      ->capture_default_str()->check(cli::finite_positive());
+  run_command->add_option("--max-output-gib", run_arguments.limits.max_output_gib,
+                          "Refuse runs whose estimated output file exceeds this [GiB]")
+      ->capture_default_str()->check(cli::finite_positive());
   run_command->add_option("--resume", run_arguments.resume_path,
                           "Continue RUN.h5 from its restart point, on as many processes as wrote it (CONFIG, "
                           "if given, is only checked against the stored config)");

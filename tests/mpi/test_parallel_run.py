@@ -488,6 +488,37 @@ def test_refused_in_one_line_by_rank_0(tmp_path, args, names):
     assert not out.exists()
 
 
+def test_resource_limits_as_slipstrip_run(tmp_path):
+    """The run header and the limits of `slipstrip run` before any set-up: the
+    output limit refuses in one line by rank 0 naming the option, as the
+    serial run does; the memory limit is per process (the whole operator
+    against P times it)."""
+    out = tmp_path / "run.h5"
+    refused = run_mpi(out, "--max-output-gib", "1e-9", check=False)
+    assert refused.returncode == 2, refused.stderr
+    line = refusal_line(refused)
+    assert line.startswith("rank 0: ") and "output file would hold" in line and "--max-output-gib" in line, refused.stderr
+    assert "output up to ~" in refused.stderr  # the header came first
+    assert not out.exists()
+    serial = run_serial(out, "--max-output-gib", "1e-9", check=False)
+    assert serial.returncode == 2 and "output file would hold" in refusal_line(serial)
+    refused = run_mpi(out, "--max-steps", "1", check=False)
+    assert refused.returncode == 2 and "--max-steps" in refusal_line(refused), refused.stderr
+    # The operator's memory: a limit of 0.75 of the whole operator's estimate
+    # (read from the serial refusal) refuses one process and passes two.
+    header = run_serial(out, "--max-memory-gib", "1e-12", check=False)
+    line = refusal_line(header)
+    assert header.returncode == 2 and "history operator needs ~" in line
+    whole = float(line.split("history operator needs ~")[1].split(" GiB")[0])
+    limit = str(0.75 * whole)
+    alone = run_mpi(out, "--max-memory-gib", limit, processes=1, check=False)
+    assert alone.returncode == 2 and "--max-memory-gib" in refusal_line(alone), alone.stderr
+    assert not out.exists()
+    run_mpi(out, "--max-memory-gib", limit, processes=2)
+    with h5py.File(out, "r") as f:
+        assert f.attrs["status"] == "completed"
+
+
 def test_output_checks_on_rank_0(tmp_path):
     out = tmp_path / "run.h5"
     out.write_bytes(b"not a run file")
