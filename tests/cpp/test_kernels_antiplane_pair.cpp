@@ -46,7 +46,7 @@ ElasticMaterial sh(double mu, double rho) {
   return m;
 }
 
-// The general pair of the brief: top mu = 3e9, rho = 1200, H = 0.1 m; bottom
+// A general pair: top mu = 3e9, rho = 1200, H = 0.1 m; bottom
 // 2x mu, 1.3x rho, H = 0.23 m (different wave speeds, impedances, heights).
 const ElasticMaterial kTop = sh(3e9, 1200), kBottom = sh(6e9, 1560);
 constexpr double kTopHeight = 0.1, kBottomHeight = 0.23;
