@@ -163,14 +163,17 @@ bool interface_strip_takes_block(HistoryAlgorithm history, double modes) {
 // Its bytes.  Modal: 56 per normal mode (kernels/history_convolution.hpp).
 // Block (kernels/block_strip_history.hpp): per mode its states (32 P) and
 // block inputs and outputs (32 B), B = automatic_block_length (the power of
-// two >= max(P, 64)); the design part (frequencies and weights 32 P, kernel
-// spectra 16 B) is shared by the modes of equal |k|, at most half of them
-// distinct (kz and -kz share one).  The kernels are not included.
+// two >= max(P, 64)), and its current direct block (inputs, the rows' part of
+// the outputs and the lag kernel: 40 D, kernels/step_major_direct_block.hpp);
+// the design part (frequencies and weights 32 P, kernel spectra 16 B) is
+// shared by the modes of equal |k|, at most half of them distinct (kz and -kz
+// share one).  The kernels are not included.
 double interface_strip_bytes(HistoryAlgorithm history, double operator_modes, double modes) {
   if (!interface_strip_takes_block(history, modes)) return operator_modes * modes * 56.0;
-  const double block =
-      automatic_block_length(static_cast<std::size_t>(std::ceil(modes)), BlockHistoryDesign{}.direct_block);
-  return operator_modes * (32.0 * modes + 32.0 * block) + 0.5 * operator_modes * (32.0 * modes + 16.0 * block);
+  const int direct_block = BlockHistoryDesign{}.direct_block;
+  const double block = automatic_block_length(static_cast<std::size_t>(std::ceil(modes)), direct_block);
+  return operator_modes * (32.0 * modes + 32.0 * block + 40.0 * direct_block) +
+         0.5 * operator_modes * (32.0 * modes + 16.0 * block);
 }
 
 std::string bytes_text(double bytes) {

@@ -7,16 +7,16 @@
 // Per mode q and component c, two rows of B values: the block's inputs, which
 // the FFT levels and the far field read, and its outputs so far, into which
 // they add.  The per-step loop over the Fourier modes does not touch the rows:
-// it works on the current direct block (direct_block steps) of every mode,
-// held contiguously -- its inputs so far ([q][j][c]), copied into the rows when
-// the direct block is complete (close), and its outputs ([q][c][re, im][j]):
-// the levels' and the far field's part copied from the rows when it starts
-// (open), to which each arriving input adds its direct part (the operator's
-// vector loop over the later outputs of the direct block; FaceBlockHistory
-// instead sums an output's direct part from the inputs when it is due, and
-// its outputs keep the rows' part alone).  So a step streams
-// through memory instead of reading 2C rows B apart per mode (one page each at
-// B = 1024), and the rows are touched once per direct block.
+// it works on the current direct block (direct_block steps) of every mode.
+// Here it is held per mode, contiguously -- its inputs so far ([q][j][c]),
+// copied into the rows when the direct block is complete (close), and its
+// outputs ([q][c][re, im][j]): the levels' and the far field's part copied
+// from the rows when it starts (open).  FaceBlockHistory sums an output's
+// direct part from the inputs when it is due, and its outputs keep the rows'
+// part alone.  BlockStripHistory keeps its direct blocks step-major instead
+// (kernels/step_major_direct_block.hpp) and uses the rows alone.  Either way
+// a step streams through memory instead of reading 2C rows B apart per mode
+// (one page each at B = 1024), and the rows are touched once per direct block.
 #include <algorithm>
 #include <array>
 #include <complex>
@@ -44,7 +44,10 @@ class BlockRows {
   using cplx = std::complex<double>;
 
   BlockRows() = default;
-  BlockRows(std::size_t modes, int block, int direct_block)
+  // With `per_mode_direct_blocks` false the direct-block arrays are not
+  // allocated: the caller keeps its direct blocks itself
+  // (kernels/step_major_direct_block.hpp) and uses the rows alone.
+  BlockRows(std::size_t modes, int block, int direct_block, bool per_mode_direct_blocks = true)
       : modes_(modes), block_(static_cast<std::size_t>(block)), direct_(static_cast<std::size_t>(direct_block)) {
     // On huge pages (kernels/huge_pages.hpp): each mode's rows are on pages
     // of their own, and the direct blocks are streamed through every step.
@@ -52,6 +55,7 @@ class BlockRows {
       assign_on_huge_pages(input_[c], modes * block_, cplx(0.0));
       assign_on_huge_pages(accumulator_[c], modes * block_, cplx(0.0));
     }
+    if (!per_mode_direct_blocks) return;
     assign_on_huge_pages(direct_inputs_, C * modes * direct_, cplx(0.0));
     assign_on_huge_pages(direct_outputs_, 2 * C * modes * direct_, 0.0);
   }
@@ -59,6 +63,7 @@ class BlockRows {
   // Mode q's row of component c: the block's inputs (complete up to the last
   // closed direct block) and its outputs so far.
   const cplx* input(int c, std::size_t q) const { return input_[c].data() + q * block_; }
+  cplx* input_row(int c, std::size_t q) { return input_[c].data() + q * block_; }
   cplx* accumulator(int c, std::size_t q) { return accumulator_[c].data() + q * block_; }
   const cplx* accumulator(int c, std::size_t q) const { return accumulator_[c].data() + q * block_; }
 
@@ -119,6 +124,7 @@ class BlockRows {
     return rows;
   }
   std::span<cplx> input_rows(int c) { return input_[c]; }
+  std::span<const cplx> input_rows(int c) const { return input_[c]; }
   std::span<const cplx> accumulator_rows(int c) const { return accumulator_[c]; }
   std::span<cplx> accumulator_rows(int c) { return accumulator_[c]; }
 

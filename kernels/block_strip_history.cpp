@@ -18,6 +18,10 @@ using cplx = std::complex<double>;
 
 bool is_power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
+// Modes per chunk of the per-step gather: its two output arrays (4 KiB) stay
+// in L1 while the direct block's rows stream past.
+constexpr std::size_t kModeChunk = 256;
+
 // FNV-1a over the bits of a mode's phases and weights (candidates for a
 // shared design are then compared exactly).
 std::uint64_t hash_design(std::span<const double> phase, std::span<const double> weight) {
@@ -158,7 +162,7 @@ BlockStripHistory::BlockStripHistory(const StripPairConstants& constants, const 
   // Per mode: the lag kernel O_j, j < B, by the adjoint NUFFT (O(P w + B log B)
   // instead of O(P B) cosines); its first direct_block lags are kept for the
   // direct sums, and each level keeps the spectrum of [0, O_1..O_{2s-1}].
-  lag_kernel_.assign(n_designs * direct_block_, 0.0);
+  std::vector<double> lag_kernel(n_designs * direct_block_, 0.0);  // [design][j], O_j for j < direct_block
   auto& work = scratch_[0];
   auto* buffer = reinterpret_cast<cplx*>(work.level.get());
   const auto* transformed = reinterpret_cast<const cplx*>(work.spectrum.get());
@@ -168,7 +172,7 @@ BlockStripHistory::BlockStripHistory(const StripPairConstants& constants, const 
     for (std::size_t k = f0; k < f1; ++k) work.frequency[k - f0] = half_weight_[k];
     nufft_->adjoint({theta_.data() + f0, f1 - f0}, {work.frequency.data(), f1 - f0}, work.series,
                     work.nufft);
-    for (int j = 1; j < direct_block_; ++j) lag_kernel_[q * direct_block_ + j] = work.series[j].real();
+    for (int j = 1; j < direct_block_; ++j) lag_kernel[q * direct_block_ + j] = work.series[j].real();
     for (const auto& level : levels_) {
       const int s = level.size;
       buffer[0] = 0.0;
@@ -178,7 +182,9 @@ BlockStripHistory::BlockStripHistory(const StripPairConstants& constants, const 
     }
   }
 
-  rows_ = BlockRows<1>(static_cast<std::size_t>(n_modes_), block_, direct_block_);
+  rows_ = BlockRows<1>(static_cast<std::size_t>(n_modes_), block_, direct_block_, false);
+  direct_blocks_ = StepMajorDirectBlock(static_cast<std::size_t>(n_modes_), direct_block_,
+                                        [&](std::size_t q, int j) { return lag_kernel[design_[q] * direct_block_ + j]; });
   running_sum_.assign(n_modes_, 0.0);
   history_.assign(n_modes_, 0.0);
 }
@@ -190,13 +196,12 @@ ModeOperatorStats BlockStripHistory::stats() const {
   s.modes = n_modes_;
   s.oscillators = state_.size() / 2;  // normal modes in flight (shared designs counted per mode)
   s.echo_steps = kernels_echo_steps_;
-  s.memory_bytes = sizeof(double) * (theta_.size() + half_weight_.size() + lag_kernel_.size() +
-                                     c0_.size()) +
+  s.memory_bytes = sizeof(double) * (theta_.size() + half_weight_.size() + c0_.size()) +
                    sizeof(std::size_t) * (design_.size() + first_frequency_.size() + first_state_.size() +
                                           design_first_mode_.size() + design_modes_.size()) +
                    sizeof(cplx) * (state_.size() + spectrum_.size() + running_sum_.size() + echo_.slots() +
                                    history_.size()) +
-                   rows_.memory_bytes() +
+                   rows_.memory_bytes() + direct_blocks_.memory_bytes() +
                    scratch_.size() * sizeof(cplx) *
                        (4 * static_cast<std::size_t>(block_) + 2 * scratch_[0].frequency.size() +
                         3 * static_cast<std::size_t>(nufft_->grid_size()));
@@ -316,20 +321,6 @@ void BlockStripHistory::advance_far_field_in_one_pass(int q, Scratch& scratch) {
                                  scratch.far, far);
 }
 
-void BlockStripHistory::add_direct_part(int q, int slot, cplx v) {
-  // y_k += O_j v, lag j = k - slot, for the later outputs k of the direct block.
-  const int D = direct_block_;
-  const double* kernel = lag_kernel_.data() + design_[q] * D;
-  double* out_re = rows_.outputs(q);
-  double* out_im = out_re + D;
-  const double vr = v.real(), vi = v.imag();
-#pragma omp simd
-  for (int k = slot + 1; k < D; ++k) {
-    out_re[k] += kernel[k - slot] * vr;
-    out_im[k] += kernel[k - slot] * vi;
-  }
-}
-
 void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
   history_[0] = echo_.push(slip_rate_spectrum[0]);  // uniform mode: exact shear echoes
   const int tau = position_;
@@ -341,26 +332,53 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
   // per mode.
   const int slot = p % D;          // p's place in its direct block
   const int input_slot = tau % D;  // tau's
-  // Input tau of mode q: into its direct block; when that is complete, into
-  // the rows and the level convolutions whose inputs it completes, otherwise
-  // its direct part into the direct block's later outputs.
+  const std::size_t first_mode = 1, end_mode = static_cast<std::size_t>(n_modes_);
+
+  if (slot != 0) {
+    // Inside a direct block: every mode's input into it, and its output
+    // gathered from the rows' part and the direct block's inputs so far
+    // (kernels/step_major_direct_block.hpp), a chunk of modes in vector lanes.
+    // Chunks [c K, (c + 1) K), the first from mode 1: their rows start on
+    // 64-byte boundaries (kernels/step_major_direct_block.hpp).
+    const std::size_t chunks = (end_mode + kModeChunk - 1) / kModeChunk;
+    auto chunk = [&](std::size_t c) {
+      const std::size_t q0 = std::max(first_mode, c * kModeChunk), q1 = std::min(end_mode, (c + 1) * kModeChunk);
+      for (std::size_t q = q0; q < q1; ++q) {
+        const cplx v = slip_rate_spectrum[q];
+        direct_blocks_.set_input(q, static_cast<std::size_t>(input_slot), v);
+        running_sum_[q] += v;
+      }
+      double out_re[kModeChunk], out_im[kModeChunk];
+      direct_blocks_.gather(q0, q1, static_cast<std::size_t>(slot), out_re, out_im);
+      for (std::size_t q = q0; q < q1; ++q)
+        history_[q] = c0_[design_[q]] * running_sum_[q] - dt_ * cplx(out_re[q - q0], out_im[q - q0]);
+    };
+    if (threads == 1) {
+      // No parallel region for one thread: libgomp takes a team of one from
+      // the heap (and frees it) at every region, and push() must not allocate.
+      for (std::size_t c = 0; c < chunks; ++c) chunk(c);
+    } else {
+#pragma omp parallel for num_threads(threads) schedule(static)
+      for (std::size_t c = 0; c < chunks; ++c) chunk(c);
+    }
+    position_ = p;
+    return;
+  }
+
+  // Input tau completes its direct block: into the rows and the level
+  // convolutions whose inputs it completes.
   auto take_input = [&](int q, Scratch& scratch) {
     const cplx v = slip_rate_spectrum[q];
-    rows_.set_direct_input(q, static_cast<std::size_t>(input_slot), 0, v);
+    direct_blocks_.set_input(static_cast<std::size_t>(q), static_cast<std::size_t>(input_slot), v);
     running_sum_[q] += v;
-    if (slot == 0) {
-      rows_.close(q, tau);
-      for_completed_levels(levels_, tau, [&](std::size_t l, int start) { convolve_level(q, l, start, scratch); });
-    } else {
-      add_direct_part(q, input_slot, v);
-    }
+    direct_blocks_.close(static_cast<std::size_t>(q), tau, rows_);
+    for_completed_levels(levels_, tau, [&](std::size_t l, int start) { convolve_level(q, l, start, scratch); });
   };
-  // Output p of mode q: at the start of a direct block (after the levels and
-  // the far field) the rows' part of its outputs, then the direct block's.
+  // Output p of mode q starts a direct block (after the levels and the far
+  // field): the rows' part of its outputs opens it.
   auto give_output = [&](int q) {
-    if (slot == 0) rows_.open(q, p);
-    const double* out = rows_.outputs(q);
-    history_[q] = c0_[design_[q]] * running_sum_[q] - dt_ * cplx(out[slot], out[D + slot]);
+    direct_blocks_.open(static_cast<std::size_t>(q), p, rows_);
+    history_[q] = c0_[design_[q]] * running_sum_[q] - dt_ * direct_blocks_.first_output(static_cast<std::size_t>(q));
   };
   // The block is complete: every mode's far field moves across it, design by
   // design, so the modes of one design (equal |k|) share one set of Gaussian
@@ -385,8 +403,6 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
   };
   const std::size_t designs_end = design_first_mode_.size() - 1;
   if (threads == 1) {
-    // No parallel region for one thread: libgomp takes a team of one from the
-    // heap (and frees it) at every region, and push() must not allocate.
     Scratch& scratch = scratch_[0];
     for (int q = 1; q < n_modes_; ++q) {
       take_input(q, scratch);
@@ -422,7 +438,7 @@ HistoryOperatorState BlockStripHistory::save_state() const {
   state.counters.emplace_back("position", position_);
   state.counters.emplace_back("block", block_);
   state.add("mode_state", state_);
-  state.add("input", rows_.saved_input(0, position_));
+  state.add("input", direct_blocks_.saved_input(rows_, position_));
   state.add("accumulator", rows_.accumulator_rows(0));
   state.add("running_sum", running_sum_);
   echo_.save_arrays(state);
@@ -458,9 +474,7 @@ void BlockStripHistory::restore_state(const HistoryOperatorState& state) {
   echo_.restore(state);
   state.copy_to("history", std::span<cplx>(history_));
   position_ = static_cast<int>(position);
-  rows_.rebuild(position_, [this](std::size_t q, int slot, const std::array<cplx, 1>& v) {
-    add_direct_part(static_cast<int>(q), slot, v[0]);
-  });
+  direct_blocks_.rebuild(rows_, position_);
 }
 
 }  // namespace slipstrip

@@ -43,6 +43,7 @@
 #include "kernels/fft.hpp"
 #include "kernels/history_convolution.hpp"
 #include "kernels/nufft.hpp"
+#include "kernels/step_major_direct_block.hpp"
 
 namespace slipstrip {
 
@@ -111,8 +112,6 @@ class BlockStripHistory final : public HistoryOperator {
   // The same for the one mode of a design: in one pass over its frequencies
   // (GaussianNufft::forward_map_adjoint), no weights stored.
   void advance_far_field_in_one_pass(int q, Scratch& scratch);
-  // Input v at `slot` of its direct block into the direct block's later outputs.
-  void add_direct_part(int q, int slot, std::complex<double> v);
 
   double dt_, eta_, echo_weight_;  // echo_weight_: the running sum's weight, 2 eta (mu / c_s for identical bodies)
   std::size_t kernels_echo_steps_;  // stats
@@ -128,7 +127,6 @@ class BlockStripHistory final : public HistoryOperator {
   std::vector<double> theta_;
   std::vector<double> half_weight_;           // w_m / 2 for both +phi_m and -phi_m
   std::vector<double> c0_;                    // per design
-  std::vector<double> lag_kernel_;            // [design][j], O_j for j < direct_block (O_0 := 0)
   std::vector<std::size_t> design_first_mode_, design_modes_;  // the modes of each design (CSR)
   std::vector<std::size_t> first_state_;      // per q, size n_modes + 1
   std::vector<std::complex<double>> state_;   // A_k of mode q at the start of the current block
@@ -145,9 +143,11 @@ class BlockStripHistory final : public HistoryOperator {
   std::vector<Scratch> scratch_;  // one per OpenMP thread
 
   // State.
-  // The block's inputs and outputs, and the current direct block of every
-  // mode, contiguous (kernels/block_rows.hpp); the saved state is the rows.
+  // The block's inputs and outputs (kernels/block_rows.hpp; the saved state
+  // is the rows), and the current direct block of every mode, step-major
+  // (kernels/step_major_direct_block.hpp).
   BlockRows<1> rows_;
+  StepMajorDirectBlock direct_blocks_;
   std::vector<std::complex<double>> running_sum_;  // per q
   std::vector<std::complex<double>> history_;
 };
