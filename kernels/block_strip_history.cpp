@@ -39,11 +39,11 @@ std::uint64_t hash_design(std::span<const double> phase, std::span<const double>
 struct BlockStripHistory::Scratch {
   FftwBuffer<fftw_complex> level;     // 2s <= B inputs, then outputs
   FftwBuffer<fftw_complex> spectrum;  // their spectrum (out-of-place transforms)
-  GaussianNufft::Scratch nufft;
+  Nufft::Scratch nufft;
   std::vector<cplx> frequency;     // one value per theta_k of a mode
   std::vector<cplx> series;        // B outputs
   std::vector<double> phase_re, phase_im;  // e^{i theta_k B/2} of the located design
-  GaussianNufft::PassScratch far;          // the one-pass far field's grids
+  Nufft::PassScratch far;                  // the one-pass far field's grids
 };
 
 int automatic_block_length(std::size_t most_normal_modes, int direct_block) {
@@ -142,7 +142,7 @@ BlockStripHistory::BlockStripHistory(const StripPairConstants& constants, const 
     for (int q = 0; q < n_modes_; ++q) design_modes_[next[design_[q]]++] = static_cast<std::size_t>(q);
   }
 
-  nufft_ = std::make_unique<GaussianNufft>(block_, design.nufft_half_width);
+  nufft_ = std::make_unique<Nufft>(block_, design.nufft_half_width);
   const int threads = std::max(1, omp_get_max_threads());
   for (int t = 0; t < threads; ++t)
     scratch_.push_back({make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
@@ -257,7 +257,7 @@ void BlockStripHistory::design_phases(std::size_t d, Scratch& scratch) const {
 }
 
 void BlockStripHistory::locate_design(std::size_t d, Scratch& scratch) const {
-  // The Gaussian weights of the design's frequencies (for both transforms of
+  // The NUFFT kernel weights of the design's frequencies (for both transforms of
   // each of its modes) and its phases.
   const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
   nufft_->locate({theta_.data() + f0, count}, scratch.nufft);
@@ -270,7 +270,7 @@ void BlockStripHistory::advance_far_field(int q, Scratch& scratch) {
   // With p_k = e^{i theta_k B/2} and the NUFFT's centred time t - B/2:
   //   sum_t e^{-i theta t} v_t = conj(p) F,   F = forward_centred(v),
   //   A <- p^2 A + p F,   y_far = adjoint_centred(c p),  c = (w/2) A.
-  // The Gaussian weights and p of q's design are in `scratch` (locate_design).
+  // The kernel weights and p of q's design are in `scratch` (locate_design).
   const std::size_t B = block_;
   const std::size_t d = design_[q];
   const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
@@ -295,12 +295,12 @@ void BlockStripHistory::advance_far_field(int q, Scratch& scratch) {
 }
 
 void BlockStripHistory::advance_far_field_in_one_pass(int q, Scratch& scratch) {
-  // As advance_far_field, frequency by frequency: F_k from the Gaussian
+  // As advance_far_field, frequency by frequency: F_k from the kernel
   // weights computed there, the state update, and the coefficient spread into
   // the adjoint grid through the same weights.  The design is this mode's
   // alone, so storing its weights for the two transforms would be written and
   // read once each.  The same arithmetic but for the forward sums' order
-  // (vector lanes, GaussianNufft::forward_map_adjoint).
+  // (vector lanes, Nufft::forward_map_adjoint).
   const std::size_t d = design_[q];
   const std::size_t f0 = first_frequency_[d], count = first_frequency_[d + 1] - f0;
   if (count == 0) return;
@@ -381,7 +381,7 @@ void BlockStripHistory::push(std::span<const cplx> slip_rate_spectrum) {
     history_[q] = c0_[design_[q]] * running_sum_[q] - dt_ * direct_blocks_.first_output(static_cast<std::size_t>(q));
   };
   // The block is complete: every mode's far field moves across it, design by
-  // design, so the modes of one design (equal |k|) share one set of Gaussian
+  // design, so the modes of one design (equal |k|) share one set of NUFFT
   // weights and phases.  (No level fires at the block's end: (tau + 1) % 2s =
   // B % 2s = 0 != s.)  Per mode the same arithmetic as mode by mode.
   // A design of one mode (every design of a 1D interface) takes the one-pass

@@ -51,7 +51,9 @@ struct BlockHistoryDesign {
   int direct_block = 32;  // lags inside aligned blocks of this many steps are summed directly
   int block = 0;          // B, a power of two; 0: the smallest power of two >= the most modes
                           // of any Fourier mode (and >= 2 direct_block)
-  int nufft_half_width = 12;  // NUFFT accuracy ~5e-13 (kernels/nufft.hpp)
+  // NUFFT grid points on each side of a frequency: 7, 14 in all (the
+  // exponential-of-semicircle kernel), accuracy <= 5e-13 (kernels/nufft.hpp).
+  int nufft_half_width = 7;
 };
 
 // The block length B of BlockHistoryDesign::block = 0: the smallest power of
@@ -104,13 +106,13 @@ class BlockStripHistory final : public HistoryOperator {
   struct Scratch;
   void convolve_level(int q, std::size_t level, int start, Scratch& scratch);
   // The far field's phases p_k = e^{i theta_k B/2} of a design, and with them
-  // its Gaussian weights (locate_design, for the modes of a shared design).
+  // its NUFFT kernel weights (locate_design, for the modes of a shared design).
   void design_phases(std::size_t design, Scratch& scratch) const;
   void locate_design(std::size_t design, Scratch& scratch) const;
   // Mode q's far field across the block, with its design's weights located.
   void advance_far_field(int q, Scratch& scratch);
   // The same for the one mode of a design: in one pass over its frequencies
-  // (GaussianNufft::forward_map_adjoint), no weights stored.
+  // (Nufft::forward_map_adjoint), no weights stored.
   void advance_far_field_in_one_pass(int q, Scratch& scratch);
 
   double dt_, eta_, echo_weight_;  // echo_weight_: the running sum's weight, 2 eta (mu / c_s for identical bodies)
@@ -139,7 +141,7 @@ class BlockStripHistory final : public HistoryOperator {
   std::vector<Level> levels_;
   std::vector<std::complex<double>> spectrum_;  // FFT of [0, O_1, .., O_{2s-1}], bins 0..s
 
-  std::unique_ptr<GaussianNufft> nufft_;
+  std::unique_ptr<Nufft> nufft_;
   std::vector<Scratch> scratch_;  // one per OpenMP thread
 
   // State.

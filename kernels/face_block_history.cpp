@@ -58,7 +58,7 @@ inline void spectral_product(const double* ka, const double* kb, const double* k
 struct FaceBlockHistory::Scratch {
   FftwBuffer<fftw_complex> level_x, level_y;        // 2s <= B inputs, then outputs, each
   FftwBuffer<fftw_complex> spectrum_x, spectrum_y;  // their spectra (out-of-place transforms)
-  GaussianNufft::PassScratch far;                   // the far field's NUFFT grids, both components
+  Nufft::PassScratch far;                           // the far field's NUFFT grids, both components
 };
 
 FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, OuterFace face, double length,
@@ -131,7 +131,7 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
     half_block_phase_im_.push_back(std::sin(theta * 0.5 * static_cast<double>(B)));
   }
 
-  nufft_ = std::make_unique<GaussianNufft>(block_, design.nufft_half_width, design.nufft_interleave_from);
+  nufft_ = std::make_unique<Nufft>(block_, design.nufft_half_width, design.nufft_interleave_from);
   const int threads = std::max(1, omp_get_max_threads());
   for (int t = 0; t < threads; ++t)
     scratch_.push_back({make_fftw_buffer<fftw_complex>(B), make_fftw_buffer<fftw_complex>(B),
@@ -176,7 +176,7 @@ FaceBlockHistory::FaceBlockHistory(const ElasticMaterial& m, double height, Oute
   // [0, K_1..K_{2s-1}].
   lags_.assign(3 * static_cast<std::size_t>(n_modes_) * direct_block_, 0.0);
   auto& work = scratch_[0];
-  GaussianNufft::Scratch lag_nufft = nufft_->make_scratch(2 * most);
+  Nufft::Scratch lag_nufft = nufft_->make_scratch(2 * most);
   std::vector<cplx> half_weights(2 * most), lag_series(B);
   auto* buffer = reinterpret_cast<cplx*>(work.level_x.get());
   const auto* transformed = reinterpret_cast<const cplx*>(work.spectrum_x.get());
@@ -224,7 +224,7 @@ std::size_t FaceBlockHistory::memory_bytes() const {
   // Per thread: the levels' 4 buffers of B points, the far field's time grid
   // of 2B points (of both components when interleaved) and its 4 grids of
   // 2B + 2w points.
-  const std::size_t grid = 2 * static_cast<std::size_t>(block_) + 2 * GaussianNufft::max_half_width;
+  const std::size_t grid = 2 * static_cast<std::size_t>(block_) + 2 * Nufft::max_half_width;
   const std::size_t time_grid = (nufft_->interleaves_pairs() ? 4 : 2) * static_cast<std::size_t>(block_);
   const std::size_t scratch = scratch_.size() * sizeof(cplx) * (4 * static_cast<std::size_t>(block_) + time_grid + 4 * grid);
   return sizeof(double) * doubles + sizeof(cplx) * complexes + rows_.memory_bytes() + scratch;
@@ -368,8 +368,8 @@ void FaceBlockHistory::advance_far_field(int q, Scratch& scratch) {
   //   A <- p^2 A + p F,  F = forward_centred(v),  p = e^{i theta B/2},
   // then per output component the coefficients (W/2) A p and their adjoint,
   // added into the block's outputs -- frequency by frequency in one pass
-  // (GaussianNufft::forward_map_adjoint), both components through each
-  // frequency's Gaussian weights at once.
+  // (Nufft::forward_map_adjoint), both components through each
+  // frequency's kernel weights at once.
   const std::size_t f0 = first_frequency_[q], count = first_frequency_[q + 1] - f0;
   if (count == 0) return;
   cplx* sx = state_x_.data() + f0;

@@ -41,7 +41,9 @@ namespace slipstrip {
 struct FaceBlockDesign {
   int direct_block = 32;      // a power of two
   int block = 0;              // B, a power of two >= 2 direct_block; 0: >= the most modes of any Fourier mode
-  int nufft_half_width = 12;  // NUFFT accuracy ~5e-13 (kernels/nufft.hpp)
+  // NUFFT grid points on each side of a frequency: 7, 14 in all (the
+  // exponential-of-semicircle kernel), accuracy <= 5e-13 (kernels/nufft.hpp).
+  int nufft_half_width = 7;
   // Levels of s >= split_level (a power of two) take each length-2s transform
   // as two of length s (FaceBlockHistory::convolve_split_level).  Below 2048
   // the twiddles this needs cost more than FFTW_ESTIMATE's plans of length 2s
@@ -57,8 +59,8 @@ struct FaceBlockDesign {
   // the slower (docs/notes/2026-11-27-pair-bin-order.md).
   int bin_order_level = 8192;
   // The far field's two components share one interleaved grid from this many
-  // grid points (2B) on (GaussianNufft::PassScratch).
-  int nufft_interleave_from = GaussianNufft::interleaved_grid;
+  // grid points (2B) on (Nufft::PassScratch).
+  int nufft_interleave_from = Nufft::interleaved_grid;
 };
 
 // The B Simulation gives a body of a pair of different bodies: the power of
@@ -152,7 +154,7 @@ class FaceBlockHistory final : public FaceHistory {
   // Spectra of [0, K_1, .., K_{2s-1}] for K = A, B, D, bins 0..s (real kernels).
   std::vector<std::complex<double>> spectrum_a_, spectrum_b_, spectrum_d_;
 
-  std::unique_ptr<GaussianNufft> nufft_;
+  std::unique_ptr<Nufft> nufft_;
   std::vector<Scratch> scratch_;  // one per OpenMP thread
 
   // State.

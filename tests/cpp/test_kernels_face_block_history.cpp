@@ -88,7 +88,7 @@ TEST_CASE("block face history equals the modal face history (strain, stress; dri
   // 2.5 blocks and more of white-noise input: every lag range is exercised
   // (direct sums, each FFT level, the NUFFT far field across block ends).
   // Tolerance 1e-11 of the largest history value: the NUFFT's truncation
-  // (half width 12, ~5e-13 of sum |w|, kernels/nufft.hpp) accumulated over the
+  // (default half width 7, <= 5e-13 of sum |w|, kernels/nufft.hpp) accumulated over the
   // block's ~100 frequencies and a few block ends, as for the scalar strip's
   // block operator (tests/cpp/test_kernels_block_history.cpp).
   int cases = 0;
@@ -189,7 +189,7 @@ TEST_CASE("block face history: split levels with spectra in bin order equal the 
 }
 
 TEST_CASE("block face history with the far field's grids interleaved equals the modal face history") {
-  // The layout of B >= 4096 (GaussianNufft::interleaved_grid), forced at B = 256,
+  // The layout of B >= 4096 (Nufft::interleaved_grid), forced at B = 256,
   // with and without split levels; the tolerance of the tests above.
   ElasticMaterial m;
   for (int split : {2048, 32}) {

@@ -211,8 +211,8 @@ TEST_CASE("2D interface: the block operator = the modal operator (white input, m
   // the same rotated inputs, so the reference is the modal InterfaceHistory2d
   // and the tolerance is test_kernels_block_history's: 1e-10 of the largest
   // history value.  The block operator's only approximation is the NUFFT that
-  // moves the normal-mode states across a block (~5e-13 of sum |input| per
-  // update at half width 14), and the modal recursions' rotation round-off
+  // moves the normal-mode states across a block (<= 2e-14 of sum |input| per
+  // update at half width 14, kernels/nufft.hpp), and the modal recursions' rotation round-off
   // over these run lengths is of the same order; 1e-10 leaves two orders of
   // magnitude for 3000 steps.  White input in x and z excites every normal
   // mode of every Fourier mode, both operators and the Nyquist row and column.
