@@ -131,25 +131,17 @@ class BlockRows {
   // After the rows were restored (saved_input, accumulator_rows) and the next
   // push takes input `position`: its direct block as push() built it -- the
   // inputs so far (position - position % D .. position - 1), and, when the
-  // next output position + 1 is in the same direct block, its outputs: the
-  // rows, then each input's direct part in the order the inputs came, by
-  // add_direct(q, slot, inputs) with inputs[c] the input of component c.
-  template <class AddDirect>
-  void rebuild(int position, AddDirect&& add_direct) {
+  // next output position + 1 is in the same direct block, the rows' part of
+  // its outputs (the caller sums the direct part when an output is due).
+  void rebuild(int position) {
     std::fill(direct_inputs_.begin(), direct_inputs_.end(), cplx(0.0));
     std::fill(direct_outputs_.begin(), direct_outputs_.end(), 0.0);
     const std::size_t start = static_cast<std::size_t>(position) - static_cast<std::size_t>(position) % direct_;
     const bool same_block = (static_cast<std::size_t>(position) + 1) % direct_ != 0;
     for (std::size_t q = 0; q < modes_; ++q) {
       if (same_block) open(q, static_cast<int>(start));
-      for (std::size_t t = start; t < static_cast<std::size_t>(position); ++t) {
-        std::array<cplx, C> inputs;
-        for (int c = 0; c < C; ++c) {
-          inputs[c] = input_[c][q * block_ + t];
-          set_input(q, static_cast<int>(t), c, inputs[c]);
-        }
-        if (same_block) add_direct(q, static_cast<int>(t - start), inputs);
-      }
+      for (std::size_t t = start; t < static_cast<std::size_t>(position); ++t)
+        for (int c = 0; c < C; ++c) set_input(q, static_cast<int>(t), c, input_[c][q * block_ + t]);
     }
   }
 

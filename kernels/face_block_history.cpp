@@ -558,7 +558,7 @@ void FaceBlockHistory::restore_from(const HistoryOperatorState& state, const std
   position_ = static_cast<int>(position);
   // The direct block's outputs hold the rows' part alone (direct_part sums
   // its inputs when an output is due): nothing to add per input.
-  rows_.rebuild(position_, [](std::size_t, int, const std::array<cplx, 2>&) {});
+  rows_.rebuild(position_);
 }
 
 }  // namespace slipstrip

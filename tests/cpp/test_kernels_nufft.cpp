@@ -52,6 +52,32 @@ double l1(const std::vector<cplx>& x) {
   for (auto v : x) s += std::abs(v);
   return s;
 }
+
+// The largest errors of the forward and the adjoint transform against their
+// direct sums, each over the l1 norm of its input.
+std::array<double, 2> direct_sum_errors(const Nufft& nufft, const Problem& p) {
+  const std::size_t samples = p.samples.size(), frequencies = p.theta.size();
+  auto scratch = nufft.make_scratch(frequencies);
+  std::vector<cplx> out(frequencies);
+  nufft.forward(p.samples, p.theta, out, scratch);
+  double worst = 0;
+  for (std::size_t k = 0; k < frequencies; ++k) {
+    cplx direct = 0;
+    for (std::size_t t = 0; t < samples; ++t) direct += p.samples[t] * std::polar(1.0, -p.theta[k] * t);
+    worst = std::max(worst, std::abs(out[k] - direct));
+  }
+  const double forward_error = worst / l1(p.samples);
+
+  std::vector<cplx> series(samples);
+  nufft.adjoint(p.theta, p.coefficients, series, scratch);
+  worst = 0;
+  for (std::size_t t = 0; t < samples; ++t) {
+    cplx direct = 0;
+    for (std::size_t k = 0; k < frequencies; ++k) direct += p.coefficients[k] * std::polar(1.0, p.theta[k] * t);
+    worst = std::max(worst, std::abs(series[t] - direct));
+  }
+  return {forward_error, worst / l1(p.coefficients)};
+}
 }  // namespace
 
 TEST_CASE("NUFFT forward and adjoint match the direct sums") {
@@ -62,27 +88,7 @@ TEST_CASE("NUFFT forward and adjoint match the direct sums") {
     Nufft nufft(samples, half_width);
     const double predicted = std::exp(-pi * half_width / std::numbers::sqrt2) *
                              std::exp(pi * half_width / (8 * std::numbers::sqrt2));
-    auto scratch = nufft.make_scratch(frequencies);
-
-    std::vector<cplx> out(frequencies);
-    nufft.forward(p.samples, p.theta, out, scratch);
-    double worst = 0;
-    for (int k = 0; k < frequencies; ++k) {
-      cplx direct = 0;
-      for (int t = 0; t < samples; ++t) direct += p.samples[t] * std::polar(1.0, -p.theta[k] * t);
-      worst = std::max(worst, std::abs(out[k] - direct));
-    }
-    const double forward_error = worst / l1(p.samples);
-
-    std::vector<cplx> series(samples);
-    nufft.adjoint(p.theta, p.coefficients, series, scratch);
-    worst = 0;
-    for (int t = 0; t < samples; ++t) {
-      cplx direct = 0;
-      for (int k = 0; k < frequencies; ++k) direct += p.coefficients[k] * std::polar(1.0, p.theta[k] * t);
-      worst = std::max(worst, std::abs(series[t] - direct));
-    }
-    const double adjoint_error = worst / l1(p.coefficients);
+    const auto [forward_error, adjoint_error] = direct_sum_errors(nufft, p);
     MESSAGE("w = " << half_width << ", B = " << samples << ": forward " << forward_error
                    << ", adjoint " << adjoint_error << " (max error / l1 norm of the input), predicted "
                    << predicted);
@@ -98,36 +104,17 @@ TEST_CASE("NUFFT at its default half-width: the ES kernel's 14 points per freque
   // B = 1024 on).  The ES kernel's error on the 2x grid falls as
   // exp(-pi (2w) / sqrt 2), the Gaussian's rate per point squared: 3e-14 at
   // w = 7; measured <= 1.5e-13 (B = 64, adjoint; <= 7e-14 at the other B).
-  // Bound 5e-13: the block operators' design accuracy, 3x the measurement.  Frequencies in +-pairs as the block operators list them
-  // (the mirrored windows), random ones and the interval's ends; the kernel
-  // weights' polynomials are checked against the kernel too.
+  // Bound 5e-13: the block operators' design accuracy, 3x the measurement.
+  // Frequencies in +-pairs as the block operators list them (the mirrored
+  // windows), random ones and the interval's ends; the kernel weights'
+  // polynomials are checked against the kernel too.
   for (int samples : {16, 64, 256, 1024, 4096}) {
     const int frequencies = 3 * samples / 2 + 7;
     auto p = random_problem(samples, frequencies, 4321u + samples);
     for (int k = 4; k + 1 < frequencies; k += 4) p.theta[k + 1] = -p.theta[k];
     Nufft nufft(samples);
     CHECK(nufft.weight_fit_error() < 1e-14);
-    auto scratch = nufft.make_scratch(frequencies);
-
-    std::vector<cplx> out(frequencies);
-    nufft.forward(p.samples, p.theta, out, scratch);
-    double worst = 0;
-    for (int k = 0; k < frequencies; ++k) {
-      cplx direct = 0;
-      for (int t = 0; t < samples; ++t) direct += p.samples[t] * std::polar(1.0, -p.theta[k] * t);
-      worst = std::max(worst, std::abs(out[k] - direct));
-    }
-    const double forward_error = worst / l1(p.samples);
-
-    std::vector<cplx> series(samples);
-    nufft.adjoint(p.theta, p.coefficients, series, scratch);
-    worst = 0;
-    for (int t = 0; t < samples; ++t) {
-      cplx direct = 0;
-      for (int k = 0; k < frequencies; ++k) direct += p.coefficients[k] * std::polar(1.0, p.theta[k] * t);
-      worst = std::max(worst, std::abs(series[t] - direct));
-    }
-    const double adjoint_error = worst / l1(p.coefficients);
+    const auto [forward_error, adjoint_error] = direct_sum_errors(nufft, p);
     MESSAGE("default, B = " << samples << ": forward " << forward_error << ", adjoint " << adjoint_error
                             << " (max error / l1 norm of the input); weights' fit " << nufft.weight_fit_error()
                             << " at degree " << nufft.weight_fit_degree());
