@@ -569,6 +569,126 @@ STATE_SYMBOLS = {"arrested": "A", "steady": "S", "periodic_pulse": "P", "uniform
                  "complex": "C", "other": "O", "unreadable": "x"}
 
 
+def thin_edges(rows: list[dict]) -> list[dict]:
+    """The thin-strip edge of the complexity window, per (friction, L): the
+    thinnest strip height at which a run is `complex` (`height_complex`) and the
+    largest height below it at which no run is (`height_not_complex`, NaN when
+    no thinner strip was run, so the edge is bounded only from above).  This is
+    the reverse transition of the paper's Fig. 5 discussion (complexity
+    disappearing again for H << Lc(H)); groups without a complex run have no
+    window and are left out.
+
+    A bracket is read from the states, not from a threshold on a continuous
+    observable (unlike `transition_heights`): on the thin side the non-complex
+    states differ (spanning ruptures, creeping patches, pulses), so the state is
+    the observable.  Each end carries its runs' states and whether every one of
+    them is converged; an end that is not converged makes the bracket
+    provisional, which the table says."""
+    groups = {}
+    for r in rows:
+        if math.isfinite(r["height"]) and r.get("state") in STATES:
+            groups.setdefault((round(r["rate_weakening"], 6), r["length"]), {}).setdefault(r["height"], []).append(r)
+    out = []
+    for (slope, L), by_height in sorted(groups.items()):
+        complex_heights = [h for h, runs in by_height.items() if any(r["state"] == "complex" for r in runs)]
+        if not complex_heights:
+            continue
+        h_complex = min(complex_heights)
+        below = [h for h in by_height if h < h_complex]
+        h_not = max(below) if below else math.nan
+
+        def end(h):
+            runs = sorted(by_height.get(h, []), key=noise_seed)
+            lc = float(np.mean([r.get("critical_length", math.nan) for r in runs])) if runs else math.nan
+            return {"states": "/".join(r["state"] for r in runs),
+                    "converged": bool(runs) and all(bool(r["converged"]) for r in runs),
+                    "critical_length": lc, "critical_over_height": lc / h if runs else math.nan}
+        hi, lo = end(h_complex), end(h_not)
+        out.append({"rate_weakening": slope, "length": L, "height_complex": h_complex, "height_not_complex": h_not,
+                    "states_complex": hi["states"], "states_not_complex": lo["states"],
+                    "converged_complex": hi["converged"], "converged_not_complex": lo["converged"],
+                    "critical_over_height_complex": hi["critical_over_height"],
+                    "critical_over_height_not_complex": lo["critical_over_height"],
+                    "length_over_critical_complex": L / hi["critical_length"],
+                    "length_over_critical_not_complex": L / lo["critical_length"] if below else math.nan})
+    return out
+
+
+THIN_EDGE_COLUMNS = ("rate_weakening", "length", "height_not_complex", "height_complex", "states_not_complex",
+                     "states_complex", "converged_not_complex", "converged_complex",
+                     "critical_over_height_not_complex", "critical_over_height_complex",
+                     "length_over_critical_not_complex", "length_over_critical_complex")
+
+
+def thin_edges_markdown(edges: list[dict]) -> str:
+    """The thin-strip edges as a Markdown table (bracket in H and in Lc(H)/H)."""
+    if not edges:
+        return "No friction point with a complex run.\n"
+    lines = ["| \\|df_ss/d ln v\\| | L | edge between H (not complex) | and H (complex) | Lc(H)/H | states at the ends |",
+             "|---|---|---|---|---|---|"]
+    for e in sorted(edges, key=lambda e: (-e["rate_weakening"], e["length"])):
+        def mark(state, converged):
+            return f"`{state}`" + ("" if converged else " (not converged)")
+        if math.isfinite(e["height_not_complex"]):
+            low = f"{e['height_not_complex']:g} m"
+            ratio = f"{e['critical_over_height_complex']:.2g}–{e['critical_over_height_not_complex']:.2g}"
+            states = (mark(e["states_not_complex"], e["converged_not_complex"]) + " below, " +
+                      mark(e["states_complex"], e["converged_complex"]) + " above")
+        else:
+            low = "— (no thinner strip run: bounded above only)"
+            ratio = f"> {e['critical_over_height_complex']:.2g}"
+            states = mark(e["states_complex"], e["converged_complex"]) + " at the thinnest strip run"
+        lines.append(f"| {e['rate_weakening']:.4f} | {e['length']:g} m | {low} | {e['height_complex']:g} m | "
+                     f"{ratio} | {states} |")
+    return "\n".join(lines) + "\n"
+
+
+def plot_length_height(rows: list[dict], out_png) -> None:
+    """Every finite strip's state in the (H, L) plane, one panel per friction
+    point with a complex run (open symbols: not converged), with the thin edges
+    (`thin_edges`) as grey bars (dashed: bounded above only), and the upper
+    transition H* (`transition_heights`, with its spread over noise seeds) in
+    orange: the complexity window, closed on the thick side by the upper
+    transition and on the thin side by the reverse one."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    finite = [r for r in rows if math.isfinite(r["height"]) and r.get("state") in STATES]
+    edges = thin_edges(finite)
+    slopes = sorted({e["rate_weakening"] for e in edges}, reverse=True)
+    if not slopes:
+        return
+    fig, axes = plt.subplots(1, len(slopes), figsize=(4.2 * len(slopes), 3.8), squeeze=False)
+    for ax, slope in zip(axes[0], slopes):
+        mine = [r for r in finite if round(r["rate_weakening"], 6) == slope]
+        lengths = sorted({r["length"] for r in mine})
+        for r in mine:
+            _scatter(ax, r["height"], r["length"], r, size=45)
+        for e in edges:
+            if e["rate_weakening"] == slope:
+                # Bounded above only: a dashed bar down to a third of the thinnest complex strip.
+                closed = math.isfinite(e["height_not_complex"])
+                lo = e["height_not_complex"] if closed else e["height_complex"] / 3
+                ax.plot([lo, e["height_complex"]], [e["length"]] * 2, color="k", lw=2.5, alpha=0.35,
+                        ls="-" if closed else "--", solid_capstyle="butt")
+        for t in transition_heights(mine):
+            # The upper transition: H* with its spread over noise seeds.
+            lo, hi = t["height_range"]
+            ax.errorbar(t["height"], t["length"], xerr=[[t["height"] - lo], [hi - t["height"]]], fmt="|",
+                        color="tab:orange", ms=16, mew=2, capsize=3)
+        ax.set(xscale="log", xlabel="H [m]", ylabel="L [m]", yticks=lengths, title=f"|df_ss/d ln v| = {slope:.4f}")
+        ax.set_yticklabels([f"{L:g}" for L in lengths])
+        ax.grid(axis="y", color="0.9")
+    handles = [plt.Line2D([], [], marker=m, color=c, linestyle="", label=s) for s, (m, c) in MARKERS.items()]
+    handles.append(plt.Line2D([], [], color="k", lw=2.5, alpha=0.35, label="thin edge (bracket)"))
+    handles.append(plt.Line2D([], [], marker="|", color="tab:orange", ms=10, mew=2, linestyle="",
+                              label="H* (spread over seeds)"))
+    fig.legend(handles=handles, fontsize=7, loc="upper center", ncol=4)
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.6 / fig.get_figheight()))
+    fig.savefig(out_png, dpi=100)
+    plt.close(fig)
+
+
 def state_grid_markdown(rows: list[dict]) -> str:
     """The map as Markdown tables, one per interface length L: a row per
     friction point (|df_ss/d ln v|), a column per strip height H, each cell the
@@ -676,6 +796,8 @@ def main(argv: list[str]) -> int:
     p.add_argument("--table", help="write the map as Markdown tables (one per L)")
     p.add_argument("--collapse", help="write the order parameter against H/L and H/Lc(H) (PNG)")
     p.add_argument("--heights", help="write the transition heights H* per friction and L (CSV)")
+    p.add_argument("--thin-edges", help="write the thin-strip edge of the complexity window per friction and L (CSV)")
+    p.add_argument("--plane", help="write every strip's state in the (H, L) plane, one panel per friction (PNG)")
     p.add_argument("--include-unfinished", action="store_true",
                    help="also classify runs whose status is not 'completed'")
     p.add_argument("--overwrite", action="store_true",
@@ -711,7 +833,7 @@ def main(argv: list[str]) -> int:
             return 2
     n_found = len(files)
     outputs = {"--csv": args.csv, "--plot": args.plot, "--table": args.table, "--collapse": args.collapse,
-               "--heights": args.heights}
+               "--heights": args.heights, "--thin-edges": args.thin_edges, "--plane": args.plane}
     try:
         check_outputs(outputs, inputs=[*files, *args.previous], overwrite=args.overwrite)
     except OutputPathError as err:
@@ -742,6 +864,8 @@ def main(argv: list[str]) -> int:
             print(f"error: --previous {one_line(f'{csv_path}: {err}')}", file=sys.stderr)
             return 2
         previous += [r for r in earlier if _map_cell(r) not in fresh]
+    # Two earlier maps may hold the same run (one of them extended): keep one row per run, as for fresh runs.
+    previous = longest_run_per_cell(previous)
     for r in rows:
         if r["state"] == "unreadable":
             print(f"{Path(r['file']).name:40s} not classified: {r['error']}", file=sys.stderr)
@@ -773,7 +897,9 @@ def main(argv: list[str]) -> int:
     if args.table:
         Path(args.table).write_text(state_grid_markdown(rows) + "\n**Transition heights** (last upward crossing of "
                                     f"{SPANNING_COHERENT:g} by the spanning-slip fraction as H grows, "
-                                    "`transition_heights`):\n\n" + transition_heights_markdown(stars))
+                                    "`transition_heights`):\n\n" + transition_heights_markdown(stars) +
+                                    "\n**Thin-strip edges** (thinnest complex strip and the next thinner one run, "
+                                    "`thin_edges`):\n\n" + thin_edges_markdown(thin_edges(rows)))
     if args.collapse:
         plot_collapse(rows, args.collapse)
     for t in stars:
@@ -783,6 +909,21 @@ def main(argv: list[str]) -> int:
               f"H*/L = {t['height_over_length']:.3g} ({t['height_over_length_bracket'][0]:.3g}-"
               f"{t['height_over_length_bracket'][1]:.3g}); H*/Lc(H*) = {t['height_over_critical_length']:.3g} "
               f"({t['height_over_critical_length_bracket'][0]:.3g}-{t['height_over_critical_length_bracket'][1]:.3g})")
+    edges = thin_edges(rows)
+    for e in edges:
+        below = (f"not complex at H = {e['height_not_complex']:g} m ({e['states_not_complex']}"
+                 f"{'' if e['converged_not_complex'] else ', not converged'})"
+                 if math.isfinite(e["height_not_complex"]) else "no thinner strip run")
+        print(f"|df/dlnv| = {e['rate_weakening']:.4f}  L = {e['length']:g} m: thinnest complex strip "
+              f"H = {e['height_complex']:g} m (Lc/H = {e['critical_over_height_complex']:.3g}"
+              f"{'' if e['converged_complex'] else ', not converged'}); {below}")
+    if args.thin_edges:
+        with open(args.thin_edges, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=THIN_EDGE_COLUMNS)
+            w.writeheader()
+            w.writerows(edges)
+    if args.plane:
+        plot_length_height(rows, args.plane)
     if args.heights:
         with open(args.heights, "w", newline="") as f:
             w = csv.writer(f)

@@ -417,3 +417,80 @@ def test_an_extended_run_replaces_the_shorter_run_of_the_same_cell():
             {"file": "broken.h5", "state": "unreadable"}]
     kept = [r["file"] for r in transition.longest_run_per_cell(rows)]
     assert kept == ["other_seed.h5", "extended.h5", "broken.h5"]
+
+
+def _edge_row(L, h, state, converged=True, seed=1, slope=0.012, lc=None):
+    return {"rate_weakening": slope, "length": L, "height": h, "state": state, "converged": converged,
+            "noise_seed": seed, "critical_length": lc if lc is not None else 1.6 * math.sqrt(h),
+            "spanning_slip_fraction": 0.9 if state == "spanning_ruptures" else 0.3}
+
+
+def test_thin_edges_bracket_the_thinnest_complex_strip_or_bound_it_from_above():
+    rows = [
+        # L = 2 m: a closed window; the thin edge lies between 0.0125 (spanning) and 0.025 m.
+        _edge_row(2.0, 0.0125, "spanning_ruptures"), _edge_row(2.0, 0.025, "complex"),
+        _edge_row(2.0, 0.05, "complex"), _edge_row(2.0, 0.5, "spanning_ruptures"),
+        # L = 4 m: complex at every strip run; the thinnest one is not converged.
+        _edge_row(4.0, 0.001, "complex", converged=False), _edge_row(4.0, 0.0125, "complex"),
+        _edge_row(4.0, math.inf, "arrested"),
+        # L = 3 m: seeds disagree at 0.005 m (one complex run makes the height complex), and the strip
+        # below is neither complex nor spanning (creeping patches).
+        _edge_row(3.0, 0.003, "other", converged=False), _edge_row(3.0, 0.005, "spanning_ruptures", seed=2),
+        _edge_row(3.0, 0.005, "complex", seed=1), _edge_row(3.0, 0.05, "complex"),
+        # A friction point without a complex run has no window and no edge.
+        _edge_row(1.0, 0.0125, "periodic_pulse", slope=0.0059), _edge_row(1.0, 0.1, "spanning_ruptures", slope=0.0059),
+    ]
+    edges = {e["length"]: e for e in transition.thin_edges(rows)}
+    assert sorted(edges) == [2.0, 3.0, 4.0]
+    two, three, four = edges[2.0], edges[3.0], edges[4.0]
+    assert (two["height_not_complex"], two["height_complex"]) == (0.0125, 0.025)
+    assert two["states_not_complex"] == "spanning_ruptures" and two["converged_not_complex"] and two["converged_complex"]
+    # Lc(H)/H and L/Lc(H) at the two ends, from the rows' own Lc.
+    assert two["critical_over_height_complex"] == pytest.approx(1.6 * math.sqrt(0.025) / 0.025)
+    assert two["length_over_critical_not_complex"] == pytest.approx(2.0 / (1.6 * math.sqrt(0.0125)))
+    assert four["height_complex"] == 0.001 and math.isnan(four["height_not_complex"])
+    assert not four["converged_complex"] and math.isnan(four["length_over_critical_not_complex"])
+    assert three["height_complex"] == 0.005 and three["height_not_complex"] == 0.003
+    assert three["states_complex"] == "complex/spanning_ruptures"      # both seeds, in seed order
+    assert three["states_not_complex"] == "other" and not three["converged_not_complex"]
+
+    text = transition.thin_edges_markdown(list(edges.values()))
+    lines = [line for line in text.splitlines() if line.startswith("| 0.0120")]
+    assert [line.split("|")[2].strip() for line in lines] == ["2 m", "3 m", "4 m"]
+    assert "`spanning_ruptures` below, `complex` above" in lines[0]
+    # Lc/H = 1.6 / sqrt(0.001) = 50.6 at the thinnest complex strip.
+    assert "bounded above only" in lines[2] and "> 51 |" in lines[2] and "(not converged)" in lines[2]
+    assert transition.thin_edges_markdown([]).startswith("No friction point")
+
+
+def test_thin_edges_and_the_plane_from_committed_maps(tmp_path):
+    """--previous maps alone give the thin edges (CSV and table) and the (H, L) plane; two maps holding
+    the same run (one of them extended) give one row for it, the longer one."""
+    import csv
+    fields = ["a", "b", "f0", "nodes", "noise_seed", "duration", "file", "status", "agreement", "states_by_third",
+              "rate_weakening", "length", "height", "state", "converged", "critical_length", "spanning_slip_fraction"]
+
+    def row(h, state, duration, name, converged=True):
+        return {"a": 0.01, "b": 0.0955, "f0": 0.23, "nodes": 800, "noise_seed": 1, "duration": duration,
+                "file": f"scan/{name}.h5", "status": "completed", "agreement": 1.0,
+                "states_by_third": "/".join([state] * 3), "rate_weakening": 0.012, "length": 2.0, "height": h,
+                "state": state, "converged": converged, "critical_length": 1.6 * math.sqrt(h),
+                "spanning_slip_fraction": 0.9 if state == "spanning_ruptures" else 0.3}
+    first, second = tmp_path / "first.csv", tmp_path / "second.csv"
+    for path, rows in ((first, [row(0.0125, "other", 0.36, "short", converged=False), row(0.025, "complex", 0.36, "b"),
+                                row(0.2, "complex", 0.36, "c"), row(0.5, "spanning_ruptures", 0.36, "d")]),
+                       (second, [row(0.0125, "spanning_ruptures", 1.07, "long")])):
+        with path.open("w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=fields)
+            w.writeheader()
+            w.writerows(rows)
+    edges_csv, plane, merged = tmp_path / "edges.csv", tmp_path / "plane.png", tmp_path / "merged.csv"
+    assert transition.main(["--previous", str(first), "--previous", str(second), "--csv", str(merged),
+                            "--thin-edges", str(edges_csv), "--plane", str(plane)]) == 0
+    kept = [r for r in csv.DictReader(merged.open()) if r["height"] == "0.0125"]
+    assert [r["file"] for r in kept] == ["scan/long.h5"]
+    (edge,) = list(csv.DictReader(edges_csv.open()))
+    assert list(edge) == list(transition.THIN_EDGE_COLUMNS)
+    assert (float(edge["height_not_complex"]), float(edge["height_complex"])) == (0.0125, 0.025)
+    assert edge["states_not_complex"] == "spanning_ruptures" and edge["converged_not_complex"] == "True"
+    assert_figure(plane, page_width=True)
