@@ -21,6 +21,13 @@ std::string shortest(double x) {
   return std::string(buffer, end);
 }
 
+// Six significant digits, for derived quantities in messages.
+std::string brief(double x) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 6).ptr;
+  return std::string(buffer, end);
+}
+
 void require_positive(double value, const char* name) {
   if (!(value > 0.0))
     throw std::invalid_argument(std::string("linear stability: ") + name + " = " +
@@ -275,39 +282,110 @@ std::vector<double> critical_wavelength_vs_height(const SteadySliding& sliding,
                                 "wavelength (tau_v g_phi - tau_phi g_v <= 0)");
   std::vector<double> result;
   result.reserve(heights.size());
+  constexpr int max_steps = 60;
   for (double H : heights) {
     SteadySliding s = sliding;
     s.strip_height = H;
     double lo = guess, hi = guess;
-    for (int i = 0; i < 60 && has_unstable_root(s, lo); ++i) lo *= 0.5;
-    for (int i = 0; i < 60 && !has_unstable_root(s, hi); ++i) hi *= 2.0;
+    for (int i = 0; i < max_steps && has_unstable_root(s, lo); ++i) lo *= 0.5;
+    int doublings = 0;
+    for (; doublings < max_steps && !has_unstable_root(s, hi); ++doublings) hi *= 2.0;
+    // An antiplane strip does not bend: thin enough, it is too stiff at every k
+    // and no wavelength is unstable (docs/stability.md, thin-strip limit).
+    if (doublings == max_steps && !has_unstable_root(s, hi))
+      throw std::invalid_argument("critical_wavelength_vs_height: H = " + shortest(H) +
+                                  " m: no unstable wavelength; steady sliding is stable at every "
+                                  "wavelength up to " + brief(hi) + " m");
     if (lo == hi) hi *= 1.0 + 1e-12;  // guess itself is the boundary (degenerate)
     result.push_back(critical_wavelength(s, lo, hi));
   }
   return result;
 }
 
+namespace {
+
+// S(k, 0) of the sliding pair: the static limit of slip_response().
+double static_slip_stiffness(const SteadySliding& sliding, double k) {
+  if (!sliding.two_bodies) return strip_static_stiffness(sliding.material, sliding.strip_height, k);
+  const double top = 2.0 * strip_static_stiffness(sliding.material, sliding.strip_height, k);
+  if (sliding.bottom_rigid) return top;
+  const double bottom = 2.0 * strip_static_stiffness(sliding.bottom_material, sliding.bottom_height, k);
+  return top * bottom / (top + bottom);
+}
+
+// lim k -> 0+ of one body's S(k, 0) (strip_static_stiffness at k = 0 exactly is
+// the uniform mode, a different limit in-plane): an in-plane strip bends, so its
+// stiffness vanishes like E' H k^2 / 6; a half-space's like mu* k; an antiplane
+// strip only shears across its height, mu/(2H).
+double long_wave_static_stiffness(const ElasticMaterial& material, double H) {
+  if (is_half_space(H) || !material.antiplane()) return 0.0;
+  return 0.5 * material.shear_modulus / H;
+}
+
+double long_wave_slip_stiffness(const SteadySliding& sliding) {
+  const double top = long_wave_static_stiffness(sliding.material, sliding.strip_height);
+  if (!sliding.two_bodies) return top;
+  if (sliding.bottom_rigid) return 2.0 * top;
+  const double bottom = 2.0 * long_wave_static_stiffness(sliding.bottom_material, sliding.bottom_height);
+  return top > 0.0 && bottom > 0.0 ? 2.0 * top * bottom / (2.0 * top + bottom) : 0.0;
+}
+
+}  // namespace
+
 double quasi_static_critical_wavelength(const SteadySliding& sliding) {
   const LinearisedFriction lin = linearise_friction(sliding);
   const double stiffness_needed =
       lin.strength_dv * lin.state_rate_dstate - lin.strength_dstate * lin.state_rate_dv;
   if (!(stiffness_needed > 0.0)) return std::numeric_limits<double>::infinity();
-  if (sliding.two_bodies)
-    throw std::invalid_argument("quasi_static_critical_wavelength: identical bodies only (bottom.body = \"mirror\")");
+  // The scalar series stiffness of two different bodies is the antiplane
+  // problem's only (in-plane pairs couple slip to the normal stress).
+  if (sliding.two_bodies && !sliding.material.antiplane())
+    throw std::invalid_argument("quasi_static_critical_wavelength: in-plane pairs of different bodies are "
+                                "analysed by stability/interface_stability");
   const ElasticMaterial& m = sliding.material;
   // Half-space static stiffness mu* |k|: in-plane mu (1 - c_s^2/c_d^2), antiplane mu/2.
   const double mu_star = m.antiplane() ? 0.5 * m.shear_modulus
                                        : m.shear_modulus * (1.0 - 1.0 / m.wave_speed_ratio_squared());
   const double k_half_space = stiffness_needed / mu_star;
-  if (is_half_space(sliding.strip_height)) return 2.0 * pi / k_half_space;
-  // The static strip stiffness increases with k and stays below mu* k, so the
-  // neutral wavenumber lies above the half-space one: bracket and bisect.
-  const double H = sliding.strip_height;
-  double lo = k_half_space, hi = 2.0 * k_half_space;
-  while (strip_static_stiffness(m, H, hi) < stiffness_needed) hi *= 2.0;
+  if (!sliding.two_bodies && is_half_space(sliding.strip_height)) return 2.0 * pi / k_half_space;
+  // S0(k) = S(k, 0) increases strictly with k for every body (in-plane strip
+  // mu* k (coth x - x / sinh^2 x), antiplane strip (mu k / 2) coth x, x = kH,
+  // and their series combination), from its long-wave limit S0(0+) to infinity,
+  // so a neutral wavenumber exists iff S0(0+) < K_c and is unique.  Where it lies
+  // relative to the top half-space's k_half_space depends on the body: an in-plane
+  // strip is softer than mu* k (root above), an antiplane strip stiffer than
+  // mu k / 2 (root below), a pair either.  So expand from k_half_space both ways,
+  // then bisect.
+  const double long_wave = long_wave_slip_stiffness(sliding);
+  if (!(long_wave < stiffness_needed)) {
+    const std::string critical = "the critical stiffness tau_v g_phi - tau_phi g_v = " + brief(stiffness_needed) + " Pa/m";
+    if (!sliding.two_bodies)
+      throw std::invalid_argument(
+          "quasi_static_critical_wavelength: H = " + shortest(sliding.strip_height) +
+          " m: no unstable wavelength; the antiplane strip's static stiffness (mu k/2) coth(kH) exceeds mu/(2H) = " +
+          brief(long_wave) + " Pa/m at every k (it shears but does not bend), which is not below " + critical +
+          " (an unstable wavelength needs H > mu/(2 K_c) = " + brief(0.5 * m.shear_modulus / stiffness_needed) + " m)");
+    throw std::invalid_argument(
+        "quasi_static_critical_wavelength: H = " + shortest(sliding.strip_height) + " m on " +
+        (sliding.bottom_rigid ? std::string("a rigid base")
+                              : "a bottom body of height " + shortest(sliding.bottom_height) + " m") +
+        ": no unstable wavelength; the pair's antiplane static stiffness S(k, 0) exceeds its long-wave limit " +
+        brief(long_wave) + " Pa/m at every k (the strips shear but do not bend), which is not below " + critical);
+  }
+  double lo = k_half_space, hi = k_half_space;
+  // S0(lo) -> S0(0+) < K_c as lo -> 0; the cap only guards against K_c within
+  // rounding of S0(0+) (then the root is at k ~ 0: no finite Lc to report).
+  for (int i = 0; static_slip_stiffness(sliding, lo) >= stiffness_needed; ++i) {
+    if (i == 1000)
+      throw std::invalid_argument("quasi_static_critical_wavelength: the neutral wavelength exceeds " +
+                                  brief(2.0 * pi / lo) + " m (critical stiffness within rounding of "
+                                  "the long-wave limit " + brief(long_wave) + " Pa/m)");
+    lo *= 0.5;
+  }
+  while (static_slip_stiffness(sliding, hi) < stiffness_needed) hi *= 2.0;
   for (int i = 0; i < 200 && hi - lo > 1e-15 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);
-    (strip_static_stiffness(m, H, mid) < stiffness_needed ? lo : hi) = mid;
+    (static_slip_stiffness(sliding, mid) < stiffness_needed ? lo : hi) = mid;
   }
   return 2.0 * pi / (0.5 * (lo + hi));
 }

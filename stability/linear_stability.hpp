@@ -93,7 +93,9 @@ double critical_wavelength(const SteadySliding& sliding, double lower, double up
                            double relative_tolerance = 1e-10);
 
 // Lc(H) for each H (may be +inf): the bracket is found automatically by geometric
-// expansion around the quasi-static half-space value.
+// expansion around the quasi-static half-space value.  Throws std::invalid_argument
+// naming H when no wavelength up to 2^60 times that value is unstable (a thin
+// antiplane strip: it does not bend).
 std::vector<double> critical_wavelength_vs_height(const SteadySliding& sliding,
                                                   const std::vector<double>& heights);
 
@@ -101,8 +103,13 @@ std::vector<double> critical_wavelength_vs_height(const SteadySliding& sliding,
 // the quadratic tau_v L^2 + (S0 - tau_v g_phi + tau_phi g_v) L - S0 g_phi = 0 is
 //   S(k, 0; H) = tau_v g_phi - tau_phi g_v.
 // Half-space (closed form): Lc = 2 pi mu (1 - c_s^2/c_d^2) / (tau_v g_phi - tau_phi g_v).
-// Finite H: solved by bisection in k with strip_static_stiffness().
-// Returns +inf when tau_v g_phi - tau_phi g_v <= 0 (steady sliding stable at all k).
+// Finite H, or an antiplane pair of different bodies (S0 = the series static
+// stiffness, a rigid base included): solved by bisection in k with
+// strip_static_stiffness().  Returns +inf when tau_v g_phi - tau_phi g_v <= 0 (steady
+// sliding stable at all k).  An antiplane strip is stiffer than its long-wave limit
+// mu/(2H) at every k: when that limit (of the pair) is not below tau_v g_phi - tau_phi g_v
+// there is no neutral wavelength and it throws std::invalid_argument naming H.
+// In-plane pairs of different bodies throw (stability/interface_stability.hpp).
 double quasi_static_critical_wavelength(const SteadySliding& sliding);
 
 struct GrowthRate {

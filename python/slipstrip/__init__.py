@@ -225,7 +225,9 @@ def pair_stability(config, wavelengths: Iterable[float] | float | None = None) -
 
 
 def quasi_static_critical_wavelength(config) -> float:
-    """Lc [m] with inertia dropped (closed form for a half-space)."""
+    """Lc [m] with inertia dropped (closed form for a half-space); ValueError naming
+    the height when no wavelength is unstable (an antiplane strip with mu/(2H) >= the
+    critical stiffness)."""
     return _slipstrip._quasi_static_critical_wavelength(load_config(config))
 
 

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "stability/linear_stability.hpp"
@@ -217,6 +218,114 @@ TEST_CASE("quasi-static finite-H Lc: dynamic solver with negligible inertia conv
     // Same O(rho) inertia correction as for the half-space (~1e-9 here).
     CHECK(lc == doctest::Approx(qs).epsilon(1e-6));
   }
+}
+
+// The reference material (Table S1's 9 GPa read as Young's modulus) as an
+// antiplane body: mu/(2 K_c) = 0.0529 m, so strips from 0.06 m up have a root.
+SteadySliding antiplane_reference(double H) {
+  SteadySliding s = table_s1(H);
+  s.material = ElasticMaterial{9e9 / (2.0 * 1.33), 0.33, 1200.0, PlaneCondition::antiplane};
+  return s;
+}
+
+double critical_stiffness(const SteadySliding& s) {
+  const LinearisedFriction lin = linearise_friction(s);
+  return lin.strength_dv * lin.state_rate_dstate - lin.strength_dstate * lin.state_rate_dv;
+}
+
+TEST_CASE("quasi-static finite-H Lc, antiplane: longer than the half-space's, dynamic solver with negligible inertia converges to it") {
+  const double half_space = quasi_static_critical_wavelength(antiplane_reference(inf));
+  for (double H : {0.06, 0.1, 0.2}) {
+    SteadySliding s = antiplane_reference(H);
+    const double qs = quasi_static_critical_wavelength(s);
+    INFO("H = " << H);
+    // (mu k / 2) coth(kH) > mu k / 2: the strip is stiffer than the half-space,
+    // so its neutral k is smaller (in-plane it is the other way round).
+    CHECK(qs > half_space);
+    // The neutral condition itself; the bisection in k stops at 1e-15.
+    CHECK(strip_static_stiffness(s.material, H, 2.0 * pi / qs) ==
+          doctest::Approx(critical_stiffness(s)).epsilon(1e-13));
+    s.material.density = 1200e-8;  // c_s 1e4 times larger
+    const double lc = critical_wavelength(s, 0.5 * qs, 2.0 * qs, 1e-12);
+    // The O(rho) inertia correction, as in-plane.
+    MESSAGE("antiplane H = " << H << ": dynamic Lc at rho = 1.2e-5 vs quasi-static " << lc / qs - 1.0);
+    CHECK(lc == doctest::Approx(qs).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("quasi-static finite-H Lc, antiplane: the dynamic Lc converges to it like rho") {
+  // A finite strip's S is analytic and even in Lambda (lossless), S = S0 + O(Lambda^2 / c_s^2),
+  // so the error falls like 1/c_s^2 = rho/mu: a factor 100 per factor 100 in density.
+  SteadySliding s = antiplane_reference(0.1);
+  const double qs = quasi_static_critical_wavelength(s);
+  std::vector<double> errors;
+  for (double density : {1200e-1, 1200e-3, 1200e-5}) {
+    s.material.density = density;
+    const double lc = critical_wavelength(s, 0.5 * qs, 2.0 * qs, 1e-13);
+    errors.push_back(std::abs(lc / qs - 1.0));
+  }
+  MESSAGE("antiplane H = 0.1: relative errors vs quasi-static: " << errors[0] << " " << errors[1] << " " << errors[2]);
+  CHECK(errors[2] < 1e-6);
+  CHECK(errors[0] / errors[1] == doctest::Approx(100.0).epsilon(0.05));
+  CHECK(errors[1] / errors[2] == doctest::Approx(100.0).epsilon(0.05));
+}
+
+TEST_CASE("quasi-static Lc of antiplane pairs of different bodies: dynamic solver with negligible inertia converges to it") {
+  struct Case {
+    const char* name;
+    double top_height;
+    bool rigid;
+    double bottom_height;
+  };
+  for (const Case c : {Case{"strip on a rigid base", 0.2, true, 0.1}, Case{"strip on a 4x stiffer strip", 0.1, false, 0.2},
+                       Case{"strip on a 4x stiffer half-space", 0.1, false, inf}}) {
+    SteadySliding s = antiplane_reference(c.top_height);
+    s.two_bodies = true;
+    s.bottom_rigid = c.rigid;
+    s.bottom_material = s.material;
+    s.bottom_material.shear_modulus *= 4.0;
+    s.bottom_material.density *= 4.0;
+    s.bottom_height = c.bottom_height;
+    const double qs = quasi_static_critical_wavelength(s);
+    INFO(c.name);
+    const double k = 2.0 * pi / qs;
+    const double top = 2.0 * strip_static_stiffness(s.material, s.strip_height, k);
+    const double bottom = 2.0 * strip_static_stiffness(s.bottom_material, s.bottom_height, k);
+    CHECK((c.rigid ? top : top * bottom / (top + bottom)) == doctest::Approx(critical_stiffness(s)).epsilon(1e-13));
+    s.material.density = 1200e-8;
+    s.bottom_material.density = 4800e-8;
+    const double lc = critical_wavelength(s, 0.5 * qs, 2.0 * qs, 1e-12);
+    MESSAGE(std::string(c.name) << ": dynamic Lc at negligible inertia vs quasi-static " << lc / qs - 1.0);
+    CHECK(lc == doctest::Approx(qs).epsilon(1e-6));
+  }
+  // Lc(H) of a pair brackets around this function's value for a top half-space
+  // (it refused pairs before); at negligible inertia it is this function's.
+  SteadySliding pair = antiplane_reference(0.2);
+  pair.two_bodies = true;
+  pair.bottom_rigid = true;
+  pair.material.density = 1200e-8;
+  const auto lc = critical_wavelength_vs_height(pair, {0.2});
+  CHECK(lc[0] == doctest::Approx(quasi_static_critical_wavelength(pair)).epsilon(1e-6));
+}
+
+TEST_CASE("a thin antiplane strip has no unstable wavelength: both Lc functions say so naming H") {
+  // mu/(2H) = 3.38e10 Pa/m at H = 0.05 m, above K_c = 3.20e10 Pa/m.
+  const SteadySliding s = antiplane_reference(0.05);
+  CHECK_THROWS_WITH_AS(quasi_static_critical_wavelength(s),
+                       doctest::Contains("H = 0.05 m: no unstable wavelength; the antiplane strip's static "
+                                         "stiffness (mu k/2) coth(kH) exceeds mu/(2H) = 3.38346e+10 Pa/m"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(quasi_static_critical_wavelength(s), doctest::Contains("H > mu/(2 K_c) = 0.0528657 m"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(critical_wavelength_vs_height(antiplane_reference(0.1), {0.05}),
+                       doctest::Contains("H = 0.05 m: no unstable wavelength"), std::invalid_argument);
+  SteadySliding on_rigid = antiplane_reference(0.1);  // mu/H = 3.38e10 Pa/m
+  on_rigid.two_bodies = true;
+  on_rigid.bottom_rigid = true;
+  CHECK_THROWS_WITH_AS(quasi_static_critical_wavelength(on_rigid),
+                       doctest::Contains("H = 0.1 m on a rigid base: no unstable wavelength"), std::invalid_argument);
+  // In-plane strips bend: no such limit (Lc ~ sqrt(H), tested above).
+  CHECK(std::isfinite(quasi_static_critical_wavelength(table_s1(0.001))));
 }
 
 TEST_CASE("root finder agrees with a brute-force grid search of |F|") {
