@@ -808,8 +808,11 @@ def main(argv: list[str]) -> int:
     files = []
     for entry in map(Path, args.paths):
         if entry.is_dir():
-            # A scan directory also holds its strip-kernel cache (kernel_cache/), not runs.
-            found = sorted(f for f in entry.rglob("*.h5") if "kernel_cache" not in f.relative_to(entry).parts)
+            # A scan directory also holds its strip-kernel cache (kernel_cache/) and its summary table
+            # (summary.h5), not runs.
+            from .scan.summary import SUMMARY_H5
+            found = sorted(f for f in entry.rglob("*.h5") if "kernel_cache" not in f.relative_to(entry).parts
+                           and f.name != SUMMARY_H5)
             if not found:
                 print(f"transition: '{entry}' holds no run files (*.h5): give run files written by `slipstrip run` "
                       "or the directory of a `slipstrip scan`", file=sys.stderr)

@@ -166,7 +166,7 @@ def test_autocorrelation_peak_periodic_vs_noise():
     assert transition.autocorrelation_peak(np.random.default_rng(8).standard_normal(2000)) < 0.2
 
 
-def test_pipeline_end_to_end_on_tiny_runs(cli, repo, tmp_path):
+def test_pipeline_end_to_end_on_tiny_runs(cli, repo, tmp_path, capsys):
     """CI's tiny version of the map: two very short runs from the transition
     scan's base (a thin strip and a half-space), events, then the classifier
     writes its CSV and the map."""
@@ -184,8 +184,14 @@ def test_pipeline_end_to_end_on_tiny_runs(cli, repo, tmp_path):
         r = subprocess.run([str(cli), "events", str(out)], capture_output=True, text=True, timeout=60)
         assert r.returncode == 0, r.stderr
         files.append(out)
+    # A scan directory's summary table is an HDF5 file too, but not a run: not listed, not classified.
+    import h5py
+    with h5py.File(tmp_path / "summary.h5", "w") as f:
+        f.create_group("summary")
     csv_path, png, table = tmp_path / "map.csv", tmp_path / "map.png", tmp_path / "map.md"
+    capsys.readouterr()
     assert transition.main([str(tmp_path), "--csv", str(csv_path), "--plot", str(png), "--table", str(table)]) == 0
+    assert "summary.h5" not in capsys.readouterr().out
     rows = list(csv.DictReader(csv_path.open()))
     # The Markdown grid: one table for the one L, a column per height, a cell per run.
     text = table.read_text()
