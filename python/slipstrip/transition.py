@@ -297,8 +297,15 @@ def classify_directory(paths) -> list[dict]:
             continue
         try:
             result = classify_run(path)
-        except (OSError, KeyError, ValueError) as err:
-            row.update(state="unreadable", converged=False, agreement=math.nan, error=str(err))
+        except (OSError, KeyError, ValueError, RuntimeError) as err:
+            # RuntimeError: the HDF5 reads of the compiled event detection.  On a running run a read
+            # that outlasts the writer's reader_lock_timeout sees the file change under it
+            # (docs/output.md): say so rather than leave the reader to guess.
+            why = " ".join(str(err).split())
+            if row["status"] == "running":
+                why += ("; the run is still being written and its file changed during the read: classify it "
+                        "when it has stopped, or a copy of the file")
+            row.update(state="unreadable", converged=False, agreement=math.nan, error=why)
         else:
             row.update(state=result["state"], converged=result["converged"], agreement=result["agreement"],
                        states_by_third="/".join(result["states_by_third"]),

@@ -500,3 +500,22 @@ def test_thin_edges_and_the_plane_from_committed_maps(tmp_path):
     assert (float(edge["height_not_complex"]), float(edge["height_complex"])) == (0.0125, 0.025)
     assert edge["states_not_complex"] == "spanning_ruptures" and edge["converged_not_complex"] == "True"
     assert_figure(plane, page_width=True)
+
+
+def test_a_read_error_of_a_running_run_is_reported_with_its_cause_not_raised(monkeypatch):
+    """The compiled event detection raises RuntimeError on an HDF5 read error; on a run still being
+    written a long read can see the file change under it (docs/output.md).  The map lists such a run as
+    not classified, saying why, and goes on with the others."""
+    def parameters(path):
+        return {"file": str(path), "status": "running" if "live" in str(path) else "completed", "length": 1.0,
+                "height": 0.1, "nodes": 400, "f0": 0.28, "a": 0.005, "b": 0.075, "rate_weakening": 0.016,
+                "noise_seed": 1, "duration": 0.18}
+
+    def failing_read(path):
+        raise RuntimeError(f"HDF5 error: H5Dread({path}:/slip_sampling/crossing_time) failed: addr overflow")
+    monkeypatch.setattr(transition, "_run_parameters", parameters)
+    monkeypatch.setattr(transition, "classify_run", failing_read)
+    live, done = transition.classify_directory(["live.h5", "done.h5"])
+    assert live["state"] == done["state"] == "unreadable"
+    assert "addr overflow" in live["error"] and "still being written" in live["error"]
+    assert "addr overflow" in done["error"] and "still being written" not in done["error"]
