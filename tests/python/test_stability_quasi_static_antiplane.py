@@ -20,6 +20,7 @@ import math
 import subprocess
 
 import pytest
+from friction_oracles import eq_s1_critical_stiffness
 
 brentq = pytest.importorskip("scipy.optimize").brentq
 
@@ -29,17 +30,6 @@ REL = 1e-12
 @pytest.fixture(scope="module")
 def ss(slipstrip_module):
     return slipstrip_module
-
-
-def critical_stiffness(cfg):
-    """K_c of Eq. S1 with the regularised aging law (docs/stability.md section 4)."""
-    d = cfg.as_dict()
-    f = d["friction"]
-    f0, a, b, D, v_star = f["f0"], f["a"], f["b"], f["characteristic_slip"], f["v_star"]
-    v0 = d["loading"]["driving_velocity"]
-    sigma0 = d["loading"]["normal_stress"]
-    r = math.hypot(v0, v_star)
-    return sigma0 / D * (f0 * b * v0 / r - a * r / (v0 + v_star))
 
 
 def face_stiffness(mu, H, k):
@@ -60,7 +50,7 @@ def reference_antiplane(ss, repo, overrides=None):
 def test_identical_antiplane_strips(ss, repo):
     cfg = reference_antiplane(ss, repo)
     mu = cfg.material.shear_modulus
-    K_c = critical_stiffness(cfg)
+    K_c = eq_s1_critical_stiffness(cfg)
     threshold = mu / (2.0 * K_c)  # 0.0529 m
     assert threshold == pytest.approx(0.0528657, rel=1e-6)
     half_space = ss.quasi_static_critical_wavelength(cfg.with_overrides({"geometry.height": "inf"}))
@@ -88,7 +78,7 @@ def test_antiplane_pairs_of_different_bodies(ss, repo, bottom):
     cfg = ss.load_config(repo / "configs" / "examples" / "antiplane_slider_on_stiff_base.toml", bottom)
     d = cfg.as_dict()
     mu = cfg.material.shear_modulus
-    K_c = critical_stiffness(cfg)
+    K_c = eq_s1_critical_stiffness(cfg)
     for H in (0.2, 0.4, "inf"):
         got = ss.quasi_static_critical_wavelength(cfg.with_overrides({"geometry.height": H}))
         Ht = math.inf if H == "inf" else H
@@ -105,7 +95,7 @@ def test_antiplane_pairs_of_different_bodies(ss, repo, bottom):
 
 def test_thin_antiplane_strip_has_no_unstable_wavelength(ss, repo, cli):
     cfg = reference_antiplane(ss, repo)
-    threshold = cfg.material.shear_modulus / (2.0 * critical_stiffness(cfg))
+    threshold = cfg.material.shear_modulus / (2.0 * eq_s1_critical_stiffness(cfg))
     for H in (0.05, 0.999 * threshold):
         with pytest.raises(ValueError, match=r"H = [0-9.e-]+ m: no unstable wavelength; the antiplane strip's "
                            r"static stiffness .* exceeds mu/\(2H\)"):
@@ -123,9 +113,9 @@ def test_thin_antiplane_strip_has_no_unstable_wavelength(ss, repo, cli):
     # the H where that equals K_c (0.0520 m), a little below mu / (2 K_c).
     d = cfg.as_dict()
     lin = ss.linearise_friction(cfg)
-    omega_c = math.sqrt(critical_stiffness(cfg) * abs(lin["state_rate_dstate"]) / lin["strength_dv"])
+    omega_c = math.sqrt(eq_s1_critical_stiffness(cfg) * abs(lin["state_rate_dstate"]) / lin["strength_dv"])
     c_s = math.sqrt(cfg.material.shear_modulus / d["material"]["density"])
-    mu, K_c = cfg.material.shear_modulus, critical_stiffness(cfg)
+    mu, K_c = cfg.material.shear_modulus, eq_s1_critical_stiffness(cfg)
     dynamic_threshold = brentq(lambda H: mu / (2 * H) * (omega_c * H / c_s) / math.tan(omega_c * H / c_s) - K_c,
                                0.5 * threshold, threshold)
     assert dynamic_threshold == pytest.approx(0.0519976, rel=1e-5)

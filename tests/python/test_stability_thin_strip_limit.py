@@ -31,6 +31,7 @@ Lc^2 / H = l* (1 - c H + O(H^2)) with the c of next_order_coefficient().
 import math
 
 import pytest
+from friction_oracles import eq_s1_critical_stiffness
 
 # Eq. S1 parameter points (f0, a, b) and the printed reading of Table S1's 9 GPa
 # as the shear modulus; the reference material otherwise (E = 9e9 Pa read as
@@ -64,15 +65,14 @@ def oracle(cfg):
     """Closed forms from the config's parameters alone (Eq. S1, regularised Eq. S2)."""
     d = cfg.as_dict()
     f = d["friction"]
-    f0, a, b, D, v_star = f["f0"], f["a"], f["b"], f["characteristic_slip"], f["v_star"]
+    a, D, v_star = f["a"], f["characteristic_slip"], f["v_star"]
     v0 = d["loading"]["driving_velocity"]
     sigma0 = d["loading"]["normal_stress"]
     m = cfg.material
     r = math.hypot(v0, v_star)
-    # tau_v g_phi - tau_phi g_v with tau_v = sigma0 a/(v0+v*), g_phi = -r/D,
-    # tau_phi g_v = -sigma0 f0 b v0/(r D): the critical stiffness of Eq. S1.
+    # tau_v = sigma0 a/(v0+v*), |g_phi| = r/D; K_c = tau_v g_phi - tau_phi g_v (friction_oracles).
     tau_v = sigma0 * a / (v0 + v_star)
-    critical_stiffness = sigma0 / D * (f0 * b * v0 / r - a * r / (v0 + v_star))
+    critical_stiffness = eq_s1_critical_stiffness(cfg)
     omega2 = (r / D) * critical_stiffness / tau_v
     modulus = 4.0 * m.shear_modulus * (1.0 - 1.0 / m.wave_speed_ratio_squared)  # E'
     rho = m.density
