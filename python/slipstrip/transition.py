@@ -590,7 +590,13 @@ def thin_edges(rows: list[dict]) -> list[dict]:
     states differ (spanning ruptures, creeping patches, pulses), so the state is
     the observable.  Each end carries its runs' states and whether every one of
     them is converged; an end that is not converged makes the bracket
-    provisional, which the table says."""
+    provisional, which the table says.
+
+    The window need not be one interval of H: a strip between two complex ones
+    may end in another state.  `inside_not_complex` lists such heights between
+    the thinnest and the thickest complex strip ("H:state/state", by seed,
+    separated by spaces), so that an edge read from the thinnest complex strip
+    is never taken for the whole story."""
     groups = {}
     for r in rows:
         if math.isfinite(r["height"]) and r.get("state") in STATES:
@@ -601,6 +607,8 @@ def thin_edges(rows: list[dict]) -> list[dict]:
         if not complex_heights:
             continue
         h_complex = min(complex_heights)
+        gaps = sorted(h for h in by_height if h_complex < h < max(complex_heights) and h not in complex_heights)
+        inside = " ".join(f"{h:g}:" + "/".join(r["state"] for r in sorted(by_height[h], key=noise_seed)) for h in gaps)
         below = [h for h in by_height if h < h_complex]
         h_not = max(below) if below else math.nan
 
@@ -617,14 +625,15 @@ def thin_edges(rows: list[dict]) -> list[dict]:
                     "critical_over_height_complex": hi["critical_over_height"],
                     "critical_over_height_not_complex": lo["critical_over_height"],
                     "length_over_critical_complex": L / hi["critical_length"],
-                    "length_over_critical_not_complex": L / lo["critical_length"] if below else math.nan})
+                    "length_over_critical_not_complex": L / lo["critical_length"] if below else math.nan,
+                    "inside_not_complex": inside})
     return out
 
 
 THIN_EDGE_COLUMNS = ("rate_weakening", "length", "height_not_complex", "height_complex", "states_not_complex",
                      "states_complex", "converged_not_complex", "converged_complex",
                      "critical_over_height_not_complex", "critical_over_height_complex",
-                     "length_over_critical_not_complex", "length_over_critical_complex")
+                     "length_over_critical_not_complex", "length_over_critical_complex", "inside_not_complex")
 
 
 def thin_edges_markdown(edges: list[dict]) -> str:
@@ -645,6 +654,9 @@ def thin_edges_markdown(edges: list[dict]) -> str:
             low = "— (no thinner strip run: bounded above only)"
             ratio = f"> {e['critical_over_height_complex']:.2g}"
             states = mark(e["states_complex"], e["converged_complex"]) + " at the thinnest strip run"
+        if e["inside_not_complex"]:
+            states += "; not complex between complex strips: " + ", ".join(
+                f"H = {h} m (`{st}`)" for h, st in (item.split(":") for item in e["inside_not_complex"].split()))
         lines.append(f"| {e['rate_weakening']:.4f} | {e['length']:g} m | {low} | {e['height_complex']:g} m | "
                      f"{ratio} | {states} |")
     return "\n".join(lines) + "\n"

@@ -459,6 +459,13 @@ def test_thin_edges_bracket_the_thinnest_complex_strip_or_bound_it_from_above():
     assert three["height_complex"] == 0.005 and three["height_not_complex"] == 0.003
     assert three["states_complex"] == "complex/spanning_ruptures"      # both seeds, in seed order
     assert three["states_not_complex"] == "other" and not three["converged_not_complex"]
+    # L = 2 m's window is one interval; L = 5 m's holds a spanning strip between two complex ones.
+    assert two["inside_not_complex"] == ""
+    five = transition.thin_edges([_edge_row(5.0, 0.005, "complex"), _edge_row(5.0, 0.0125, "spanning_ruptures"),
+                                  _edge_row(5.0, 0.025, "complex"), _edge_row(5.0, 1.0, "spanning_ruptures")])[0]
+    assert five["height_complex"] == 0.005 and five["inside_not_complex"] == "0.0125:spanning_ruptures"
+    assert "not complex between complex strips: H = 0.0125 m (`spanning_ruptures`)" in \
+        transition.thin_edges_markdown([five])
 
     text = transition.thin_edges_markdown(list(edges.values()))
     lines = [line for line in text.splitlines() if line.startswith("| 0.0120")]
