@@ -476,3 +476,27 @@ def test_analyze_end_to_end(quick_run, tmp_path):
 def test_main_rejects_missing_file(tmp_path, capsys):
     assert analysis.main(["analyze", str(tmp_path / "nope.h5")]) == 2
     assert "nope.h5" in capsys.readouterr().err
+
+
+def test_in_process_detection_waits_for_a_lock_held_for_a_moment(quick_run, tmp_path):
+    """A reader in another process holds HDF5's lock on the run file for 0.5 s: the detection into
+    that file (which HDF5 refuses while the lock is held) waits for it and then writes /events.  A
+    scan's event step met such a moment under load and lost the run's catalog."""
+    import sys
+    import time
+    run = tmp_path / "run.h5"
+    run.write_bytes(quick_run.read_bytes())
+    holder = subprocess.Popen([sys.executable, "-c", "import sys, time, h5py\n"
+                               f"f = h5py.File({str(run)!r}, 'r')\nprint('open', flush=True)\ntime.sleep(0.5)\n"
+                               "f.close()\n"], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "open"
+        start = time.monotonic()
+        assert analysis.run_event_detection(run, 30.0) == str(run)
+        waited = time.monotonic() - start
+    finally:
+        holder.wait(timeout=30)
+    with h5py.File(run, "r") as f:
+        assert f["events"].attrs["n_events"] > 0
+    # It did wait for the holder (whose lock outlives the call's start by up to 0.5 s), and not much longer.
+    assert 0.2 < waited < 5.0

@@ -96,10 +96,23 @@ def run_event_detection(run_path: str | os.PathLike, alpha: float = DEFAULT_ALPH
     `slipstrip events RUN --alpha A --min-slip-rate K [--out OUT]` (bindings,
     in-process), so the file is the CLI's byte for byte.  RuntimeError if the
     run file cannot be read or the target cannot be written."""
+    import time
+
     from .. import _slipstrip
     target = os.fspath(out if out is not None else run_path)
-    _slipstrip.detect_events_into_file(os.fspath(run_path), target, alpha=float(alpha),
-                                       min_slip_rate_v0=float(min_slip_rate_v0))
+    # Another process may hold HDF5's lock on the file for a moment (a reader of the
+    # run file, or its solver during a write-out): HDF5 then refuses to open it with
+    # "Resource temporarily unavailable".  Retried for up to 5 s, as open_h5 does for
+    # readers; any other error, or a lock held longer, is raised.
+    for attempt in range(100):
+        try:
+            _slipstrip.detect_events_into_file(os.fspath(run_path), target, alpha=float(alpha),
+                                               min_slip_rate_v0=float(min_slip_rate_v0))
+            return target
+        except RuntimeError as err:
+            if "Resource temporarily unavailable" not in str(err) or attempt == 99:
+                raise
+            time.sleep(0.05)
     return target
 
 
